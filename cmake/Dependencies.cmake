@@ -1,0 +1,36 @@
+# Every dependency comes from a Debian package (scripts/install-deps.sh) and is found
+# through its own CMake config; the workarounds below are for known Debian packaging bugs.
+find_package(Threads REQUIRED)
+find_package(TBB REQUIRED)
+find_package(glm REQUIRED)
+find_package(ZLIB REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(embree 3 REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
+
+# Debian bookworm's OpenImageIO target names /usr/include/opencv4, which does not exist
+# unless OpenCV's headers happen to be installed; CMake rejects a missing include path.
+foreach(_prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
+  get_target_property(_dirs OpenImageIO::OpenImageIO ${_prop})
+  if(_dirs)
+    list(FILTER _dirs EXCLUDE REGEX "opencv4")
+    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${_prop} "${_dirs}")
+  endif()
+endforeach()
+
+# gemmi-dev is header-only and ships no CMake config; it needs PEGTL (for CIF) and zlib.
+find_path(GEMMI_INCLUDE_DIR gemmi/mmread.hpp REQUIRED)
+find_path(PEGTL_INCLUDE_DIR tao/pegtl.hpp REQUIRED)
+add_library(surftrace_gemmi INTERFACE)
+target_include_directories(surftrace_gemmi SYSTEM INTERFACE ${GEMMI_INCLUDE_DIR} ${PEGTL_INCLUDE_DIR})
+target_link_libraries(surftrace_gemmi INTERFACE ZLIB::ZLIB)
+
+if(SURFTRACE_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  find_package(CGAL QUIET)   # GPL: test oracles only, never linked into a library or tool
+endif()
+if(SURFTRACE_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
