@@ -1,0 +1,19 @@
+// The subcommands of `surftrace` and the option groups they share.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "build/molecule.hpp"
+
+namespace surftrace::tools {
+
+// Adds the options that choose atoms and radii (model, chains, water, hydrogens, radii
+// table, default radius, format) to `cmd`, storing them in `options`.
+void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
+
+void addInfoCommand(CLI::App& app);
+void addBuildCommands(CLI::App& app);  // build, area
+
+}  // namespace surftrace::tools

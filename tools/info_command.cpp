@@ -1,0 +1,146 @@
+// `surftrace info`: what a structure file holds and what reading it left out.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "build/molecule.hpp"
+#include "commands.hpp"
+
+namespace surftrace::tools {
+
+void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
+  auto* group = &cmd;
+  group->add_option("--model", options.model, "Model (PDB/mmCIF) or frame (XYZ) to read, 1-based")
+      ->check(CLI::PositiveNumber)
+      ->default_val(1);
+  group->add_flag("--keep-water", options.keepWater, "Keep water molecules (dropped by default)");
+  group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
+  group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
+  group->add_option("--radii", options.radiiFile,
+                    "Radius table replacing Bondi radii: lines 'ELEMENT r' or 'RES:ATOM r', '#' comments")
+      ->check(CLI::ExistingFile);
+  group->add_option("--default-radius", options.defaultRadius,
+                    "Radius (Å) for elements with no known radius; without it they are an error")
+      ->check(CLI::PositiveNumber);
+  static const std::map<std::string, build::MoleculeFormat> kFormats{
+      {"auto", build::MoleculeFormat::Auto}, {"pdb", build::MoleculeFormat::Pdb},
+      {"mmcif", build::MoleculeFormat::Mmcif}, {"cif", build::MoleculeFormat::Mmcif},
+      {"pqr", build::MoleculeFormat::Pqr}, {"xyzr", build::MoleculeFormat::Xyzr},
+      {"xyz", build::MoleculeFormat::Xyz}};
+  group->add_option("--format", options.format, "Input format (default: from the file name)")
+      ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
+}
+
+namespace {
+
+struct InfoOptions {
+  std::string path;
+  build::ReadOptions read;
+  bool json = false;
+};
+
+std::string fixed(double v, int digits = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+void runInfo(const InfoOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const build::Molecule m = build::readMolecule(o.path, o.read);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  std::map<std::string, std::size_t> elements, chains;
+  std::size_t hetatm = 0;
+  std::size_t residues = 0;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  double rMin = std::numeric_limits<double>::infinity(), rMax = 0, rSum = 0;
+  std::string lastResidue;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const auto& a = m.atoms[i];
+    ++elements[a.element];
+    ++chains[a.chain];
+    hetatm += a.hetatm;
+    const std::string residueKey = a.chain + "/" + std::to_string(a.residueNumber) + a.insertionCode + a.residue;
+    if (residueKey != lastResidue) ++residues, lastResidue = residueKey;
+    lo = glm::min(lo, m.centers[i]);
+    hi = glm::max(hi, m.centers[i]);
+    rMin = std::min(rMin, m.radii[i]);
+    rMax = std::max(rMax, m.radii[i]);
+    rSum += m.radii[i];
+  }
+  const auto& s = m.skipped;
+
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = m.source;
+    j["format"] = build::formatName(m.format);
+    j["crc32"] = m.inputCrc32;
+    j["models"] = m.modelCount;
+    j["model_used"] = m.modelUsed;
+    j["atoms"] = m.size();
+    j["hetatm"] = hetatm;
+    j["residues"] = residues;
+    j["chains"] = chains;
+    j["elements"] = elements;
+    j["bbox"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
+    j["radii"] = {{"set", m.radiiSet}, {"min", rMin}, {"mean", rSum / static_cast<double>(m.size())}, {"max", rMax}};
+    j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
+                    {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius}};
+    j["read_seconds"] = seconds;
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+
+  std::ostringstream out;
+  out << "file       " << m.source << " (" << build::formatName(m.format) << ", CRC-32 " << std::hex << m.inputCrc32
+      << std::dec << ", read in " << fixed(seconds * 1e3, 1) << " ms)\n";
+  out << "models     " << m.modelCount << " (using model " << m.modelUsed << ")\n";
+  out << "atoms      " << m.size() << " (" << hetatm << " HETATM) in " << residues << " residues\n";
+  out << "chains     " << chains.size() << ":";
+  for (const auto& [c, n] : chains) out << " " << (c.empty() ? "-" : c) << " (" << n << ")";
+  out << "\nelements   ";
+  for (const auto& [e, n] : elements) out << e << " " << n << "  ";
+  out << "\nbbox       min (" << fixed(lo.x) << ", " << fixed(lo.y) << ", " << fixed(lo.z) << ")  max (" << fixed(hi.x)
+      << ", " << fixed(hi.y) << ", " << fixed(hi.z) << ")  size " << fixed(hi.x - lo.x, 1) << " x "
+      << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
+  out << "radii      " << m.radiiSet << ": min " << fixed(rMin, 2) << ", mean "
+      << fixed(rSum / static_cast<double>(m.size()), 2) << ", max " << fixed(rMax, 2) << " Å";
+  if (s.defaultRadius) out << " (" << s.defaultRadius << " atoms got --default-radius)";
+  out << "\nskipped    ";
+  bool any = false;
+  auto note = [&](std::size_t n, const char* what) {
+    if (n == 0) return;
+    out << (any ? "; " : "") << n << " " << what;
+    any = true;
+  };
+  note(s.water, "water atoms (--keep-water keeps them)");
+  note(s.hydrogens, "hydrogens (--no-hydrogens)");
+  note(s.altLocs, "alternate-conformer atoms (kept the first/highest-occupancy one)");
+  note(s.otherChains, "atoms of other chains (--chains)");
+  note(s.otherModels, "atoms of other models (--model)");
+  if (!any) out << "nothing";
+  out << "\n";
+  std::fputs(out.str().c_str(), stdout);
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app) {
+  auto o = std::make_shared<InfoOptions>();
+  auto* cmd = app.add_subcommand("info",
+                                 "Summarise a structure file: atoms, chains, models, elements, bounding box, "
+                                 "radius statistics, and what was skipped and why");
+  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  addMoleculeOptions(*cmd, o->read);
+  cmd->add_flag("--json", o->json, "Print the summary as JSON");
+  cmd->callback([o] { runInfo(*o); });
+}
+
+}  // namespace surftrace::tools
