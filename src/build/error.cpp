@@ -1,0 +1,14 @@
+// Reporting of broken internal invariants.
+#include "build/error.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace surftrace::build {
+
+void assertionFailed(const char* expr, const char* file, int line) {
+  std::fprintf(stderr, "surftrace: internal error: %s failed at %s:%d\n", expr, file, line);
+  std::abort();
+}
+
+}  // namespace surftrace::build

@@ -1,0 +1,87 @@
+// A molecule as SurfTrace sees it: atom centres and radii, plus the records they came from.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace surftrace::build {
+
+// Where one atom came from. Kept beside the geometry (never inside it) so that the hot
+// loops see only `Molecule::centers` and `Molecule::radii`.
+struct AtomRecord {
+  std::string name;          // atom name, e.g. "CA"
+  std::string residue;       // residue name, e.g. "ALA"; empty for XYZ/XYZR
+  std::string chain;         // chain id; empty when the format has none
+  int residueNumber = 0;
+  char insertionCode = ' ';
+  int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
+  std::string element;       // canonical symbol, e.g. "C", "Fe"
+  double occupancy = 1.0;
+  double bFactor = 0.0;
+  double charge = 0.0;       // PQR charge; 0 elsewhere
+  bool hetatm = false;
+  int line = 0;              // 1-based line in the source file; 0 when unknown
+  char altLoc = ' ';         // alternate location indicator; ' ' when none
+};
+
+// Which input format a file holds. `Auto` decides from the extension (after .gz).
+enum class MoleculeFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyz };
+
+// How to read a structure file. Defaults: first model, no waters, hydrogens kept,
+// all chains, Bondi radii by element.
+struct ReadOptions {
+  MoleculeFormat format = MoleculeFormat::Auto;
+  int model = 1;                              // 1-based model (PDB/mmCIF) or frame (XYZ)
+  bool keepWater = false;
+  bool keepHydrogens = true;
+  std::vector<std::string> chains;            // empty: all chains
+  std::optional<std::filesystem::path> radiiFile;  // user radius table
+  std::optional<double> defaultRadius;        // radius for unknown elements
+  // PQR/XYZR atoms with radius exactly 0 (PDB2PQR gives some hydrogens, e.g. AMBER hydroxyl
+  // H, no radius) are an error unless this is set; then they are left out and counted.
+  bool dropZeroRadius = false;
+};
+
+// Counts of what was read but left out, so `surftrace info` can say what and why.
+struct SkipReport {
+  std::size_t water = 0;
+  std::size_t hydrogens = 0;
+  std::size_t altLocs = 0;          // alternate conformers dropped
+  std::size_t otherChains = 0;
+  std::size_t otherModels = 0;      // atoms in models other than the one used
+  std::size_t defaultRadius = 0;    // atoms that got --default-radius (not skipped, noted)
+  std::size_t zeroRadius = 0;       // PQR/XYZR atoms of radius 0 left out (dropZeroRadius)
+};
+
+struct Molecule {
+  std::string source;                   // path as given
+  MoleculeFormat format = MoleculeFormat::Auto;
+  std::vector<glm::dvec3> centers;      // Å, all finite
+  std::vector<double> radii;            // Å, all > 0 and finite
+  std::vector<AtomRecord> atoms;        // same order as centers
+  int modelCount = 1;                   // models/frames present in the file
+  int modelUsed = 1;
+  std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), or "table:<path>"
+  std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
+  SkipReport skipped;
+
+  std::size_t size() const { return centers.size(); }
+};
+
+// Reads a structure file (PDB, mmCIF, either gzipped; PQR; XYZR; XYZ).
+// Throws InputError naming the file, line and value on any bad input.
+Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& options = {});
+
+// Checks that every centre is finite and every radius finite and > 0; throws InputError
+// (with the atom's line where known) otherwise. readMolecule calls it; builders that take
+// a Molecule from elsewhere (a trajectory frame) call it too.
+void validateMolecule(const Molecule& molecule);
+
+const char* formatName(MoleculeFormat format);
+
+}  // namespace surftrace::build

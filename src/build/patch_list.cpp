@@ -1,0 +1,362 @@
+// The patch list's invariants and its versioned binary file (.stp).
+#include "build/patch_list.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <type_traits>
+
+#include <zlib.h>
+
+namespace surftrace::build {
+
+const char* surfaceKindName(SurfaceKind kind) {
+  switch (kind) {
+    case SurfaceKind::Ses: return "ses";
+    case SurfaceKind::Mss: return "mss";
+    case SurfaceKind::Vdw: return "vdw";
+    case SurfaceKind::Sas: return "sas";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Every array of the patch list, by name. Writing, reading and validation all walk this
+// one list, so a field added to patch_list.hpp and here is stored, loaded and checked.
+// `group` names the kind whose arrays must share one length.
+template <class List, class Visit>
+void forEachArray(List& p, Visit&& visit) {
+  visit("convex", "center", p.convex.center);
+  visit("convex", "radius", p.convex.radius);
+  visit("convex", "atom", p.convex.atom);
+  visit("convex", "component", p.convex.component);
+  visit("convex", "area", p.convex.area);
+  visit("convex", "vectorArea", p.convex.vectorArea);
+  visit("tori", "center", p.tori.center);
+  visit("tori", "axis", p.tori.axis);
+  visit("tori", "e1", p.tori.e1);
+  visit("tori", "bigRadius", p.tori.bigRadius);
+  visit("tori", "thetaI", p.tori.thetaI);
+  visit("tori", "thetaJ", p.tori.thetaJ);
+  visit("tori", "phiExtent", p.tori.phiExtent);
+  visit("tori", "atomI", p.tori.atomI);
+  visit("tori", "atomJ", p.tori.atomJ);
+  visit("tori", "component", p.tori.component);
+  visit("concave", "probe", p.concave.probe);
+  visit("concave", "dirI", p.concave.dirI);
+  visit("concave", "dirJ", p.concave.dirJ);
+  visit("concave", "dirK", p.concave.dirK);
+  visit("concave", "atomI", p.concave.atomI);
+  visit("concave", "atomJ", p.concave.atomJ);
+  visit("concave", "atomK", p.concave.atomK);
+  visit("concave", "clipBegin", p.concave.clipBegin);
+  visit("concave", "clipCount", p.concave.clipCount);
+  visit("concave", "component", p.concave.component);
+  visit("clipPlanes", "plane", p.clipPlanes);
+  visit("mss", "kind", p.mss.kind);
+  visit("mss", "center", p.mss.center);
+  visit("mss", "axis", p.mss.axis);
+  visit("mss", "radialCoeff", p.mss.radialCoeff);
+  visit("mss", "axialCoeff", p.mss.axialCoeff);
+  visit("mss", "constant", p.mss.constant);
+  visit("mss", "atoms", p.mss.atoms);
+  visit("mss", "cellBegin", p.mss.cellBegin);
+  visit("mss", "cellCount", p.mss.cellCount);
+  visit("cellPlanes", "plane", p.cellPlanes);
+}
+
+// Scalar type and component count of an array element, as stored in the file.
+enum class Scalar : std::uint32_t { F64 = 1, U32 = 2 };
+template <class T> struct ElementInfo;
+template <> struct ElementInfo<double> { static constexpr Scalar kScalar = Scalar::F64; static constexpr std::uint32_t kComponents = 1; };
+template <> struct ElementInfo<std::uint32_t> { static constexpr Scalar kScalar = Scalar::U32; static constexpr std::uint32_t kComponents = 1; };
+template <> struct ElementInfo<glm::dvec3> { static constexpr Scalar kScalar = Scalar::F64; static constexpr std::uint32_t kComponents = 3; };
+template <> struct ElementInfo<glm::dvec4> { static constexpr Scalar kScalar = Scalar::F64; static constexpr std::uint32_t kComponents = 4; };
+template <> struct ElementInfo<glm::uvec4> { static constexpr Scalar kScalar = Scalar::U32; static constexpr std::uint32_t kComponents = 4; };
+
+static_assert(sizeof(glm::dvec3) == 24 && sizeof(glm::dvec4) == 32 && sizeof(glm::uvec4) == 16,
+              "patch arrays are written as packed scalars");
+
+constexpr char kMagic[8] = {'S', 'U', 'R', 'F', 'T', 'R', 'C', 'E'};
+constexpr std::uint32_t kEndianTag = 0x01020304u;
+constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8;
+
+class Writer {
+ public:
+  template <class T> void pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* b = reinterpret_cast<const unsigned char*>(&v);
+    bytes.insert(bytes.end(), b, b + sizeof(T));
+  }
+  void string(const std::string& s) {
+    pod(static_cast<std::uint32_t>(s.size()));
+    bytes.insert(bytes.end(), s.begin(), s.end());
+  }
+  template <class T> void array(const std::vector<T>& v) {
+    const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+    bytes.insert(bytes.end(), b, b + v.size() * sizeof(T));
+  }
+  std::vector<unsigned char> bytes;
+};
+
+class Reader {
+ public:
+  Reader(const std::string& path, const unsigned char* data, std::size_t size, bool swap)
+      : path_(path), data_(data), size_(size), swap_(swap) {}
+
+  template <class T> T pod(const char* what) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    need(sizeof(T), what);
+    T v;
+    std::memcpy(&v, data_ + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    if constexpr (sizeof(T) > 1 && std::is_arithmetic_v<T>) {
+      if (swap_) v = byteSwap(v);
+    }
+    return v;
+  }
+  std::string string(const char* what) {
+    const auto n = pod<std::uint32_t>(what);
+    need(n, what);
+    std::string s(reinterpret_cast<const char*>(data_ + pos_), n);
+    pos_ += n;
+    return s;
+  }
+  template <class T> void array(std::vector<T>& v, std::uint64_t count, const char* what) {
+    using Info = ElementInfo<T>;
+    constexpr std::size_t kScalarSize = Info::kScalar == Scalar::F64 ? 8 : 4;
+    if (count > (size_ - pos_) / sizeof(T)) fail(std::string("array ") + what + " runs past the end of the file");
+    v.resize(count);
+    std::memcpy(v.data(), data_ + pos_, count * sizeof(T));
+    pos_ += count * sizeof(T);
+    if (swap_) {
+      auto* raw = reinterpret_cast<unsigned char*>(v.data());
+      for (std::size_t k = 0; k < count * Info::kComponents; ++k) {
+        unsigned char* s = raw + k * kScalarSize;
+        for (std::size_t a = 0, b = kScalarSize - 1; a < b; ++a, --b) std::swap(s[a], s[b]);
+      }
+    }
+  }
+  bool atEnd() const { return pos_ == size_; }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw std::runtime_error(path_ + ": corrupt patch list: " + message);
+  }
+
+ private:
+  template <class T> static T byteSwap(T v) {
+    unsigned char b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    for (std::size_t a = 0, c = sizeof(T) - 1; a < c; ++a, --c) std::swap(b[a], b[c]);
+    std::memcpy(&v, b, sizeof(T));
+    return v;
+  }
+  void need(std::size_t n, const char* what) const {
+    if (n > size_ - pos_) fail(std::string("file ends inside ") + what);
+  }
+  std::string path_;
+  const unsigned char* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+  bool swap_;
+};
+
+std::uint32_t crc32Of(const unsigned char* data, std::size_t size) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  // zlib takes uInt lengths: feed large bodies in pieces.
+  while (size > 0) {
+    const auto piece = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
+    crc = crc32(crc, data, piece);
+    data += piece;
+    size -= piece;
+  }
+  return static_cast<std::uint32_t>(crc);
+}
+
+std::uint32_t swapBytes(std::uint32_t v) {
+  return (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
+}
+
+bool finite(double v) { return std::isfinite(v); }
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::dvec4& v) { return finite(glm::dvec3(v)) && std::isfinite(v.w); }
+
+void checkRange(const std::vector<std::uint32_t>& begin, const std::vector<std::uint32_t>& count,
+                std::size_t limit, const char* what) {
+  for (std::size_t k = 0; k < begin.size(); ++k) {
+    if (std::uint64_t{begin[k]} + count[k] > limit)
+      throw std::runtime_error(std::string("patch list: ") + what + " range of patch " + std::to_string(k) +
+                               " runs past the plane array");
+  }
+}
+
+void checkAtoms(const std::vector<std::uint32_t>& atoms, std::uint32_t atomCount, const char* what) {
+  for (std::size_t k = 0; k < atoms.size(); ++k) {
+    if (atoms[k] >= atomCount)
+      throw std::runtime_error(std::string("patch list: ") + what + " of patch " + std::to_string(k) + " is atom " +
+                               std::to_string(atoms[k]) + ", but the molecule has " + std::to_string(atomCount));
+  }
+}
+
+}  // namespace
+
+void PatchList::validate() const {
+  // All arrays of one kind share a length, and every float is finite.
+  std::string group;
+  std::size_t length = 0;
+  forEachArray(*this, [&](const char* g, const char* name, const auto& v) {
+    if (group != g) {
+      group = g;
+      length = v.size();
+    } else if (v.size() != length) {
+      throw std::runtime_error(std::string("patch list: ") + g + "." + name + " has " + std::to_string(v.size()) +
+                               " entries, expected " + std::to_string(length));
+    }
+    using T = typename std::decay_t<decltype(v)>::value_type;
+    if constexpr (ElementInfo<T>::kScalar == Scalar::F64) {
+      for (std::size_t k = 0; k < v.size(); ++k)
+        if (!finite(v[k]))
+          throw std::runtime_error(std::string("patch list: ") + g + "." + name + "[" + std::to_string(k) +
+                                   "] is not finite");
+    }
+  });
+  checkRange(concave.clipBegin, concave.clipCount, clipPlanes.size(), "clip-plane");
+  checkRange(mss.cellBegin, mss.cellCount, cellPlanes.size(), "cell-plane");
+  checkAtoms(convex.atom, params.atomCount, "atom");
+  checkAtoms(tori.atomI, params.atomCount, "atom i");
+  checkAtoms(tori.atomJ, params.atomCount, "atom j");
+  checkAtoms(concave.atomI, params.atomCount, "atom i");
+  checkAtoms(concave.atomJ, params.atomCount, "atom j");
+  checkAtoms(concave.atomK, params.atomCount, "atom k");
+}
+
+void writePatchList(const std::string& path, const PatchList& patches) {
+  patches.validate();
+  Writer body;
+  body.pod(static_cast<std::uint32_t>(patches.params.surface));
+  body.pod(patches.params.probeRadius);
+  body.pod(patches.params.shrinkFactor);
+  body.string(patches.params.radiiSet);
+  body.pod(patches.params.inputCrc32);
+  body.pod(patches.params.atomCount);
+  body.pod(patches.componentCount);
+  std::uint32_t arrays = 0;
+  forEachArray(patches, [&](const char*, const char*, const auto&) { ++arrays; });
+  body.pod(arrays);
+  forEachArray(patches, [&](const char* group, const char* name, const auto& v) {
+    using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
+    body.string(std::string(group) + "." + name);
+    body.pod(static_cast<std::uint32_t>(Info::kScalar));
+    body.pod(Info::kComponents);
+    body.pod(static_cast<std::uint64_t>(v.size()));
+    body.array(v);
+  });
+
+  Writer file;
+  file.bytes.insert(file.bytes.end(), kMagic, kMagic + sizeof kMagic);
+  file.pod(kPatchFileVersion);
+  file.pod(kEndianTag);
+  file.pod(static_cast<std::uint64_t>(body.bytes.size()));
+  file.bytes.insert(file.bytes.end(), body.bytes.begin(), body.bytes.end());
+  file.pod(crc32Of(body.bytes.data(), body.bytes.size()));
+
+  // Write beside the target and rename, so a crash never leaves a half-written file.
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing");
+    out.write(reinterpret_cast<const char*>(file.bytes.data()), static_cast<std::streamsize>(file.bytes.size()));
+    if (!out.flush()) throw std::runtime_error(path + ": write failed (disk full?)");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot replace file");
+  }
+}
+
+PatchList readPatchList(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open patch list");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw std::runtime_error(path + ": not a SurfTrace patch list (bad magic; expected a file written by "
+                                    "`surftrace build`)");
+  if (bytes.size() < kHeaderSize)
+    throw std::runtime_error(path + ": truncated patch list (" + std::to_string(bytes.size()) +
+                             " bytes, shorter than its header)");
+  std::uint32_t tag;
+  std::memcpy(&tag, bytes.data() + 12, 4);
+  bool swap = false;
+  if (tag != kEndianTag) {
+    if (tag != swapBytes(kEndianTag)) throw std::runtime_error(path + ": corrupt patch list (bad endianness tag)");
+    swap = true;
+  }
+  Reader header(path, bytes.data(), kHeaderSize, swap);
+  header.pod<std::array<char, 8>>("magic");
+  const auto version = header.pod<std::uint32_t>("version");
+  header.pod<std::uint32_t>("endianness");
+  const auto bodySize = header.pod<std::uint64_t>("body size");
+  if (version > kPatchFileVersion)
+    throw std::runtime_error(path + ": patch list version " + std::to_string(version) +
+                             " is newer than this SurfTrace reads (up to " + std::to_string(kPatchFileVersion) +
+                             "); rebuild it with `surftrace build` or upgrade SurfTrace");
+  if (version == 0) throw std::runtime_error(path + ": corrupt patch list (version 0)");
+  const std::size_t available = bytes.size() - kHeaderSize;
+  if (bodySize > available || available - bodySize < 4)
+    throw std::runtime_error(path + ": truncated patch list: header announces " + std::to_string(bodySize) +
+                             " bytes of patches plus a 4-byte checksum, the file holds " + std::to_string(available));
+  if (available - bodySize > 4)
+    throw std::runtime_error(path + ": corrupt patch list: " + std::to_string(available - bodySize - 4) +
+                             " unexpected bytes after the checksum");
+  const unsigned char* body = bytes.data() + kHeaderSize;
+  std::uint32_t storedCrc;
+  std::memcpy(&storedCrc, body + bodySize, 4);
+  if (swap) storedCrc = swapBytes(storedCrc);
+  if (crc32Of(body, bodySize) != storedCrc)
+    throw std::runtime_error(path + ": corrupt patch list: checksum mismatch (the file was modified or damaged)");
+
+  Reader r(path, body, bodySize, swap);
+  PatchList p;
+  const auto surface = r.pod<std::uint32_t>("surface kind");
+  if (surface > static_cast<std::uint32_t>(SurfaceKind::Sas)) r.fail("unknown surface kind " + std::to_string(surface));
+  p.params.surface = static_cast<SurfaceKind>(surface);
+  p.params.probeRadius = r.pod<double>("probe radius");
+  p.params.shrinkFactor = r.pod<double>("shrink factor");
+  p.params.radiiSet = r.string("radii set");
+  p.params.inputCrc32 = r.pod<std::uint32_t>("input checksum");
+  p.params.atomCount = r.pod<std::uint32_t>("atom count");
+  p.componentCount = r.pod<std::uint32_t>("component count");
+  const auto arrays = r.pod<std::uint32_t>("array count");
+  std::uint32_t expected = 0;
+  forEachArray(p, [&](const char*, const char*, auto&) { ++expected; });
+  if (arrays != expected)
+    r.fail("holds " + std::to_string(arrays) + " arrays, version " + std::to_string(version) + " has " +
+           std::to_string(expected));
+  forEachArray(p, [&](const char* group, const char* name, auto& v) {
+    using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
+    const std::string want = std::string(group) + "." + name;
+    const std::string got = r.string("array name");
+    if (got != want) r.fail("expected array " + want + ", found " + got);
+    const auto scalar = r.pod<std::uint32_t>("array type");
+    const auto components = r.pod<std::uint32_t>("array width");
+    if (scalar != static_cast<std::uint32_t>(Info::kScalar) || components != Info::kComponents)
+      r.fail("array " + want + " has the wrong element type");
+    const auto count = r.pod<std::uint64_t>("array length");
+    r.array(v, count, want.c_str());
+  });
+  if (!r.atEnd()) r.fail("unexpected bytes after the last array");
+  try {
+    p.validate();
+  } catch (const std::exception& e) {
+    r.fail(e.what());
+  }
+  return p;
+}
+
+}  // namespace surftrace::build

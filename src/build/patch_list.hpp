@@ -1,0 +1,126 @@
+// The patch list: the one plain-data contract between build, trace and gl.
+//
+// One struct-of-arrays per patch kind, fixed-width fields, indices instead of pointers.
+// Every array of a kind has the same length (checked by PatchList::validate()). Angles
+// are radians, lengths Å. Formulas: shared ORACLES.md sections A.3-A.5 and C.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace surftrace::build {
+
+enum class SurfaceKind : std::uint32_t { Ses = 0, Mss = 1, Vdw = 2, Sas = 3 };
+const char* surfaceKindName(SurfaceKind kind);
+
+// What a patch list was built from; stored in the file so it can be checked against.
+struct SurfaceParams {
+  SurfaceKind surface = SurfaceKind::Ses;
+  double probeRadius = 1.4;      // SES/SAS
+  double shrinkFactor = 0.5;     // MSS
+  std::string radiiSet;          // "bondi", "file", "table:<path>"
+  std::uint32_t inputCrc32 = 0;  // CRC-32 of the input structure file
+  std::uint32_t atomCount = 0;
+};
+
+// SES convex patch of atom `atom`: the part of its vdW sphere outside the SAS contour.
+// Renderers draw the whole sphere: the hidden part is enclosed by the surface
+// (Lindow et al. 2010, Sect. 5.2). The patch's own area is stored for area reports.
+struct ConvexSpheres {
+  std::vector<glm::dvec3> center;
+  std::vector<double> radius;
+  std::vector<std::uint32_t> atom;
+  std::vector<std::uint32_t> component;  // SES component (0 = outer surface)
+  std::vector<double> area;              // exact area of the exposed part, Å²
+  std::vector<glm::dvec3> vectorArea;    // ∫ u dΩ over the exposed part of the unit sphere (volumes)
+
+  std::size_t size() const { return center.size(); }
+};
+
+// SES saddle: the part of the torus (centre, axis, big radius R, tube radius rp) between
+// the contact circles on atoms i and j, θ ∈ [thetaI, thetaJ] (ORACLES A.3: θ = 0 points
+// from the probe towards the axis), swept over φ ∈ [0, phiExtent] from the direction
+// `e1` about `axis` (φ grows from e1 towards axis × e1). A spindle torus (R < rp) keeps
+// only |θ| >= acos(R/rp); its cusps sit at centre ± sqrt(rp² − R²) axis.
+struct Tori {
+  std::vector<glm::dvec3> center;   // c_ij
+  std::vector<glm::dvec3> axis;     // unit, from atom i to atom j
+  std::vector<glm::dvec3> e1;       // unit, ⊥ axis: φ = 0
+  std::vector<double> bigRadius;    // R = ρ_ij
+  std::vector<double> thetaI;       // θ_i = atan2(−t, R)
+  std::vector<double> thetaJ;       // θ_j = atan2(d − t, R)
+  std::vector<double> phiExtent;    // (0, 2π]; 2π is a full ring
+  std::vector<std::uint32_t> atomI;
+  std::vector<std::uint32_t> atomJ;
+  std::vector<std::uint32_t> component;
+
+  std::size_t size() const { return center.size(); }
+};
+
+// SES concave spherical triangle: the probe sphere (centre `probe`, radius rp) inside the
+// cone spanned by the unit contact directions u_i, u_j, u_k (ORACLES A.4), minus the caps
+// cut off by its clipping planes clipPlanes[clipBegin, clipBegin + clipCount) (A.5).
+struct ConcaveTriangles {
+  std::vector<glm::dvec3> probe;
+  std::vector<glm::dvec3> dirI, dirJ, dirK;  // (c_m − p)/|c_m − p|
+  std::vector<std::uint32_t> atomI, atomJ, atomK;
+  std::vector<std::uint32_t> clipBegin;
+  std::vector<std::uint32_t> clipCount;
+  std::vector<std::uint32_t> component;
+
+  std::size_t size() const { return probe.size(); }
+};
+
+// MSS patch: the quadric f(x) = (x − z)ᵀ Q (x − z) + c0 = 0 inside its mixed cell, whose
+// bounding planes are cellPlanes[cellBegin, cellBegin + cellCount). Q is symmetric:
+// sphere patches have Q = I, hyperboloids Q = I − (1/(1−s) ... ) (settled by the MSS issue).
+enum class MssKind : std::uint32_t { Sphere = 0, HyperboloidOneSheet = 1, HyperboloidTwoSheets = 2, ConcaveSphere = 3 };
+struct MssQuadrics {
+  std::vector<std::uint32_t> kind;     // MssKind
+  std::vector<glm::dvec3> center;      // z
+  std::vector<glm::dvec3> axis;        // unit symmetry axis (unused for spheres)
+  std::vector<double> radialCoeff;     // Q = radialCoeff·I + axialCoeff·axis axisᵀ
+  std::vector<double> axialCoeff;
+  std::vector<double> constant;        // c0
+  std::vector<glm::uvec4> atoms;       // Delaunay simplex vertices (unused slots = ~0u)
+  std::vector<std::uint32_t> cellBegin;
+  std::vector<std::uint32_t> cellCount;
+
+  std::size_t size() const { return kind.size(); }
+};
+
+// A half-space n·x + d <= 0 (xyz = n, unit; w = d): the side that is kept.
+using Plane = glm::dvec4;
+
+struct PatchList {
+  SurfaceParams params;
+  ConvexSpheres convex;
+  Tori tori;
+  ConcaveTriangles concave;
+  std::vector<Plane> clipPlanes;   // concave self-intersection planes
+  MssQuadrics mss;
+  std::vector<Plane> cellPlanes;   // MSS mixed-cell faces
+  std::uint32_t componentCount = 0;
+
+  std::size_t patchCount() const {
+    return convex.size() + tori.size() + concave.size() + mss.size();
+  }
+  // Throws std::runtime_error if any kind's arrays differ in length, an index range runs
+  // past its array, an atom index is >= params.atomCount, or a value is not finite.
+  void validate() const;
+};
+
+// Binary patch-list file (.stp). Layout, all little-endian:
+//   magic "SURFTRCE" | u32 version | u32 endian tag 0x01020304 | u64 body size |
+//   body (parameters, then a table of named arrays) | u32 CRC-32 of the body.
+// Readers reject a wrong magic, a newer version, a truncated file or a bad checksum with
+// an error that says which.
+inline constexpr std::uint32_t kPatchFileVersion = 1;
+void writePatchList(const std::string& path, const PatchList& patches);
+PatchList readPatchList(const std::string& path);
+
+}  // namespace surftrace::build

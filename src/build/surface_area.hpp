@@ -1,0 +1,27 @@
+// Exact areas and volumes from a patch list (ORACLES A.3, A.4, A.5, D.2).
+#pragma once
+
+#include <vector>
+
+#include "build/patch_list.hpp"
+
+namespace surftrace::build {
+
+struct SurfaceAreas {
+  double sas = 0.0;          // Å²
+  double sesConvex = 0.0;
+  double sesToroidal = 0.0;
+  double sesConcave = 0.0;   // after self-intersection clipping
+  double sesVolume = 0.0;    // Å³, divergence theorem over all patches
+  double sesTotal() const { return sesConvex + sesToroidal + sesConcave; }
+  std::vector<double> sasPerAtom;  // params.atomCount entries
+  std::vector<double> sesPerAtom;  // convex + half of each torus + a third of each concave patch
+};
+
+// Needs the atoms' radii (convex patches store vdW radius; the SAS radius is r + rp).
+SurfaceAreas computeAreas(const PatchList& patches);
+
+// Area of one torus patch (ORACLES A.3), spindle tori keeping only |θ| >= acos(R/rp).
+double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double phiExtent);
+
+}  // namespace surftrace::build

@@ -1,0 +1,175 @@
+// SES construction against formulas and a peer tool (MSMS), and its determinism.
+#include "build/contour_buildup.hpp"
+
+#include <cstring>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <tbb/global_control.h>
+
+#include "build/spherical_region.hpp"
+#include "build/surface_area.hpp"
+
+namespace surftrace::build {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+PatchList build(const std::vector<glm::dvec3>& c, const std::vector<double>& r, double rp) {
+  return buildSes(c, r, SesParams{rp});
+}
+
+TEST(ContourBuildup, SingleAtomIsItsVdwSphere) {
+  const PatchList p = build({{1, 2, 3}}, {1.7}, 1.4);
+  ASSERT_EQ(p.convex.size(), 1u);
+  EXPECT_EQ(p.tori.size(), 0u);
+  EXPECT_EQ(p.concave.size(), 0u);
+  const SurfaceAreas a = computeAreas(p);
+  EXPECT_NEAR(a.sas, 4 * kPi * 3.1 * 3.1, 1e-10);
+  EXPECT_NEAR(a.sesTotal(), 4 * kPi * 1.7 * 1.7, 1e-10);
+  EXPECT_NEAR(a.sesVolume, 4.0 / 3.0 * kPi * 1.7 * 1.7 * 1.7, 1e-10);
+}
+
+// MSMS 2.6.1 on two carbons (r = 1.7) at (−2.70, 0, 0) and (2.75, 0, 0) with rp = 1.5:
+// toric 8.144, contact 67.243, SES 75.387, SAS 238.258 Å² (figures from the issue).
+TEST(ContourBuildup, TwoAtomsMatchMsms) {
+  const PatchList p = build({{-2.70, 0, 0}, {2.75, 0, 0}}, {1.7, 1.7}, 1.5);
+  ASSERT_EQ(p.convex.size(), 2u);
+  ASSERT_EQ(p.tori.size(), 1u);
+  EXPECT_EQ(p.concave.size(), 0u);
+  EXPECT_DOUBLE_EQ(p.tori.phiExtent[0], 2 * kPi);
+  const SurfaceAreas a = computeAreas(p);
+  EXPECT_NEAR(a.sesToroidal, 8.144, 1e-3);
+  EXPECT_NEAR(a.sesConvex, 67.243, 1e-3);
+  EXPECT_NEAR(a.sesTotal(), 75.387, 1e-3);
+  EXPECT_NEAR(a.sas, 238.258, 1e-3);
+}
+
+// Two equal atoms: the SES body is a solid of revolution; its volume by a direct
+// quadrature of the profile (two spherical caps and the region under the torus arc).
+TEST(ContourBuildup, TwoAtomVolumeMatchesSolidOfRevolution) {
+  const double r = 1.7, rp = 1.5, d = 5.45;
+  const PatchList p = build({{0, 0, 0}, {d, 0, 0}}, {r, r}, rp);
+  // Profile ρ(z) along the axis, z from −r to d + r; the torus runs between the contact
+  // circles, where the SES is ρ = R − sqrt(rp² − (z − d/2)²), R the probe-circle radius.
+  const double Rs = r + rp, t = d / 2, R = std::sqrt(Rs * Rs - t * t);
+  const double zc = t * r / Rs;  // contact circle on atom 0 lies at z = zc
+  auto rho = [&](double z) {
+    if (z <= zc) return std::sqrt(std::max(0.0, r * r - z * z));
+    if (z >= d - zc) return std::sqrt(std::max(0.0, r * r - (z - d) * (z - d)));
+    return R - std::sqrt(rp * rp - (z - t) * (z - t));
+  };
+  const int steps = 2000000;
+  const double z0 = -r, z1 = d + r, h = (z1 - z0) / steps;
+  double volume = 0;
+  for (int s = 0; s < steps; ++s) {
+    const double z = z0 + (s + 0.5) * h, q = rho(z);
+    volume += kPi * q * q * h;
+  }
+  EXPECT_NEAR(computeAreas(p).sesVolume, volume, 1e-6 * volume);
+}
+
+// Four atoms on a regular tetrahedron: every triple has a vertex outside (the other
+// atom is far), so 4 concave triangles, 6 tori, and, by symmetry, equal per-atom areas.
+TEST(ContourBuildup, TetrahedronIsSymmetric) {
+  const double s = 1.5;
+  const std::vector<glm::dvec3> c = {{s, s, s}, {s, -s, -s}, {-s, s, -s}, {-s, -s, s}};
+  const PatchList p = build(c, {1.8, 1.8, 1.8, 1.8}, 1.4);
+  const SurfaceAreas a = computeAreas(p);
+  EXPECT_EQ(p.convex.size(), 4u);
+  EXPECT_EQ(p.concave.size(), 4u);  // the inward probes sit inside the fourth atom
+  for (double v : a.sasPerAtom) EXPECT_NEAR(v, a.sasPerAtom[0], 1e-9);
+  for (double v : a.sesPerAtom) EXPECT_NEAR(v, a.sesPerAtom[0], 1e-9);
+}
+
+TEST(ContourBuildup, ContainedAndDuplicateAtomsChangeNothing) {
+  const std::vector<glm::dvec3> c = {{0, 0, 0}, {3.2, 0.4, 0}, {1.1, 2.9, 0.3}};
+  const std::vector<double> r = {1.7, 1.52, 1.55};
+  const SurfaceAreas base = computeAreas(build(c, r, 1.4));
+  auto withExtra = [&](glm::dvec3 cc, double rr) {
+    auto c2 = c;
+    auto r2 = r;
+    c2.push_back(cc);
+    r2.push_back(rr);
+    return computeAreas(build(c2, r2, 1.4));
+  };
+  for (const SurfaceAreas& a : {withExtra(c[0], r[0]), withExtra(c[1] + glm::dvec3(0.1, 0, 0), 1.0),
+                                withExtra(c[2], 0.5)}) {
+    EXPECT_NEAR(a.sas, base.sas, 1e-9);
+    EXPECT_NEAR(a.sesTotal(), base.sesTotal(), 1e-9);
+    EXPECT_NEAR(a.sesVolume, base.sesVolume, 1e-9);
+  }
+}
+
+TEST(ContourBuildup, RejectsBadProbeRadius) {
+  EXPECT_THROW(build({{0, 0, 0}}, {1.0}, 0.0), std::invalid_argument);
+  EXPECT_THROW(build({{0, 0, 0}}, {1.0}, -1.0), std::invalid_argument);
+  EXPECT_THROW(build({{0, 0, 0}}, {1.0}, std::nan("")), std::invalid_argument);
+}
+
+std::vector<glm::dvec3> randomCluster(std::uint32_t seed, int n, std::vector<double>& radii) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-11.5, 11.5), ur(1.2, 2.0);
+  std::vector<glm::dvec3> c;
+  for (int i = 0; i < n; ++i) {
+    c.emplace_back(u(rng), u(rng), u(rng));
+    radii.push_back(ur(rng));
+  }
+  return c;
+}
+
+template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(ContourBuildup, IdenticalForAnyThreadCount) {
+  std::vector<double> r;
+  const auto c = randomCluster(7, 600, r);
+  PatchList one, all;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = build(c, r, 1.4);
+  }
+  all = build(c, r, 1.4);
+  EXPECT_TRUE(sameBits(one.convex.area, all.convex.area));
+  EXPECT_TRUE(sameBits(one.tori.e1, all.tori.e1));
+  EXPECT_TRUE(sameBits(one.tori.phiExtent, all.tori.phiExtent));
+  EXPECT_TRUE(sameBits(one.concave.probe, all.concave.probe));
+  EXPECT_TRUE(sameBits(one.concave.clipCount, all.concave.clipCount));
+  EXPECT_TRUE(sameBits(one.clipPlanes, all.clipPlanes));
+}
+
+// Area by Gauss–Bonnet against a dense Monte Carlo count on the unit sphere.
+TEST(SphericalRegion, AreaMatchesSampling) {
+  for (std::uint32_t seed = 0; seed < 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(-0.6, 0.95);
+    std::vector<Cap> caps;
+    const int count = 1 + static_cast<int>(seed % 6);
+    for (int k = 0; k < count; ++k) caps.push_back({glm::normalize(glm::dvec3(g(rng), g(rng), g(rng))), u(rng)});
+    SphericalRegionScratch scratch;
+    const SphericalRegion region = sphereMinusCaps(caps, scratch);
+    const int samples = 400000;
+    int outside = 0;
+    glm::dvec3 w(0.0);
+    for (int s = 0; s < samples; ++s) {
+      const glm::dvec3 x = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+      bool in = false;
+      for (const Cap& c : caps) in = in || glm::dot(x, c.axis) > c.cosRadius;
+      if (!in) ++outside, w += x;
+    }
+    const double frac = static_cast<double>(outside) / samples;
+    const double sigma = 4 * kPi * std::sqrt(frac * (1 - frac) / samples);
+    EXPECT_NEAR(region.area, 4 * kPi * frac, 5 * sigma + 1e-12) << "seed " << seed;
+    const glm::dvec3 wEstimate = w * (4 * kPi / samples);
+    // Per component, Var(4π u_c 1[outside]) <= (4π)² frac.
+    const double sigmaW = 4 * kPi * std::sqrt(frac / samples);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(region.vectorArea[c], wEstimate[c], 5 * sigmaW + 1e-12) << "seed " << seed;
+  }
+}
+
+}  // namespace
+}  // namespace surftrace::build
