@@ -7,6 +7,7 @@
 #include <memory>
 #include <sstream>
 
+#include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
 #include "build/molecule.hpp"

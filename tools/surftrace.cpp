@@ -1,1 +1,39 @@
-int main() { return 0; }
+// surftrace: the command-line front end. Each subcommand lives in its own *_command.cpp.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "build/error.hpp"
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "SurfTrace computes molecular surfaces exactly (solvent excluded surface, SES) and ray-traces them.\n"
+      "\n"
+      "Typical use:\n"
+      "  surftrace info 1vis.pdb.gz                 what is in a structure file, what gets skipped\n"
+      "  surftrace area 1vis.pdb.gz --probe 1.4      exact SAS/SES areas and SES volume\n"
+      "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES patch list for renderers\n"
+      "\n"
+      "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ.\n"
+      "Run `surftrace COMMAND --help` for the options of one command.",
+      "surftrace"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "surftrace 0.1.0");
+  app.fallthrough();
+
+  surftrace::tools::addInfoCommand(app);
+  surftrace::tools::addBuildCommands(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "surftrace: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
