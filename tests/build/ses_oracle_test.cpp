@@ -80,19 +80,30 @@ TEST_P(RealMolecule, PatchPointsLieOnTheSes) {
       ++checked;
     }
   }
-  // Convex patches: every exposed point of a vdW sphere is on the SES.
+  // Convex patches: the fraction of each vdW sphere that the oracle finds on the SES,
+  // summed over the atoms, estimates the convex area (a binomial count per atom).
+  std::normal_distribution<double> g;
+  double sampled = 0.0, variance = 0.0, stored = 0.0;
+  const int perAtom = 200;
   for (std::size_t k = 0; k < p.convex.size(); ++k) {
-    std::normal_distribution<double> g;
-    for (int s = 0; s < 4; ++s) {
+    int onSes = 0;
+    for (int s = 0; s < perAtom; ++s) {
       const glm::dvec3 dir = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
       const glm::dvec3 x = p.convex.center[k] + p.convex.radius[k] * dir;
       const auto r = oracle.distanceToAccessible(x);
-      if (r.kind == oracle::SesOracle::Result::SpherePoint) {
-        EXPECT_LT(std::abs(r.dist - kRp), 1e-9);
+      if (r.kind == oracle::SesOracle::Result::SpherePoint && r.atoms[0] == static_cast<int>(p.convex.atom[k])) {
+        EXPECT_LT(std::abs(r.dist - kRp), 1e-9) << "convex patch of atom " << p.convex.atom[k];
+        ++onSes;
         ++checked;
       }
     }
+    const double sphere = 4 * std::numbers::pi * p.convex.radius[k] * p.convex.radius[k];
+    const double f = static_cast<double>(onSes) / perAtom;
+    sampled += f * sphere;
+    variance += sphere * sphere * std::max(f * (1 - f), 1.0 / perAtom) / perAtom;
+    stored += p.convex.area[k];
   }
+  EXPECT_NEAR(stored, sampled, 5 * std::sqrt(variance)) << "convex area: patches vs oracle sampling";
   EXPECT_GT(checked, 100);
   RecordProperty("points", checked);
   RecordProperty("worst_error", std::to_string(worst));
@@ -133,8 +144,8 @@ TEST_P(RealMolecule, SasAreaMatchesFreesasa) {
 
 INSTANTIATE_TEST_SUITE_P(Ses, RealMolecule,
                          testing::Values("paper/1grm.pdb.gz", "structures/1crn.pdb", "structures/1ubq.pdb.gz"),
-                         [](const auto& info) {
-                           std::string name = info.param.substr(info.param.find('/') + 1);
+                         [](const auto& param) {
+                           std::string name = param.param.substr(param.param.find('/') + 1);
                            return name.substr(0, name.find('.'));
                          });
 

@@ -14,12 +14,12 @@
 
 namespace {
 
-struct Run {
+struct Result {
   int status;
   std::string output;  // stdout and stderr together
 };
 
-Run run(const std::string& args) {
+Result run(const std::string& args) {
   const std::string cmd = std::string(SURFTRACE_TOOL) + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
@@ -33,38 +33,38 @@ Run run(const std::string& args) {
 std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
 
 TEST(Cli, HelpTeachesTheCommands) {
-  const Run r = run("--help");
+  const Result r = run("--help");
   EXPECT_EQ(r.status, 0);
   for (const char* word : {"info", "area", "build", "PDB", "mmCIF"}) EXPECT_NE(r.output.find(word), std::string::npos) << word;
 }
 
 TEST(Cli, InfoCountsTheDemoMolecule) {
   // 1VIS: 2531 atoms, of which 43 water (tests/data/MANIFEST.md).
-  const Run r = run("info --json " + data("paper/1vis.pdb.gz"));
+  const Result r = run("info --json " + data("paper/1vis.pdb.gz"));
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j["atoms"], 2488);
   EXPECT_EQ(j["skipped"]["water"], 43);
-  const Run keep = run("info --json --keep-water " + data("paper/1vis.pdb.gz"));
+  const Result keep = run("info --json --keep-water " + data("paper/1vis.pdb.gz"));
   EXPECT_EQ(nlohmann::json::parse(keep.output)["atoms"], 2531);
 }
 
 TEST(Cli, BadInputIsAClearErrorNotACrash) {
   const std::string path = (std::filesystem::path(testing::TempDir()) / "nan.xyzr").string();
   std::ofstream(path) << "0 0 0 1.5\n1 nan 0 1.5\n";
-  const Run r = run("info " + path);
+  const Result r = run("info " + path);
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find(path + ":2"), std::string::npos) << r.output;
-  const Run missing = run("info /no/such/file.pdb");
+  const Result missing = run("info /no/such/file.pdb");
   EXPECT_NE(missing.status, 0);
   EXPECT_NE(missing.output.find("/no/such/file.pdb"), std::string::npos) << missing.output;
-  const Run probe = run("area --probe -1 " + data("paper/1grm.pdb.gz"));
+  const Result probe = run("area --probe -1 " + data("paper/1grm.pdb.gz"));
   EXPECT_NE(probe.status, 0);
   EXPECT_NE(probe.output.find("--probe"), std::string::npos) << probe.output;
 }
 
 TEST(Cli, AreaJsonHasTheDocumentedShape) {
-  const Run r = run("area --format json " + data("paper/1grm.pdb.gz"));
+  const Result r = run("area --format json " + data("paper/1grm.pdb.gz"));
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   const double convex = j["ses"]["convex"], toroidal = j["ses"]["toroidal"], concave = j["ses"]["concave"];
@@ -79,7 +79,7 @@ TEST(Cli, AreaJsonHasTheDocumentedShape) {
 
 TEST(Cli, BuildWritesAReadablePatchList) {
   const std::string out = (std::filesystem::path(testing::TempDir()) / "1grm.stp").string();
-  const Run r = run("build " + data("paper/1grm.pdb.gz") + " --probe 1.4 -o " + out);
+  const Result r = run("build " + data("paper/1grm.pdb.gz") + " --probe 1.4 -o " + out);
   ASSERT_EQ(r.status, 0) << r.output;
   const auto p = surftrace::build::readPatchList(out);
   EXPECT_EQ(p.params.atomCount, 272u);
