@@ -34,7 +34,7 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       {"mmcif", build::MoleculeFormat::Mmcif}, {"cif", build::MoleculeFormat::Mmcif},
       {"pqr", build::MoleculeFormat::Pqr}, {"xyzr", build::MoleculeFormat::Xyzr},
       {"xyz", build::MoleculeFormat::Xyz}};
-  group->add_option("--format", options.format, "Input format (default: from the file name)")
+  group->add_option("--input-format", options.format, "Input format (default: from the file name)")
       ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
 }
 

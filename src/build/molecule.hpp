@@ -20,9 +20,9 @@ struct AtomRecord {
   int residueNumber = 0;
   char insertionCode = ' ';
   int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
-  std::string element;       // canonical symbol, e.g. "C", "Fe"
-  double occupancy = 1.0;
-  double bFactor = 0.0;
+  std::string element;       // canonical symbol, e.g. "C", "Fe"; empty when unknown
+  double occupancy = 1.0;    // NaN where the file's field is not a number
+  double bFactor = 0.0;      // NaN where the file's field is not a number
   double charge = 0.0;       // PQR charge; 0 elsewhere
   bool hetatm = false;
   int line = 0;              // 1-based line in the source file; 0 when unknown

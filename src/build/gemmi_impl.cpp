@@ -1,0 +1,594 @@
+// PDB and mmCIF through gemmi: the one translation unit that compiles gemmi, so that its
+// slow-to-compile headers stay out of every other file.
+// clang-format off
+#define GEMMI_READ_COOR_IMPLEMENTATION
+#include <gemmi/read_coor.hpp>
+// clang-format on
+
+#include <gemmi/cif.hpp>
+#include <gemmi/pdb.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "build/error.hpp"
+#include "build/molecule.hpp"
+#include "build/radii.hpp"
+
+namespace surftrace::build::detail {
+
+// Called by readMolecule (molecule.cpp). Each returns the atoms of the 1-based `model` in file
+// order, with line numbers, elements (given or inferred) and alternate locations, but no
+// radii and no selection. `text` is the decompressed file.
+Molecule readPdbWithGemmi(std::string text, const std::string& path, int model);
+Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, int model);
+
+namespace {
+
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// A whole-field decimal number. gemmi's own readers parse what they can and ignore the rest
+// ("abc" reads as 0, "1.2.3" as 1.2, "nan" as NaN), so every number SurfTrace uses is
+// checked here first.
+bool parseWhole(std::string_view text, double& value) {
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  return ec == std::errc() && ptr == last;
+}
+
+// (Built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string(s) + "'".)
+std::string inQuotes(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 2);
+  out.append(1, '\'').append(s).append(1, '\'');
+  return out;
+}
+
+std::string modelCountText(std::size_t n) {
+  return std::to_string(n) + (n == 1 ? " model" : " models");
+}
+
+[[noreturn]] void throwNoSuchModel(const std::string& path, int model, std::size_t count) {
+  throw InputError(path, 0,
+                   "model " + std::to_string(model) + " was asked for, but the file has " +
+                       modelCountText(count));
+}
+
+// ---------------------------------------------------------------------------------------------
+// PDB
+
+// Record names compared as gemmi's is_record_type does: the first four characters, without
+// regard to case, a space equal to the end of the line.
+bool recordIs(std::string_view line, const char (&name)[5]) {
+  for (int i = 0; i < 4; ++i) {
+    const char c = i < static_cast<int>(line.size()) ? line[static_cast<std::size_t>(i)] : ' ';
+    const char a = c == '\0' ? ' ' : upper(c);
+    if (a != name[i]) return false;
+  }
+  return true;
+}
+
+// gemmi stops at END, not at ENDMDL: its is_record_type3 accepts as fourth character the end
+// of the line or any byte whose bits 0xD0 are clear (space, tab, CR, and '!' to '/').
+bool isEndRecord(std::string_view line) {
+  if (line.size() < 3 || upper(line[0]) != 'E' || upper(line[1]) != 'N' || upper(line[2]) != 'D')
+    return false;
+  return line.size() == 3 || (static_cast<unsigned char>(line[3]) & 0xD0) == 0;
+}
+
+struct PdbAtomLine {
+  std::size_t start = 0;   // offset of the line in the text
+  std::size_t length = 0;  // without the line end
+  int line = 0;
+  int serial = 0;
+  double occupancy = 1.0;
+  double bFactor = 0.0;
+};
+
+// A fixed-column number (1-based inclusive columns). Blank gives `blank`, or an error when
+// the field is required.
+double pdbNumber(std::string_view line, std::size_t firstColumn, std::size_t lastColumn,
+                 const char* what, std::optional<double> blank, const std::string& path,
+                 int lineNumber) {
+  std::string_view field;
+  if (line.size() >= firstColumn)
+    field = line.substr(firstColumn - 1, std::min(lastColumn, line.size()) - (firstColumn - 1));
+  const std::string columns = std::to_string(firstColumn) + "-" + std::to_string(lastColumn);
+  const std::string_view text = trim(field);
+  if (text.empty()) {
+    if (blank) return *blank;
+    throw InputError(path, lineNumber,
+                     std::string("expected a number for ") + what + " in columns " + columns +
+                         ", got a blank field");
+  }
+  double value = 0.0;
+  if (!parseWhole(text, value))
+    throw InputError(path, lineNumber,
+                     std::string("expected a number for ") + what + " in columns " + columns +
+                         ", got " + inQuotes(field));
+  if (!std::isfinite(value))
+    throw InputError(
+        path, lineNumber,
+        std::string(what) + " in columns " + columns + " is not finite: " + inQuotes(text));
+  return value;
+}
+
+// A fixed-column number that may be absent or unreadable: `blank` for a blank field, NaN
+// for text that is not a finite number.
+double pdbLenientNumber(std::string_view line, std::size_t firstColumn, std::size_t lastColumn,
+                        double blank) {
+  if (line.size() < firstColumn) return blank;
+  const std::string_view text =
+      trim(line.substr(firstColumn - 1, std::min(lastColumn, line.size()) - (firstColumn - 1)));
+  if (text.empty()) return blank;
+  double value = 0.0;
+  if (!parseWhole(text, value) || !std::isfinite(value)) return std::nan("");
+  return value;
+}
+
+// Serial numbers as gemmi reads them: decimal, or hybrid-36 past 99999; overflow markers
+// such as "*****" read as 0.
+int pdbSerial(std::string_view line) {
+  const std::string_view field = trim(line.substr(6, 5));
+  if (field.empty()) return 0;
+  if (field[0] >= 'A' && field[0] <= 'Z' && field.size() == 5) {
+    long value = 0;
+    for (char c : field) {
+      int digit = 0;
+      if (c >= '0' && c <= '9')
+        digit = c - '0';
+      else if (c >= 'A' && c <= 'Z')
+        digit = c - 'A' + 10;
+      else
+        return 0;
+      value = value * 36 + digit;
+    }
+    return static_cast<int>(value - 16796160 + 100000);
+  }
+  int value = 0;
+  const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
+  return (ec == std::errc() && ptr == field.data() + field.size()) ? value : 0;
+}
+
+// Writes `value` into the 5-character serial field, in hybrid-36 past 99999 so that gemmi's
+// read_serial gives it back.
+void writeSerialTag(char* field, int value) {
+  if (value < 100000) {
+    for (int i = 4; i >= 0; --i) {
+      field[i] = static_cast<char>('0' + value % 10);
+      value /= 10;
+    }
+    return;
+  }
+  long code = static_cast<long>(value) - 100000 + 16796160;
+  for (int i = 4; i >= 0; --i) {
+    const int digit = static_cast<int>(code % 36);
+    field[i] = static_cast<char>(digit < 10 ? '0' + digit : 'A' + digit - 10);
+    code /= 36;
+  }
+}
+
+// gemmi reports "Problem in line N: ..." for its own complaints.
+InputError fromGemmi(const std::string& path, const std::exception& e) {
+  std::string message = e.what();
+  int line = 0;
+  const std::string prefix = "Problem in line ";
+  if (message.rfind(prefix, 0) == 0) {
+    std::size_t pos = prefix.size();
+    while (pos < message.size() && message[pos] >= '0' && message[pos] <= '9')
+      line = line * 10 + (message[pos++] - '0');
+    if (message.compare(pos, 2, ": ") == 0) message.erase(0, pos + 2);
+  }
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  return InputError(path, line, "gemmi: " + message);
+}
+
+std::string pdbElement(std::string_view line, const std::string& residue) {
+  // Columns 77-78 hold the element in remediated files; older files have the entry ID and a
+  // line serial in columns 73-80, so digits there are not an element.
+  if (line.size() >= 77) {
+    const std::string_view field =
+        trim(line.substr(76, std::min<std::size_t>(2, line.size() - 76)));
+    if (!field.empty() && std::all_of(field.begin(), field.end(), isAlpha)) {
+      std::string element = canonicalElement(field);
+      if (!element.empty()) return element;
+    }
+  }
+  return elementFromAtomName(line.substr(12, 4), residue, AtomNameLayout::PdbColumns);
+}
+
+}  // namespace
+
+Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) {
+  // gemmi keeps no line numbers and reorders atoms into chains and residues. One pass over
+  // the ATOM/HETATM lines checks the numbers we use and overwrites each serial field with the
+  // record's index, so every atom gemmi returns leads back to its line. The charge columns
+  // 79-80 are blanked too: gemmi throws on the line serials old entries keep there.
+  std::vector<PdbAtomLine> records;
+  int lineNumber = 0;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    ++lineNumber;
+    std::string_view line(text.data() + pos, end - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.size() > 120) line = line.substr(0, 120);  // gemmi reads no further
+
+    if (recordIs(line, "ATOM") || recordIs(line, "HETA")) {
+      if (line.size() < 54)
+        throw InputError(path, lineNumber,
+                         "ATOM/HETATM record ends at column " + std::to_string(line.size()) +
+                             "; expected x, y, z in columns 31-54");
+      PdbAtomLine record;
+      record.start = pos;
+      record.length = line.size();
+      record.line = lineNumber;
+      pdbNumber(line, 31, 38, "x", std::nullopt, path, lineNumber);
+      pdbNumber(line, 39, 46, "y", std::nullopt, path, lineNumber);
+      pdbNumber(line, 47, 54, "z", std::nullopt, path, lineNumber);
+      // Occupancy matters only to choose among alternate locations, and the B-factor not at
+      // all, so a value that is not a finite number (fullerene.pdb has "inf") is an error only
+      // for an atom with an alternate location; elsewhere it is kept as NaN, meaning unknown.
+      record.occupancy = pdbLenientNumber(line, 55, 60, 1.0);
+      if (std::isnan(record.occupancy) && line[16] != ' ')
+        pdbNumber(line, 55, 60, "the occupancy of an atom with an alternate location", 1.0, path,
+                  lineNumber);
+      record.bFactor = pdbLenientNumber(line, 61, 66, 0.0);
+      record.serial = pdbSerial(line);
+      if (records.size() >= 43000000)
+        throw InputError(path, lineNumber, "more than 43 million atom records");
+      writeSerialTag(&text[pos + 6], static_cast<int>(records.size()));
+      for (std::size_t column = 78; column < std::min<std::size_t>(line.size(), 80); ++column)
+        text[pos + column] = ' ';
+      records.push_back(record);
+    } else if (isEndRecord(line)) {
+      break;
+    }
+    pos = end + 1;
+  }
+  if (records.empty()) throw InputError(path, 0, "no ATOM or HETATM records");
+  if (text.back() != '\n') text.push_back('\n');  // gemmi rejects a short last line without one
+
+  gemmi::Structure structure;
+  try {
+    structure = gemmi::read_pdb_from_memory(text.data(), text.size(), path);
+  } catch (const std::exception& e) {
+    throw fromGemmi(path, e);
+  }
+
+  Molecule molecule;
+  molecule.source = path;
+  molecule.format = MoleculeFormat::Pdb;
+  molecule.modelCount = static_cast<int>(structure.models.size());
+  molecule.modelUsed = model;
+  if (model > molecule.modelCount) throwNoSuchModel(path, model, structure.models.size());
+
+  struct Found {
+    std::size_t index;
+    const gemmi::Chain* chain;
+    const gemmi::Residue* residue;
+    const gemmi::Atom* atom;
+  };
+  std::vector<Found> found;
+  std::vector<char> seen(records.size(), 0);
+  for (std::size_t m = 0; m < structure.models.size(); ++m) {
+    for (const gemmi::Chain& chain : structure.models[m].chains)
+      for (const gemmi::Residue& residue : chain.residues)
+        for (const gemmi::Atom& atom : residue.atoms) {
+          const auto index = static_cast<std::size_t>(atom.serial);
+          SURFTRACE_ASSERT(atom.serial >= 0 && index < records.size() && !seen[index]);
+          seen[index] = 1;
+          if (static_cast<int>(m) + 1 == model)
+            found.push_back({index, &chain, &residue, &atom});
+          else
+            ++molecule.skipped.otherModels;
+        }
+  }
+  if (found.empty()) throw InputError(path, 0, "model " + std::to_string(model) + " has no atoms");
+  std::sort(found.begin(), found.end(),
+            [](const Found& a, const Found& b) { return a.index < b.index; });
+
+  molecule.centers.reserve(found.size());
+  molecule.atoms.reserve(found.size());
+  for (const Found& f : found) {
+    const PdbAtomLine& record = records[f.index];
+    const std::string_view line(text.data() + record.start, record.length);
+    AtomRecord atom;
+    atom.name = f.atom->name;
+    atom.residue = f.residue->name;
+    atom.chain = f.chain->name;
+    atom.residueNumber = f.residue->seqid.num.has_value() ? f.residue->seqid.num.value : 0;
+    atom.insertionCode = f.residue->seqid.icode;
+    atom.serial = record.serial;
+    atom.element = pdbElement(line, atom.residue);
+    atom.occupancy = record.occupancy;
+    atom.bFactor = record.bFactor;
+    atom.hetatm = upper(line[0]) == 'H';
+    atom.line = record.line;
+    atom.altLoc = f.atom->altloc == '\0' ? ' ' : f.atom->altloc;
+    molecule.centers.emplace_back(f.atom->pos.x, f.atom->pos.y, f.atom->pos.z);
+    molecule.atoms.push_back(std::move(atom));
+  }
+  return molecule;
+}
+
+// ---------------------------------------------------------------------------------------------
+// mmCIF
+
+namespace {
+
+// The line on which each row of a loop starts. gemmi keeps only the line of "loop_", so the
+// loop is re-tokenized from there (CIF 1.1 tokens: bare words, quoted strings, ;-text fields,
+// # comments). Rows not found (which would mean a tokenizer disagreement) keep line 0.
+std::vector<int> loopRowLines(const std::string& text, int loopLine, std::size_t tagCount,
+                              std::size_t valueCount) {
+  const std::size_t rows = tagCount == 0 ? 0 : valueCount / tagCount;
+  std::vector<int> rowLines(rows, 0);
+  std::size_t pos = 0;
+  int line = 1;
+  while (line < loopLine && pos < text.size()) {
+    const std::size_t nl = text.find('\n', pos);
+    if (nl == std::string::npos) return rowLines;
+    pos = nl + 1;
+    ++line;
+  }
+  std::size_t tokens = 0;  // "loop_", the tags, then the values
+  const std::size_t wanted = 1 + tagCount + valueCount;
+  bool lineStart = true;
+  while (pos < text.size() && tokens < wanted) {
+    const char c = text[pos];
+    if (c == '\n') {
+      ++line;
+      ++pos;
+      lineStart = true;
+      continue;
+    }
+    if (isSpace(c)) {
+      ++pos;
+      lineStart = false;
+      continue;
+    }
+    const int tokenLine = line;
+    if (c == '#') {
+      while (pos < text.size() && text[pos] != '\n') ++pos;
+      continue;
+    }
+    if (c == ';' && lineStart) {
+      // A text field runs to the next line that starts with ';'.
+      ++pos;
+      for (;;) {
+        const std::size_t nl = text.find('\n', pos);
+        if (nl == std::string::npos) return rowLines;
+        ++line;
+        pos = nl + 1;
+        if (pos < text.size() && text[pos] == ';') {
+          ++pos;
+          break;
+        }
+      }
+    } else if (c == '\'' || c == '"') {
+      // A quoted string ends at its quote followed by whitespace.
+      ++pos;
+      while (pos < text.size() &&
+             !(text[pos] == c && (pos + 1 == text.size() || isSpace(text[pos + 1])))) {
+        if (text[pos] == '\n') return rowLines;
+        ++pos;
+      }
+      ++pos;
+    } else {
+      while (pos < text.size() && !isSpace(text[pos])) ++pos;
+    }
+    lineStart = false;
+    if (tokens > tagCount) {
+      const std::size_t value = tokens - 1 - tagCount;
+      if (value % tagCount == 0) rowLines[value / tagCount] = tokenLine;
+    }
+    ++tokens;
+  }
+  return rowLines;
+}
+
+std::string cifTag(const char* column) { return std::string("_atom_site.") + column; }
+
+}  // namespace
+
+Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, int model) {
+  gemmi::cif::Document document;
+  try {
+    document = gemmi::cif::read_memory(text.data(), text.size(), path.c_str());
+  } catch (const tao::pegtl::parse_error& e) {
+    const int line = e.positions().empty() ? 0 : static_cast<int>(e.positions().front().line);
+    std::string message(e.message());
+    if (message == "Wrong number of values in the loop")
+      message = "the loop_ starting here ends with an incomplete row (truncated file?)";
+    throw InputError(path, line, "mmCIF syntax: " + message);
+  } catch (const std::exception& e) {
+    throw fromGemmi(path, e);
+  }
+  if (document.blocks.empty()) throw InputError(path, 0, "no data_ block");
+  gemmi::cif::Block& block = document.blocks.front();
+
+  // gemmi's make_structure silently returns no atoms when a column it requires is missing,
+  // so the table is read here, column by column.
+  enum Column {
+    kX,
+    kY,
+    kZ,
+    kGroup,
+    kId,
+    kSymbol,
+    kAuthAtom,
+    kLabelAtom,
+    kAltId,
+    kAuthComp,
+    kLabelComp,
+    kAuthAsym,
+    kLabelAsym,
+    kAuthSeq,
+    kLabelSeq,
+    kInsCode,
+    kOccupancy,
+    kBIso,
+    kModel
+  };
+  gemmi::cif::Table table = block.find(
+      "_atom_site.",
+      {"Cartn_x", "?Cartn_y", "?Cartn_z", "?group_PDB", "?id", "?type_symbol", "?auth_atom_id",
+       "?label_atom_id", "?label_alt_id", "?auth_comp_id", "?label_comp_id", "?auth_asym_id",
+       "?label_asym_id", "?auth_seq_id", "?label_seq_id", "?pdbx_PDB_ins_code", "?occupancy",
+       "?B_iso_or_equiv", "?pdbx_PDB_model_num"});
+  if (!table.ok()) {
+    if (block.find_mmcif_category("_atom_site.").ok())
+      throw InputError(path, 0, "_atom_site has no Cartn_x column");
+    throw InputError(path, 0, "no _atom_site records (no atoms) in data_" + block.name);
+  }
+  for (const auto& [column, name] : {std::pair{kY, "Cartn_y"}, std::pair{kZ, "Cartn_z"}})
+    if (!table.has_column(column))
+      throw InputError(path, 0, "_atom_site has no " + std::string(name) + " column");
+  const int atomColumn = table.first_of(kAuthAtom, kLabelAtom);
+  const int compColumn = table.first_of(kAuthComp, kLabelComp);
+  const int asymColumn = table.first_of(kAuthAsym, kLabelAsym);
+  const int seqColumn = table.first_of(kAuthSeq, kLabelSeq);
+  if (!table.has_column(atomColumn))
+    throw InputError(path, 0, "_atom_site has neither auth_atom_id nor label_atom_id");
+
+  const std::size_t rows = table.length();
+  std::vector<int> rowLines;
+  if (table.loop_item != nullptr)
+    rowLines = loopRowLines(text, table.loop_item->line_number, table.loop_item->loop.tags.size(),
+                            table.loop_item->loop.values.size());
+  else if (const gemmi::cif::Item* item = block.find_pair_item(cifTag("Cartn_x")))
+    rowLines.assign(rows, item->line_number);
+  rowLines.resize(rows, 0);
+
+  Molecule molecule;
+  molecule.source = path;
+  molecule.format = MoleculeFormat::Mmcif;
+  molecule.modelUsed = model;
+
+  std::vector<std::string> models;  // in order of first appearance
+  std::string currentModel;
+  int currentIndex = -1;
+  for (std::size_t r = 0; r < rows; ++r) {
+    gemmi::cif::Table::Row row = table[static_cast<int>(r)];
+    const int line = rowLines[r];
+    std::string modelName = row.has2(kModel) ? gemmi::cif::as_string(row[kModel]) : "1";
+    if (currentIndex < 0 || modelName != currentModel) {
+      auto it = std::find(models.begin(), models.end(), modelName);
+      if (it == models.end()) it = models.insert(models.end(), modelName);
+      currentIndex = static_cast<int>(it - models.begin());
+      currentModel = std::move(modelName);
+    }
+    if (currentIndex + 1 != model) {
+      ++molecule.skipped.otherModels;
+      continue;
+    }
+
+    auto number = [&](int column, const char* name, std::optional<double> null) {
+      const std::string& raw = row[static_cast<std::size_t>(column)];
+      if (gemmi::cif::is_null(raw)) {
+        if (null) return *null;
+        throw InputError(path, line,
+                         "expected a number for " + cifTag(name) + ", got " + inQuotes(raw));
+      }
+      std::string_view value = trim(raw);
+      if (const std::size_t su = value.find('(');
+          su != std::string_view::npos && value.back() == ')')
+        value = value.substr(0, su);  // standard uncertainty, e.g. 1.234(5)
+      double result = 0.0;
+      if (!parseWhole(value, result))
+        throw InputError(path, line,
+                         "expected a number for " + cifTag(name) + ", got " + inQuotes(raw));
+      if (!std::isfinite(result))
+        throw InputError(path, line, cifTag(name) + " is not finite: " + inQuotes(raw));
+      return result;
+    };
+    auto str = [&](int column) {
+      return table.has_column(column) ? gemmi::cif::as_string(row[static_cast<std::size_t>(column)])
+                                      : std::string();
+    };
+    auto firstChar = [&](int column) {
+      if (!row.has2(static_cast<std::size_t>(column))) return ' ';
+      const std::string value = gemmi::cif::as_string(row[static_cast<std::size_t>(column)]);
+      return value.empty() ? ' ' : value[0];
+    };
+
+    const double x = number(kX, "Cartn_x", std::nullopt);
+    const double y = number(kY, "Cartn_y", std::nullopt);
+    const double z = number(kZ, "Cartn_z", std::nullopt);
+
+    AtomRecord atom;
+    atom.name = str(atomColumn);
+    atom.residue = str(compColumn);
+    atom.chain = str(asymColumn);
+    if (row.has2(static_cast<std::size_t>(seqColumn))) {
+      const std::string value = gemmi::cif::as_string(row[static_cast<std::size_t>(seqColumn)]);
+      const auto [ptr, ec] =
+          std::from_chars(value.data(), value.data() + value.size(), atom.residueNumber);
+      if (ec != std::errc() || ptr != value.data() + value.size())
+        throw InputError(path, line,
+                         "expected an integer for " +
+                             cifTag(seqColumn == kAuthSeq ? "auth_seq_id" : "label_seq_id") +
+                             ", got " + inQuotes(value));
+    }
+    atom.insertionCode = firstChar(kInsCode);
+    atom.altLoc = firstChar(kAltId);
+    if (row.has2(kId)) {
+      const std::string value = gemmi::cif::as_string(row[kId]);
+      int serial = 0;
+      const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), serial);
+      if (ec == std::errc() && ptr == value.data() + value.size()) atom.serial = serial;
+    }
+    if (row.has2(kSymbol)) {
+      // type_symbol may carry a charge in small-molecule style ("Fe2+").
+      std::string symbol = gemmi::cif::as_string(row[kSymbol]);
+      std::size_t letters = 0;
+      while (letters < symbol.size() && isAlpha(symbol[letters])) ++letters;
+      atom.element = canonicalElement(std::string_view(symbol).substr(0, letters));
+    }
+    if (atom.element.empty())
+      atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
+    // As for PDB: an unreadable occupancy is an error only where it chooses a conformer.
+    atom.occupancy = 1.0;
+    if (table.has_column(kOccupancy)) {
+      if (atom.altLoc != ' ')
+        atom.occupancy = number(kOccupancy, "occupancy", 1.0);
+      else if (!row.has2(kOccupancy) || !parseWhole(trim(row[kOccupancy]), atom.occupancy) ||
+               !std::isfinite(atom.occupancy))
+        atom.occupancy = row.has2(kOccupancy) ? std::nan("") : 1.0;
+    }
+    atom.bFactor = 0.0;
+    if (row.has2(kBIso) &&
+        (!parseWhole(trim(row[kBIso]), atom.bFactor) || !std::isfinite(atom.bFactor)))
+      atom.bFactor = std::nan("");
+    atom.hetatm = str(kGroup) == "HETATM";
+    atom.line = line;
+    molecule.centers.emplace_back(x, y, z);
+    molecule.atoms.push_back(std::move(atom));
+  }
+  molecule.modelCount = static_cast<int>(models.size());
+  if (models.empty()) throw InputError(path, 0, "no atoms in the _atom_site table");
+  if (model > molecule.modelCount) throwNoSuchModel(path, model, models.size());
+  return molecule;
+}
+
+}  // namespace surftrace::build::detail

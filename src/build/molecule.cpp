@@ -1,0 +1,900 @@
+// Reading a molecule: the file's bytes (gunzipped when they start with the gzip magic), one
+// parser per format, the selection of model, conformer, chains, water and hydrogens, and radii.
+#include "build/molecule.hpp"
+
+#define ZLIB_CONST
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <new>
+#include <set>
+#include <string_view>
+#include <tuple>
+#include <utility>
+
+#include "build/error.hpp"
+#include "build/radii.hpp"
+
+namespace surftrace::build {
+
+namespace detail {
+// Defined in gemmi_impl.cpp, the one translation unit that compiles gemmi. Each returns the
+// atoms of the 1-based `model` in file order, with lines, elements and alternate locations,
+// but no radii and no selection; `text` is the decompressed file.
+Molecule readPdbWithGemmi(std::string text, const std::string& path, int model);
+Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, int model);
+}  // namespace detail
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// (Built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string(s) + "'".)
+std::string inQuotes(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 2);
+  out.append(1, '\'').append(s).append(1, '\'');
+  return out;
+}
+
+std::string lowerCase(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    while (pos < line.size() && isSpace(line[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < line.size() && !isSpace(line[pos])) ++pos;
+    if (pos > start) fields.push_back(line.substr(start, pos - start));
+  }
+  return fields;
+}
+
+// A whole field as a number: "+1.5" and ".721" are numbers, "1.2.3" and "" are not.
+template <typename T>
+std::optional<T> parseWhole(std::string_view text) {
+  text = trim(text);
+  T value{};
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
+  return value;
+}
+std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
+std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
+
+// Splits a text into lines (without "\r\n"), counting from 1.
+class LineReader {
+ public:
+  explicit LineReader(const std::string& text) : text_(text) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string::npos) end = text_.size();
+    line = std::string_view(text_.data() + pos_, end - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = end + 1;
+    ++number_;
+    return true;
+  }
+  int number() const { return number_; }
+
+ private:
+  const std::string& text_;
+  std::size_t pos_ = 0;
+  int number_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Bytes
+
+std::string readFileBytes(const fs::path& path, const std::string& name) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(name, 0, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, 0, std::string("cannot open: ") + std::strerror(errno));
+  std::string bytes;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw InputError(name, 0, "read error");
+  return bytes;
+}
+
+bool hasGzipMagic(const std::string& bytes) {
+  return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+         static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+int lineOfOffset(const std::string& text, std::size_t offset) {
+  return 1 + static_cast<int>(std::count(text.begin(),
+                                         text.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
+}
+
+// Inflates all gzip members; bytes after the last member that are not another member are
+// ignored, as gzip(1) does.
+std::string gunzip(const std::string& bytes, const std::string& name) {
+  z_stream zs{};
+  if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::bad_alloc();
+  struct Closer {
+    z_stream* zs;
+    ~Closer() { inflateEnd(zs); }
+  } closer{&zs};
+
+  std::string out;
+  out.resize(std::max<std::size_t>(bytes.size() * 4, 1 << 16));
+  std::size_t consumed = 0;
+  std::size_t produced = 0;
+  for (;;) {
+    if (zs.avail_in == 0 && consumed < bytes.size()) {
+      const std::size_t chunk = std::min<std::size_t>(bytes.size() - consumed, UINT_MAX);
+      zs.next_in = reinterpret_cast<const Bytef*>(bytes.data() + consumed);
+      zs.avail_in = static_cast<uInt>(chunk);
+      consumed += chunk;
+    }
+    if (produced == out.size()) out.resize(out.size() * 2);
+    const std::size_t room = std::min<std::size_t>(out.size() - produced, UINT_MAX);
+    zs.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
+    zs.avail_out = static_cast<uInt>(room);
+    const int ret = inflate(&zs, Z_NO_FLUSH);
+    produced += room - zs.avail_out;
+    if (ret == Z_STREAM_END) {
+      const std::size_t left = zs.avail_in + (bytes.size() - consumed);
+      const std::size_t at = bytes.size() - left;
+      if (left >= 2 && static_cast<unsigned char>(bytes[at]) == 0x1f &&
+          static_cast<unsigned char>(bytes[at + 1]) == 0x8b) {
+        inflateReset(&zs);
+        continue;
+      }
+      break;
+    }
+    if (ret == Z_MEM_ERROR) throw std::bad_alloc();
+    if (ret == Z_DATA_ERROR || ret == Z_STREAM_ERROR || ret == Z_NEED_DICT) {
+      out.resize(produced);
+      throw InputError(name, 0,
+                       std::string("corrupt gzip data (") + (zs.msg ? zs.msg : "zlib error") +
+                           ") after " + std::to_string(produced) + " decompressed bytes");
+    }
+    // Z_OK or Z_BUF_ERROR: more output room, or more input if there is any.
+    if (zs.avail_in == 0 && consumed == bytes.size() && zs.avail_out != 0) {
+      out.resize(produced);
+      throw InputError(name, lineOfOffset(out, produced),
+                       "the gzip stream is truncated: it ends after " + std::to_string(produced) +
+                           " decompressed bytes, in this line");
+    }
+  }
+  out.resize(produced);
+  return out;
+}
+
+// Rejects what cannot be a text file of atoms: nothing at all, or control bytes (a NUL in
+// DCD, XTC and other binary formats comes within the first few bytes).
+void checkText(const std::string& text, const std::string& name, bool wasGzipped) {
+  if (text.empty())
+    throw InputError(name, 0,
+                     wasGzipped ? "the file decompresses to nothing" : "the file is empty");
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' && c != 0x1a) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", c);
+      throw InputError(name, lineOfOffset(text, i),
+                       std::string("binary data (byte ") + hex + " at offset " + std::to_string(i) +
+                           "); expected a text file");
+    }
+  }
+}
+
+MoleculeFormat formatFromPath(const fs::path& path, const std::string& name) {
+  std::string file = lowerCase(path.filename().string());
+  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
+  const std::size_t dot = file.rfind('.');
+  const std::string ext = dot == std::string::npos ? std::string() : file.substr(dot + 1);
+  if (ext == "pdb" || ext == "ent" || ext == "brk") return MoleculeFormat::Pdb;
+  // Biological assemblies: .pdb1, .pdb2, ...
+  if (ext.size() > 3 && ext.compare(0, 3, "pdb") == 0 &&
+      std::all_of(ext.begin() + 3, ext.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return MoleculeFormat::Pdb;
+  if (ext == "cif" || ext == "mmcif" || ext == "mcif") return MoleculeFormat::Mmcif;
+  if (ext == "pqr") return MoleculeFormat::Pqr;
+  if (ext == "xyzr" || ext == "xyzrn") return MoleculeFormat::Xyzr;
+  if (ext == "xyz") return MoleculeFormat::Xyz;
+  throw InputError(name, 0,
+                   "cannot tell the format from the name (extension " +
+                       inQuotes(ext.empty() ? "" : "." + ext) +
+                       "); expected .pdb, .ent, .cif, .mmcif, .pqr, .xyzr or .xyz, optionally "
+                       "followed by .gz, or give the format explicitly");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Radii from the file: PQR and XYZR
+
+// Checks a radius from the file. Returns false for a zero radius the options allow to drop.
+bool checkFileRadius(double radius, std::string_view text, const ReadOptions& options,
+                     const std::string& name, int line) {
+  if (!std::isfinite(radius))
+    throw InputError(name, line, "the radius is not finite: " + inQuotes(text));
+  if (radius < 0.0) throw InputError(name, line, "the radius must be > 0, got " + inQuotes(text));
+  if (radius == 0.0) {
+    if (options.dropZeroRadius) return false;
+    throw InputError(name, line,
+                     "the radius must be > 0, got " + inQuotes(text) +
+                         " (PDB2PQR gives some hydrogens radius 0; --drop-zero-radius leaves "
+                         "them out)");
+  }
+  return true;
+}
+
+void checkCoordinate(double value, std::string_view text, const char* what, const std::string& name,
+                     int line) {
+  if (!std::isfinite(value))
+    throw InputError(name, line, std::string(what) + " is not finite: " + inQuotes(text));
+}
+
+// ---------------------------------------------------------------------------------------------
+// PQR: "ATOM serial name resName [chain] resSeq x y z charge radius", whitespace-delimited,
+// or in PDB columns where fields run together (PDB2PQR without --whitespace writes
+// "1999.3232998.770-900.490" and "A1001").
+
+struct PqrFields {
+  int serial = 0;
+  std::string name;
+  char altLoc = ' ';
+  std::string residue;
+  std::string chain;
+  int residueNumber = 0;
+  char insertionCode = ' ';
+  double xyz[3] = {0.0, 0.0, 0.0};
+  std::string_view xyzText[3];
+  double charge = 0.0;
+  double radius = 0.0;
+  std::string_view radiusText;
+  bool pdbColumns = false;
+};
+
+// Residue number with an optional insertion code ("52A").
+bool parseResidueNumber(std::string_view text, int& number, char& icode) {
+  icode = ' ';
+  if (!text.empty() && std::isalpha(static_cast<unsigned char>(text.back())) && text.size() > 1) {
+    icode = text.back();
+    text.remove_suffix(1);
+  }
+  const std::optional<int> value = parseInt(text);
+  if (!value) return false;
+  number = *value;
+  return true;
+}
+
+// The whitespace reading; returns "" on success or why it failed.
+std::string pqrWhitespace(const std::vector<std::string_view>& f, PqrFields& out) {
+  const std::size_t n = f.size();
+  if (n != 9 && n != 10)
+    return "expected 10 or 11 fields (ATOM serial name resName [chain] resSeq x y z charge "
+           "radius), got " +
+           std::to_string(n + 1);
+  const std::size_t at = n == 10 ? 1 : 0;  // offset after the optional chain
+  const char* names[] = {"x", "y", "z", "the charge", "the radius"};
+  double values[5];
+  for (std::size_t i = 0; i < 5; ++i) {
+    const std::optional<double> v = parseNumber(f[4 + at + i]);
+    if (!v)
+      return std::string("expected a number for ") + names[i] + " (field " +
+             std::to_string(6 + at + i) + "), got " + inQuotes(f[4 + at + i]);
+    values[i] = *v;
+  }
+  const std::optional<int> serial = parseInt(f[0]);
+  if (!serial) return "expected an atom serial number (field 2), got " + inQuotes(f[0]);
+  int number = 0;
+  char icode = ' ';
+  std::string_view chain = n == 10 ? f[3] : std::string_view();
+  if (!parseResidueNumber(f[3 + at], number, icode)) {
+    // PDB2PQR --whitespace still writes the chain and a four-digit residue number together
+    // ("A1001").
+    const std::string_view glued = f[3 + at];
+    if (n == 9 && glued.size() > 1 && std::isalpha(static_cast<unsigned char>(glued[0])) &&
+        parseResidueNumber(glued.substr(1), number, icode)) {
+      chain = glued.substr(0, 1);
+    } else {
+      return "expected a residue number (field " + std::to_string(5 + at) + "), got " +
+             inQuotes(f[3 + at]);
+    }
+  }
+  out.serial = *serial;
+  out.name = std::string(f[1]);
+  out.residue = std::string(f[2]);
+  out.chain = std::string(chain);
+  out.residueNumber = number;
+  out.insertionCode = icode;
+  for (int i = 0; i < 3; ++i) {
+    out.xyz[i] = values[i];
+    out.xyzText[i] = trim(f[4 + at + static_cast<std::size_t>(i)]);
+  }
+  out.charge = values[3];
+  out.radius = values[4];
+  out.radiusText = f[8 + at];
+  out.pdbColumns = false;
+  return {};
+}
+
+// The fixed-column reading: PDB columns up to 54, then charge and radius.
+bool pqrColumns(std::string_view line, PqrFields& out) {
+  if (line.size() < 54) return false;
+  const std::string_view record = line.substr(0, 6);
+  if (record != "ATOM  " && record != "HETATM") return false;
+  for (int i = 0; i < 3; ++i) {
+    const std::string_view field = line.substr(30 + 8 * static_cast<std::size_t>(i), 8);
+    const std::optional<double> v = parseNumber(field);
+    if (!v) return false;
+    out.xyz[i] = *v;
+    out.xyzText[i] = trim(field);
+  }
+  const std::vector<std::string_view> rest = splitFields(line.substr(54));
+  if (rest.size() != 2) return false;
+  const std::optional<double> charge = parseNumber(rest[0]);
+  const std::optional<double> radius = parseNumber(rest[1]);
+  if (!charge || !radius) return false;
+  const std::optional<int> number = parseInt(line.substr(22, 4));
+  if (!number) return false;
+  out.serial = parseInt(line.substr(6, 5)).value_or(0);
+  out.name = std::string(line.substr(12, 4));
+  out.altLoc = line[16];
+  out.residue = std::string(trim(line.substr(17, 4)));
+  out.chain = std::string(trim(line.substr(21, 1)));
+  out.residueNumber = *number;
+  out.insertionCode = line[26];
+  out.charge = *charge;
+  out.radius = *radius;
+  out.radiusText = rest[1];
+  out.pdbColumns = true;
+  return true;
+}
+
+Molecule parsePqr(const std::string& text, const std::string& name, const ReadOptions& options) {
+  Molecule molecule;
+  molecule.source = name;
+  molecule.format = MoleculeFormat::Pqr;
+  molecule.modelUsed = options.model;
+  molecule.radiiSet = "file";
+  int models = 0;  // MODEL records so far; atoms before the first belong to model 1
+  std::size_t atomsSeen = 0;
+  std::size_t zeroRadius = 0;
+  LineReader reader(text);
+  std::string_view line;
+  while (reader.next(line)) {
+    const int lineNumber = reader.number();
+    std::string_view body = trim(line);
+    std::string record;
+    for (char c : body.substr(0, std::min<std::size_t>(body.size(), 6))) record += upper(c);
+    if (record.rfind("MODEL", 0) == 0 && (body.size() == 5 || isSpace(body[5]))) {
+      ++models;
+      continue;
+    }
+    if (record.rfind("END", 0) == 0 && (body.size() == 3 || isSpace(body[3]))) break;
+    std::size_t recordLength = 0;
+    if (record.rfind("HETATM", 0) == 0)
+      recordLength = 6;
+    else if (record.rfind("ATOM", 0) == 0)
+      recordLength = 4;
+    else
+      continue;
+    // The serial may follow the record name without a space ("HETATM12345"), but ATOMTYPE
+    // and the like are other records.
+    if (body.size() > recordLength && !isSpace(body[recordLength]) &&
+        !(body[recordLength] >= '0' && body[recordLength] <= '9'))
+      continue;
+    const std::vector<std::string_view> fields = splitFields(body.substr(recordLength));
+
+    ++atomsSeen;
+    if (std::max(models, 1) != options.model) {
+      ++molecule.skipped.otherModels;
+      continue;
+    }
+    PqrFields f;
+    const std::string why = pqrWhitespace(fields, f);
+    if (!why.empty() && !pqrColumns(line, f)) throw InputError(name, lineNumber, why);
+    const char* axes[] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) checkCoordinate(f.xyz[i], f.xyzText[i], axes[i], name, lineNumber);
+    if (!std::isfinite(f.charge)) throw InputError(name, lineNumber, "the charge is not finite");
+    if (!checkFileRadius(f.radius, f.radiusText, options, name, lineNumber)) {
+      ++zeroRadius;
+      continue;
+    }
+    AtomRecord atom;
+    atom.name = std::string(trim(f.name));
+    atom.residue = f.residue;
+    atom.chain = f.chain;
+    atom.residueNumber = f.residueNumber;
+    atom.insertionCode = f.insertionCode;
+    atom.serial = f.serial;
+    atom.element = elementFromAtomName(
+        f.name, f.residue, f.pdbColumns ? AtomNameLayout::PdbColumns : AtomNameLayout::Token);
+    atom.charge = f.charge;
+    atom.hetatm = record.rfind("HETATM", 0) == 0;
+    atom.line = lineNumber;
+    atom.altLoc = f.altLoc;
+    molecule.centers.emplace_back(f.xyz[0], f.xyz[1], f.xyz[2]);
+    molecule.radii.push_back(f.radius);
+    molecule.atoms.push_back(std::move(atom));
+  }
+  molecule.modelCount = std::max(models, 1);
+  molecule.skipped.zeroRadius = zeroRadius;
+  if (atomsSeen == 0) throw InputError(name, 0, "no ATOM or HETATM records");
+  if (options.model > molecule.modelCount)
+    throw InputError(name, 0,
+                     "model " + std::to_string(options.model) +
+                         " was asked for, but the file has " + std::to_string(molecule.modelCount) +
+                         (molecule.modelCount == 1 ? " model" : " models"));
+  if (molecule.atoms.empty() && zeroRadius > 0)
+    throw InputError(name, 0,
+                     "all " + std::to_string(zeroRadius) +
+                         " atoms have radius 0 and were left out (--drop-zero-radius)");
+  return molecule;
+}
+
+// ---------------------------------------------------------------------------------------------
+// XYZR: "x y z r" a line (MSMS, NanoShaper); MSMS's xyzrn adds a sphere number and a name.
+
+Molecule parseXyzr(const std::string& text, const std::string& name, const ReadOptions& options) {
+  Molecule molecule;
+  molecule.source = name;
+  molecule.format = MoleculeFormat::Xyzr;
+  molecule.modelUsed = options.model;
+  molecule.radiiSet = "file";
+  if (options.model != 1)
+    throw InputError(
+        name, 0,
+        "model " + std::to_string(options.model) + " was asked for, but an XYZR file has 1 model");
+  LineReader reader(text);
+  std::string_view line;
+  int serial = 0;
+  while (reader.next(line)) {
+    const int lineNumber = reader.number();
+    const std::string_view body = trim(line);
+    if (body.empty() || body[0] == '#') continue;
+    const std::vector<std::string_view> f = splitFields(body);
+    const bool xyzrn = f.size() == 6 && parseInt(f[4]).has_value();
+    if (f.size() != 4 && !xyzrn)
+      throw InputError(
+          name, lineNumber,
+          "expected 4 fields (x y z r), got " + std::to_string(f.size()) + ": " + inQuotes(body));
+    const char* names[] = {"x", "y", "z", "the radius"};
+    double v[4];
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::optional<double> value = parseNumber(f[i]);
+      if (!value)
+        throw InputError(name, lineNumber,
+                         std::string("expected a number for ") + names[i] + " (field " +
+                             std::to_string(i + 1) + "), got " + inQuotes(f[i]));
+      v[i] = *value;
+    }
+    for (std::size_t i = 0; i < 3; ++i) checkCoordinate(v[i], f[i], names[i], name, lineNumber);
+    ++serial;
+    if (!checkFileRadius(v[3], f[3], options, name, lineNumber)) {
+      ++molecule.skipped.zeroRadius;
+      continue;
+    }
+    AtomRecord atom;
+    atom.serial = serial;
+    atom.line = lineNumber;
+    if (xyzrn) atom.name = std::string(f[5]);
+    molecule.centers.emplace_back(v[0], v[1], v[2]);
+    molecule.radii.push_back(v[3]);
+    molecule.atoms.push_back(std::move(atom));
+  }
+  if (serial == 0) throw InputError(name, 0, "no atoms (no 'x y z r' lines)");
+  if (molecule.atoms.empty())
+    throw InputError(name, 0,
+                     "all " + std::to_string(molecule.skipped.zeroRadius) +
+                         " atoms have radius 0 and were left out (--drop-zero-radius)");
+  return molecule;
+}
+
+// ---------------------------------------------------------------------------------------------
+// XYZ: frames of "count", "comment", then count lines "Element x y z [...]".
+
+Molecule parseXyz(const std::string& text, const std::string& name, int model) {
+  Molecule molecule;
+  molecule.source = name;
+  molecule.format = MoleculeFormat::Xyz;
+  molecule.modelUsed = model;
+  LineReader reader(text);
+  std::string_view line;
+  int frames = 0;
+  while (reader.next(line)) {
+    if (trim(line).empty()) continue;  // blank lines between frames or at the end
+    const int countLine = reader.number();
+    const std::optional<int> count = parseInt(line);
+    if (!count || *count < 0)
+      throw InputError(name, countLine,
+                       "expected the atom count of frame " + std::to_string(frames + 1) + ", got " +
+                           inQuotes(trim(line)));
+    ++frames;
+    const bool wanted = frames == model;
+    if (!reader.next(line))
+      throw InputError(name, countLine + 1,
+                       "the file ends before the comment line of frame " + std::to_string(frames));
+    for (int i = 0; i < *count; ++i) {
+      if (!reader.next(line))
+        throw InputError(name, reader.number() + 1,
+                         "the file ends after " + std::to_string(i) + " of the " +
+                             std::to_string(*count) + " atoms of frame " + std::to_string(frames) +
+                             " (truncated?)");
+      if (!wanted) {
+        ++molecule.skipped.otherModels;
+        continue;
+      }
+      const int lineNumber = reader.number();
+      const std::vector<std::string_view> f = splitFields(line);
+      if (f.size() < 4)
+        throw InputError(name, lineNumber,
+                         "expected 'element x y z', got " + std::to_string(f.size()) +
+                             " fields: " + inQuotes(trim(line)));
+      const char* axes[] = {"x", "y", "z"};
+      double v[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::optional<double> value = parseNumber(f[k + 1]);
+        if (!value)
+          throw InputError(name, lineNumber,
+                           std::string("expected a number for ") + axes[k] + " (field " +
+                               std::to_string(k + 2) + "), got " + inQuotes(f[k + 1]));
+        checkCoordinate(*value, f[k + 1], axes[k], name, lineNumber);
+        v[k] = *value;
+      }
+      AtomRecord atom;
+      atom.name = std::string(f[0]);
+      atom.element = canonicalElement(f[0]);
+      // Some writers give the atomic number instead of the symbol.
+      if (const std::optional<int> z = parseInt(f[0]); atom.element.empty() && z)
+        atom.element = elementSymbol(*z);
+      atom.serial = i + 1;
+      atom.line = lineNumber;
+      molecule.centers.emplace_back(v[0], v[1], v[2]);
+      molecule.atoms.push_back(std::move(atom));
+    }
+  }
+  molecule.modelCount = frames;
+  if (frames == 0)
+    throw InputError(name, 0, "no frames (expected an atom count on the first line)");
+  if (model > frames)
+    throw InputError(name, 0,
+                     "frame " + std::to_string(model) + " was asked for, but the file has " +
+                         std::to_string(frames) + (frames == 1 ? " frame" : " frames"));
+  if (molecule.atoms.empty())
+    throw InputError(name, 0, "frame " + std::to_string(model) + " has no atoms");
+  return molecule;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Selection and radii
+
+std::string describe(const AtomRecord& atom) {
+  std::string text =
+      "atom " + inQuotes(atom.name.empty() ? std::to_string(atom.serial) : atom.name);
+  if (!atom.residue.empty()) {
+    text += " of " + atom.residue;
+    if (!atom.chain.empty()) text += " " + atom.chain;
+    text += " " + std::to_string(atom.residueNumber);
+    if (atom.insertionCode != ' ') text += atom.insertionCode;
+  } else if (!atom.name.empty()) {
+    text += " (number " + std::to_string(atom.serial) + ")";
+  }
+  return text;
+}
+
+template <typename Keep>
+void compact(Molecule& molecule, const Keep& keep) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < molecule.size(); ++i) {
+    if (!keep[i]) continue;
+    if (out != i) {
+      molecule.centers[out] = molecule.centers[i];
+      molecule.atoms[out] = std::move(molecule.atoms[i]);
+      if (!molecule.radii.empty()) molecule.radii[out] = molecule.radii[i];
+    }
+    ++out;
+  }
+  molecule.centers.resize(out);
+  molecule.atoms.resize(out);
+  if (!molecule.radii.empty()) molecule.radii.resize(out);
+}
+
+// Keeps, in each residue with alternate locations, the conformer of highest mean occupancy
+// (the first one on a tie) with the atoms that have no alternate location.
+std::size_t dropAlternateLocations(Molecule& molecule) {
+  struct Conformer {
+    char altLoc;
+    double occupancy;
+    std::size_t count;
+  };
+  std::map<std::tuple<std::string, int, char>, std::vector<Conformer>> residues;
+  bool any = false;
+  for (const AtomRecord& atom : molecule.atoms) {
+    if (atom.altLoc == ' ') continue;
+    any = true;
+    auto& conformers = residues[{atom.chain, atom.residueNumber, atom.insertionCode}];
+    auto it = std::find_if(conformers.begin(), conformers.end(),
+                           [&](const Conformer& c) { return c.altLoc == atom.altLoc; });
+    if (it == conformers.end()) it = conformers.insert(conformers.end(), {atom.altLoc, 0.0, 0});
+    it->occupancy += atom.occupancy;
+    ++it->count;
+  }
+  if (!any) return 0;
+  std::map<std::tuple<std::string, int, char>, char> chosen;
+  for (const auto& [key, conformers] : residues) {
+    const Conformer* best = &conformers.front();
+    for (const Conformer& c : conformers)
+      if (c.occupancy / static_cast<double>(c.count) >
+          best->occupancy / static_cast<double>(best->count))
+        best = &c;
+    chosen[key] = best->altLoc;
+  }
+  std::vector<char> keep(molecule.size(), 1);
+  std::size_t dropped = 0;
+  for (std::size_t i = 0; i < molecule.size(); ++i) {
+    const AtomRecord& atom = molecule.atoms[i];
+    if (atom.altLoc == ' ') continue;
+    if (chosen.at({atom.chain, atom.residueNumber, atom.insertionCode}) != atom.altLoc) {
+      keep[i] = 0;
+      ++dropped;
+    }
+  }
+  compact(molecule, keep);
+  return dropped;
+}
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::string& name) {
+  const bool hasResidues =
+      molecule.format != MoleculeFormat::Xyz && molecule.format != MoleculeFormat::Xyzr;
+  SkipReport& skipped = molecule.skipped;
+  skipped.altLocs = dropAlternateLocations(molecule);
+
+  if (!options.chains.empty()) {
+    if (!hasResidues)
+      throw InputError(name, 0,
+                       std::string(formatName(molecule.format)) +
+                           " files have no chains; a chain selection cannot apply");
+    std::set<std::string> present;
+    for (const AtomRecord& atom : molecule.atoms) present.insert(atom.chain);
+    for (const std::string& chain : options.chains) {
+      if (present.count(chain) != 0) continue;
+      std::string list;
+      for (const std::string& c : present) list += (list.empty() ? "" : ", ") + inQuotes(c);
+      throw InputError(name, 0,
+                       "chain " + inQuotes(chain) + " is not in model " +
+                           std::to_string(molecule.modelUsed) + " (chains: " + list + ")");
+    }
+    std::vector<char> keep(molecule.size(), 1);
+    for (std::size_t i = 0; i < molecule.size(); ++i)
+      if (std::find(options.chains.begin(), options.chains.end(), molecule.atoms[i].chain) ==
+          options.chains.end()) {
+        keep[i] = 0;
+        ++skipped.otherChains;
+      }
+    compact(molecule, keep);
+  }
+  const std::size_t considered = molecule.size();
+
+  if (!options.keepWater && hasResidues) {
+    std::vector<char> keep(molecule.size(), 1);
+    for (std::size_t i = 0; i < molecule.size(); ++i)
+      if (isWaterResidue(molecule.atoms[i].residue)) {
+        keep[i] = 0;
+        ++skipped.water;
+      }
+    compact(molecule, keep);
+  }
+  if (!options.keepHydrogens) {
+    if (molecule.format == MoleculeFormat::Xyzr)
+      throw InputError(name, 0, "XYZR files have no elements, so hydrogens cannot be left out");
+    std::vector<char> keep(molecule.size(), 1);
+    for (std::size_t i = 0; i < molecule.size(); ++i)
+      if (isHydrogen(molecule.atoms[i].element)) {
+        keep[i] = 0;
+        ++skipped.hydrogens;
+      }
+    compact(molecule, keep);
+  }
+
+  if (molecule.size() != 0) return;
+  const std::string of = options.chains.empty() ? "" : " of the selected chains";
+  if (skipped.water == considered)
+    throw InputError(name, 0,
+                     "all " + plural(considered, "atom", "atoms") + of +
+                         (considered == 1 ? " is" : " are") + " water; use --keep-water");
+  if (skipped.hydrogens == considered)
+    throw InputError(name, 0,
+                     "all " + plural(considered, "atom", "atoms") + of +
+                         (considered == 1 ? " is" : " are") +
+                         " hydrogen, and --no-hydrogens leaves them out");
+  throw InputError(name, 0,
+                   "no atoms left" + of + ": " + plural(skipped.water, "is water", "are water") +
+                       " (use --keep-water) and " +
+                       plural(skipped.hydrogens, "is hydrogen", "are hydrogen") +
+                       " (--no-hydrogens)");
+}
+
+void assignRadii(Molecule& molecule, const ReadOptions& options, const std::string& name) {
+  if (options.defaultRadius &&
+      (!std::isfinite(*options.defaultRadius) || *options.defaultRadius <= 0.0))
+    throw InputError(name, 0,
+                     "the default radius must be a finite number > 0, got " +
+                         std::to_string(*options.defaultRadius));
+  if (molecule.format == MoleculeFormat::Xyzr) {
+    if (options.radiiFile)
+      throw InputError(name, 0,
+                       "an XYZR file gives its own radii and no atom names or elements, so the "
+                       "radius table " +
+                           options.radiiFile->string() + " cannot apply");
+    return;
+  }
+  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile) return;
+
+  std::optional<RadiusTable> table;
+  if (options.radiiFile) {
+    table = RadiusTable::load(*options.radiiFile);
+    molecule.radiiSet = "table:" + table->path();
+  } else {
+    molecule.radiiSet = "bondi";
+  }
+  molecule.radii.assign(molecule.size(), 0.0);
+  for (std::size_t i = 0; i < molecule.size(); ++i) {
+    const AtomRecord& atom = molecule.atoms[i];
+    std::optional<double> radius;
+    if (table) radius = table->find(atom.residue, atom.name, atom.element);
+    if (!radius) radius = bondiRadius(atom.element);
+    if (!radius && options.defaultRadius) {
+      radius = options.defaultRadius;
+      ++molecule.skipped.defaultRadius;
+    }
+    if (!radius) {
+      const std::string what =
+          atom.element.empty()
+              ? (molecule.format == MoleculeFormat::Xyz
+                     ? inQuotes(atom.name) + " is not an element symbol"
+                     : std::string("its element is unknown (no element column, and the name "
+                                   "implies none)"))
+              : "element " + atom.element +
+                    " has no radius in the Bondi (1964) or Mantina (2009) tables" +
+                    (table ? " nor in " + table->path() : std::string());
+      throw InputError(name, atom.line,
+                       describe(atom) + ": " + what +
+                           "; use --radii FILE or --default-radius R");
+    }
+    molecule.radii[i] = *radius;
+  }
+}
+
+}  // namespace
+
+const char* formatName(MoleculeFormat format) {
+  switch (format) {
+    case MoleculeFormat::Auto:
+      return "auto";
+    case MoleculeFormat::Pdb:
+      return "PDB";
+    case MoleculeFormat::Mmcif:
+      return "mmCIF";
+    case MoleculeFormat::Pqr:
+      return "PQR";
+    case MoleculeFormat::Xyzr:
+      return "XYZR";
+    case MoleculeFormat::Xyz:
+      return "XYZ";
+  }
+  return "unknown";
+}
+
+Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& options) {
+  const std::string name = path.string();
+  if (options.model < 1)
+    throw InputError(name, 0,
+                     "models are numbered from 1, got model " + std::to_string(options.model));
+  const MoleculeFormat format =
+      options.format == MoleculeFormat::Auto ? formatFromPath(path, name) : options.format;
+
+  std::string bytes = readFileBytes(path, name);
+  const bool gzipped = hasGzipMagic(bytes);
+  std::string file = lowerCase(path.filename().string());
+  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
+    throw InputError(
+        name, 0,
+        bytes.empty()
+            ? std::string("the file is empty (expected gzip data, as the name ends in .gz)")
+            : "the name ends in .gz but the file is not gzip-compressed "
+              "(it does not start with the gzip magic bytes 1f 8b)");
+  std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
+  bytes = std::string();
+  checkText(text, name, gzipped);
+  const auto crc = static_cast<std::uint32_t>(
+      crc32_z(crc32_z(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()), text.size()));
+
+  Molecule molecule;
+  switch (format) {
+    case MoleculeFormat::Pdb:
+      molecule = detail::readPdbWithGemmi(std::move(text), name, options.model);
+      break;
+    case MoleculeFormat::Mmcif:
+      molecule = detail::readMmcifWithGemmi(text, name, options.model);
+      break;
+    case MoleculeFormat::Pqr:
+      molecule = parsePqr(text, name, options);
+      break;
+    case MoleculeFormat::Xyzr:
+      molecule = parseXyzr(text, name, options);
+      break;
+    case MoleculeFormat::Xyz:
+      molecule = parseXyz(text, name, options.model);
+      break;
+    case MoleculeFormat::Auto:
+      SURFTRACE_ASSERT(false);
+      break;
+  }
+  molecule.source = name;
+  molecule.format = format;
+  molecule.modelUsed = options.model;
+  molecule.inputCrc32 = crc;
+
+  selectAtoms(molecule, options, name);
+  assignRadii(molecule, options, name);
+  validateMolecule(molecule);
+  return molecule;
+}
+
+void validateMolecule(const Molecule& molecule) {
+  const std::string& name = molecule.source;
+  if (molecule.radii.size() != molecule.centers.size() ||
+      (!molecule.atoms.empty() && molecule.atoms.size() != molecule.centers.size()))
+    throw InputError(name, 0,
+                     "inconsistent molecule: " + std::to_string(molecule.centers.size()) +
+                         " centres, " + std::to_string(molecule.radii.size()) + " radii, " +
+                         std::to_string(molecule.atoms.size()) + " atom records");
+  if (molecule.centers.empty()) throw InputError(name, 0, "the molecule has no atoms");
+  for (std::size_t i = 0; i < molecule.centers.size(); ++i) {
+    const glm::dvec3& c = molecule.centers[i];
+    const double r = molecule.radii[i];
+    const bool centreOk = std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
+    const bool radiusOk = std::isfinite(r) && r > 0.0;
+    if (centreOk && radiusOk) continue;
+    const int line = molecule.atoms.empty() ? 0 : molecule.atoms[i].line;
+    const std::string who =
+        molecule.atoms.empty() ? "atom " + std::to_string(i + 1) : describe(molecule.atoms[i]);
+    if (!centreOk)
+      throw InputError(name, line,
+                       who + ": the centre is not finite (" + std::to_string(c.x) + ", " +
+                           std::to_string(c.y) + ", " + std::to_string(c.z) + ")");
+    throw InputError(name, line,
+                     who + ": the radius must be finite and > 0, got " + std::to_string(r));
+  }
+}
+
+}  // namespace surftrace::build

@@ -1,0 +1,307 @@
+// Elements and their van der Waals radii: symbols, elements implied by atom names, the Bondi
+// table (with Mantina et al. for the main-group elements Bondi lacks) and user radius tables.
+#include "build/radii.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <utility>
+#include <vector>
+
+#include "build/error.hpp"
+
+namespace surftrace::build {
+namespace {
+
+// Symbols by atomic number (index 0 unused), then deuterium.
+constexpr std::array<std::string_view, 120> kSymbols = {
+    "",   "H",  "He", "Li", "Be", "B",  "C",  "N",  "O",  "F",  "Ne", "Na", "Mg", "Al", "Si",
+    "P",  "S",  "Cl", "Ar", "K",  "Ca", "Sc", "Ti", "V",  "Cr", "Mn", "Fe", "Co", "Ni", "Cu",
+    "Zn", "Ga", "Ge", "As", "Se", "Br", "Kr", "Rb", "Sr", "Y",  "Zr", "Nb", "Mo", "Tc", "Ru",
+    "Rh", "Pd", "Ag", "Cd", "In", "Sn", "Sb", "Te", "I",  "Xe", "Cs", "Ba", "La", "Ce", "Pr",
+    "Nd", "Pm", "Sm", "Eu", "Gd", "Tb", "Dy", "Ho", "Er", "Tm", "Yb", "Lu", "Hf", "Ta", "W",
+    "Re", "Os", "Ir", "Pt", "Au", "Hg", "Tl", "Pb", "Bi", "Po", "At", "Rn", "Fr", "Ra", "Ac",
+    "Th", "Pa", "U",  "Np", "Pu", "Am", "Cm", "Bk", "Cf", "Es", "Fm", "Md", "No", "Lr", "Rf",
+    "Db", "Sg", "Bh", "Hs", "Mt", "Ds", "Rg", "Cn", "Nh", "Fl", "Mc", "Lv", "Ts", "Og", "D"};
+
+struct ElementRadius {
+  std::string_view element;
+  double radius;
+};
+
+// A. Bondi, "van der Waals Volumes and Radii", J. Phys. Chem. 68 (1964) 441-451, Table I.
+// Transcriptions differ for a few metals (some give Pt 1.75, Hg 1.70 and Cd 1.62, the last
+// two from Bondi's 1966 correction); these are the 1964 values.
+// clang-format off
+constexpr ElementRadius kBondi[] = {
+    {"H", 1.20}, {"He", 1.40}, {"Li", 1.82}, {"C", 1.70}, {"N", 1.55}, {"O", 1.52},
+    {"F", 1.47}, {"Ne", 1.54}, {"Na", 2.27}, {"Mg", 1.73}, {"Si", 2.10}, {"P", 1.80},
+    {"S", 1.80}, {"Cl", 1.75}, {"Ar", 1.88}, {"K", 2.75}, {"Ni", 1.63}, {"Cu", 1.40},
+    {"Zn", 1.39}, {"Ga", 1.87}, {"As", 1.85}, {"Se", 1.90}, {"Br", 1.85}, {"Kr", 2.02},
+    {"Pd", 1.63}, {"Ag", 1.72}, {"Cd", 1.58}, {"In", 1.93}, {"Sn", 2.17}, {"Te", 2.06},
+    {"I", 1.98}, {"Xe", 2.16}, {"Pt", 1.72}, {"Au", 1.66}, {"Hg", 1.55}, {"Tl", 1.96},
+    {"Pb", 2.02}, {"U", 1.86},
+    // Deuterium is hydrogen to a surface.
+    {"D", 1.20}};
+// clang-format on
+
+// M. Mantina, A. C. Chamberlin, R. Valero, C. J. Cramer, D. G. Truhlar, "Consistent van der
+// Waals Radii for the Whole Main Group", J. Phys. Chem. A 113 (2009) 5806-5812, Table 12:
+// the 16 main-group elements Bondi lacks, fitted to be compatible with Bondi's scale.
+// clang-format off
+constexpr ElementRadius kMantina[] = {
+    {"Be", 1.53}, {"B", 1.92}, {"Al", 1.84}, {"Ca", 2.31}, {"Ge", 2.11}, {"Rb", 3.03},
+    {"Sr", 2.49}, {"Sb", 2.06}, {"Cs", 3.43}, {"Ba", 2.68}, {"Bi", 2.07}, {"Po", 1.97},
+    {"At", 2.02}, {"Rn", 2.20}, {"Fr", 3.48}, {"Ra", 2.83}};
+// clang-format on
+
+char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string toUpper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = upper(c);
+  return out;
+}
+
+bool equalsIgnoreCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (upper(a[i]) != upper(b[i])) return false;
+  return true;
+}
+
+bool inList(std::string_view name, std::initializer_list<std::string_view> list) {
+  const std::string key = toUpper(trim(name));
+  return std::find(list.begin(), list.end(), key) != list.end();
+}
+
+// The one-letter elements that occur in atom names (as gemmi's find_single_letter_element).
+std::string singleLetterElement(char c) {
+  switch (upper(c)) {
+    case 'H':
+      return "H";
+    case 'B':
+      return "B";
+    case 'C':
+      return "C";
+    case 'N':
+      return "N";
+    case 'O':
+      return "O";
+    case 'F':
+      return "F";
+    case 'P':
+      return "P";
+    case 'S':
+      return "S";
+    case 'K':
+      return "K";
+    case 'V':
+      return "V";
+    case 'Y':
+      return "Y";
+    case 'I':
+      return "I";
+    case 'W':
+      return "W";
+    case 'U':
+      return "U";
+    case 'D':
+      return "D";
+    default:
+      return "";
+  }
+}
+
+std::optional<double> parsePositive(std::string_view text) {
+  double value = 0.0;
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (ec != std::errc() || ptr != last || !std::isfinite(value) || value <= 0.0)
+    return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+std::string canonicalElement(std::string_view symbol) {
+  symbol = trim(symbol);
+  if (symbol.empty() || symbol.size() > 2) return {};
+  std::string wanted(symbol);
+  wanted[0] = upper(wanted[0]);
+  if (wanted.size() == 2) wanted[1] = lower(wanted[1]);
+  for (std::string_view s : kSymbols)
+    if (!s.empty() && s == wanted) return wanted;
+  return {};
+}
+
+std::string elementSymbol(int atomicNumber) {
+  if (atomicNumber < 1 || atomicNumber > 118) return {};
+  return std::string(kSymbols[static_cast<std::size_t>(atomicNumber)]);
+}
+
+bool isHydrogen(std::string_view element) { return element == "H" || element == "D"; }
+
+bool isWaterResidue(std::string_view residue) {
+  return inList(residue, {"HOH", "WAT", "H2O", "DOD", "D2O", "SOL", "TIP", "TIP3", "TIP4", "TIP5",
+                          "TP3", "T3P", "T4P", "T5P", "SPC", "SPCE"});
+}
+
+bool isStandardResidue(std::string_view residue) {
+  if (isWaterResidue(residue)) return true;
+  return inList(residue,
+                {// amino acids
+                 "ALA", "ARG", "ASN", "ASP", "CYS", "GLN", "GLU", "GLY", "HIS", "ILE", "LEU", "LYS",
+                 "MET", "PHE", "PRO", "SER", "THR", "TRP", "TYR", "VAL",
+                 // their D forms (PDB chemical component names)
+                 "DAL", "DAR", "DSG", "DAS", "DCY", "DGN", "DGL", "DHI", "DIL", "DLE", "DLY", "MED",
+                 "DPN", "DPR", "DSN", "DTH", "DTR", "DTY", "DVA",
+                 // protonation and disulfide variants of Amber, CHARMM and GROMACS
+                 "HID", "HIE", "HIP", "HSD", "HSE", "HSP", "HISD", "HISE", "HISH", "HISA", "HISB",
+                 "CYX", "CYM", "CYS2", "ASH", "GLH", "LYN", "LSN", "ARN", "TYM",
+                 // caps
+                 "ACE", "NME", "NMA", "NH2", "FOR",
+                 // nucleotides
+                 "A", "C", "G", "U", "T", "I", "DA", "DC", "DG", "DT", "DU", "DI", "RA", "RC", "RG",
+                 "RU", "DA5", "DA3", "DC5", "DC3", "DG5", "DG3", "DT5", "DT3", "RA5", "RA3", "RC5",
+                 "RC3", "RG5", "RG3", "RU5", "RU3", "ADE", "CYT", "GUA", "THY", "URA"});
+}
+
+std::string elementFromAtomName(std::string_view name, std::string_view residue,
+                                AtomNameLayout layout) {
+  const std::string_view trimmed = trim(name);
+  // Leading digits number hydrogens in old PDB files ("1HB") and some MD names ("1C4A").
+  std::size_t skip = 0;
+  while (skip < trimmed.size() && isDigit(trimmed[skip])) ++skip;
+  const std::string_view stem = trimmed.substr(skip);
+  if (stem.empty() || !isAlpha(stem[0])) return {};
+  const char first = upper(stem[0]);
+
+  if (isStandardResidue(residue) &&
+      std::string_view("HCNOSPD").find(first) != std::string_view::npos)
+    return std::string(1, first);
+
+  const bool twoLetters = stem.size() >= 2 && isAlpha(stem[1]);
+  if (layout == AtomNameLayout::PdbColumns) {
+    // A name that starts in column 14 (or after a digit in column 13) has a one-letter element.
+    if (name.empty() || name[0] == ' ' || isDigit(name[0])) return singleLetterElement(first);
+    // Four-character names starting with H are hydrogens (HH31, HG21); Hg, He, Hf, Ho and Hs
+    // never have four-character names.
+    if (name.size() >= 4 && name[3] != ' ' && first == 'H') return "H";
+    if (twoLetters) {
+      std::string element = canonicalElement(stem.substr(0, 2));
+      if (!element.empty()) return element;
+    }
+    return singleLetterElement(first);
+  }
+
+  if (twoLetters) {
+    std::string element = canonicalElement(stem.substr(0, 2));
+    if (!element.empty()) {
+      const bool ion = equalsIgnoreCase(stem, trim(residue));
+      const bool bareSymbol =
+          stem.size() == 2 && std::string_view("HCNOSP").find(first) == std::string_view::npos;
+      if (ion || bareSymbol) return element;
+    }
+  }
+  return singleLetterElement(first);
+}
+
+std::optional<double> bondiRadius(std::string_view element) {
+  for (const ElementRadius& e : kBondi)
+    if (e.element == element) return e.radius;
+  for (const ElementRadius& e : kMantina)
+    if (e.element == element) return e.radius;
+  return std::nullopt;
+}
+
+RadiusTable RadiusTable::load(const std::filesystem::path& path) {
+  RadiusTable table;
+  table.path_ = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(table.path_, 0, "cannot open the radius table");
+
+  std::unordered_map<std::string, int> firstLine;
+  std::string line;
+  int lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    std::string_view text(line);
+    if (const std::size_t hash = text.find('#'); hash != std::string_view::npos)
+      text = text.substr(0, hash);
+    text = trim(text);
+    if (text.empty()) continue;
+
+    std::vector<std::string_view> fields;
+    while (!text.empty()) {
+      std::size_t end = 0;
+      while (end < text.size() && !isSpace(text[end])) ++end;
+      fields.push_back(text.substr(0, end));
+      text = trim(text.substr(end));
+    }
+    if (fields.size() != 2)
+      throw InputError(table.path_, lineNumber,
+                       "expected 'ELEMENT radius' or 'RES:ATOM radius', got " +
+                           std::to_string(fields.size()) + " fields: '" + std::string(trim(line)) +
+                           "'");
+    const std::optional<double> radius = parsePositive(fields[1]);
+    if (!radius)
+      throw InputError(table.path_, lineNumber,
+                       "expected a radius > 0 in Å, got '" + std::string(fields[1]) + "'");
+
+    std::string key;
+    std::unordered_map<std::string, double>* target = nullptr;
+    if (const std::size_t colon = fields[0].find(':'); colon != std::string_view::npos) {
+      const std::string_view res = fields[0].substr(0, colon);
+      const std::string_view atom = fields[0].substr(colon + 1);
+      if (res.empty() || atom.empty() || atom.find(':') != std::string_view::npos)
+        throw InputError(table.path_, lineNumber,
+                         "expected RES:ATOM (e.g. HEM:FE), got '" + std::string(fields[0]) + "'");
+      key = toUpper(res) + ":" + toUpper(atom);
+      target = &table.byAtom_;
+    } else {
+      key = canonicalElement(fields[0]);
+      if (key.empty())
+        throw InputError(
+            table.path_, lineNumber,
+            "expected an element symbol or RES:ATOM, got '" + std::string(fields[0]) + "'");
+      target = &table.byElement_;
+    }
+    if (const auto [it, inserted] = firstLine.emplace(key, lineNumber); !inserted)
+      throw InputError(table.path_, lineNumber,
+                       "'" + key + "' is already given on line " + std::to_string(it->second));
+    target->emplace(std::move(key), *radius);
+  }
+  if (in.bad()) throw InputError(table.path_, lineNumber, "read error");
+  if (table.size() == 0) throw InputError(table.path_, 0, "the radius table has no entries");
+  return table;
+}
+
+std::optional<double> RadiusTable::find(std::string_view residue, std::string_view atom,
+                                        std::string_view element) const {
+  if (!byAtom_.empty()) {
+    const auto it = byAtom_.find(toUpper(trim(residue)) + ":" + toUpper(trim(atom)));
+    if (it != byAtom_.end()) return it->second;
+  }
+  if (const auto it = byElement_.find(std::string(element)); it != byElement_.end())
+    return it->second;
+  return std::nullopt;
+}
+
+}  // namespace surftrace::build

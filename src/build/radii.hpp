@@ -1,0 +1,72 @@
+// Elements and their van der Waals radii: symbols, elements implied by atom names, the Bondi
+// table (with Mantina et al. for the main-group elements Bondi lacks) and user radius tables.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+namespace surftrace::build {
+
+// Canonical symbol ("Fe") of an element symbol written in any letter case ("FE", "fe").
+// Deuterium "D" is an element here. Returns "" when `symbol` names no element.
+std::string canonicalElement(std::string_view symbol);
+
+// The symbol of the element with this atomic number (1-118), "" for any other number.
+std::string elementSymbol(int atomicNumber);
+
+// Hydrogen or deuterium.
+bool isHydrogen(std::string_view element);
+
+// Water residue names of the PDB and of the common MD force fields (HOH, WAT, SOL, TIP3...).
+bool isWaterResidue(std::string_view residue);
+
+// Residues made only of H, C, N, O, S and P: the standard amino acids with their D forms and
+// force-field variants (HID, CYX...), caps, nucleotides and water. In these a name's first
+// letter is its element even when the name starts in column 13 (Amber writes "CA  " for C-alpha).
+bool isStandardResidue(std::string_view residue);
+
+// How an atom name reached us.
+enum class AtomNameLayout {
+  PdbColumns,  // the raw 4-character field of PDB columns 13-16, spaces kept
+  Token,       // a whitespace-delimited token; the column is lost
+};
+
+// The element an atom name implies where the file gives none ("" when it implies none),
+// following the PDB convention that columns 13-14 hold the element right-justified:
+// " CA " is carbon, "CA  " calcium, "1HB " and "HH31" hydrogen. Names in standard residues
+// always take their first letter. For tokens, where the column is lost, a two-letter element
+// is believed only for an ion residue named like the atom ("ZN" in ZN) or for a bare symbol
+// that cannot be an organic name ("FE", "MG"; not "CA", "NE", "HG").
+std::string elementFromAtomName(std::string_view name, std::string_view residue,
+                                AtomNameLayout layout);
+
+// Van der Waals radius in Å by element: Bondi (1964) where Bondi gives one, Mantina et al.
+// (2009) for the other main-group elements; deuterium as hydrogen. nullopt for the rest
+// (most transition metals, lanthanides, actinides but U).
+std::optional<double> bondiRadius(std::string_view element);
+
+// A user radius table: one entry a line, "ELEMENT radius" (Fe 1.95) or "RES:ATOM radius"
+// (HEM:FE 1.95), '#' starts a comment. Residue and atom names match without regard to case.
+class RadiusTable {
+ public:
+  // Throws InputError naming the table's path and line for a malformed line, an unknown
+  // element, a radius that is not a finite positive number or a repeated key.
+  static RadiusTable load(const std::filesystem::path& path);
+
+  // The RES:ATOM entry if there is one, else the element's entry.
+  std::optional<double> find(std::string_view residue, std::string_view atom,
+                             std::string_view element) const;
+
+  const std::string& path() const { return path_; }
+  std::size_t size() const { return byAtom_.size() + byElement_.size(); }
+
+ private:
+  std::string path_;
+  std::unordered_map<std::string, double> byAtom_;     // "RES:ATOM", upper case
+  std::unordered_map<std::string, double> byElement_;  // canonical symbol
+};
+
+}  // namespace surftrace::build

@@ -1,0 +1,902 @@
+// Tests of the molecule input layer against facts established outside it: atom counts from
+// tests/data/MANIFEST.md or from grep/awk over the files (noted where used), element columns
+// of other copies of the same entry, and files the tests write themselves.
+#include "build/molecule.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "build/error.hpp"
+#include "build/radii.hpp"
+
+namespace surftrace::build {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+fs::path data(const std::string& relative) { return fs::path(SURFTRACE_TEST_DATA) / relative; }
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+// A fresh directory for one test's files.
+fs::path tempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::path(::testing::TempDir()) / "surftrace_molecule_test" /
+                       (std::string(info->test_suite_name()) + "." + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The InputError that reading `path` throws; a test failure if it throws none.
+InputError readError(const fs::path& path, const ReadOptions& options = {}) {
+  try {
+    readMolecule(path, options);
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "reading " << path << " threw no InputError";
+  return InputError(path.string(), -1, "no error");
+}
+
+// The error names the file, the line, and the value seen.
+void expectError(const fs::path& path, int line, const std::string& value,
+                 const ReadOptions& options = {}) {
+  const InputError e = readError(path, options);
+  EXPECT_EQ(e.path(), path.string());
+  EXPECT_EQ(e.line(), line) << e.what();
+  EXPECT_THAT(e.what(), HasSubstr(value));
+  if (line > 0) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string() + ":" + std::to_string(line) + ": "));
+  }
+}
+
+// Bitwise CRC-32 (IEEE 802.3, reflected, as zlib and gzip use), written here from the
+// definition so that Molecule::inputCrc32 is checked against something other than zlib.
+std::uint32_t referenceCrc32(std::string_view bytes) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (const char c : bytes) {
+    crc ^= static_cast<unsigned char>(c);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+void appendLe32(std::string& out, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFFu));
+}
+
+// A gzip member (RFC 1952) holding `payload` in stored (uncompressed) deflate blocks
+// (RFC 1951, section 3.2.4), built by hand so the reader's gzip path is tested without zlib.
+std::string storedGzip(std::string_view payload) {
+  std::string out = {static_cast<char>(0x1f), static_cast<char>(0x8b), 8, 0, 0, 0, 0, 0, 0,
+                     static_cast<char>(0xff)};
+  std::size_t pos = 0;
+  do {
+    const std::size_t n = std::min<std::size_t>(65535, payload.size() - pos);
+    const bool last = pos + n == payload.size();
+    out.push_back(static_cast<char>(last ? 1 : 0));
+    out.push_back(static_cast<char>(n & 0xFF));
+    out.push_back(static_cast<char>(n >> 8));
+    out.push_back(static_cast<char>(~n & 0xFF));
+    out.push_back(static_cast<char>((~n >> 8) & 0xFF));
+    out.append(payload.substr(pos, n));
+    pos += n;
+  } while (pos < payload.size());
+  appendLe32(out, referenceCrc32(payload));
+  appendLe32(out, static_cast<std::uint32_t>(payload.size()));
+  return out;
+}
+
+std::size_t countHetatm(const Molecule& m) {
+  std::size_t n = 0;
+  for (const AtomRecord& a : m.atoms) n += a.hetatm ? 1 : 0;
+  return n;
+}
+
+std::map<std::string, std::size_t> elementCounts(const Molecule& m) {
+  std::map<std::string, std::size_t> counts;
+  for (const AtomRecord& a : m.atoms) ++counts[a.element];
+  return counts;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PDB
+
+TEST(MoleculePdb, WaterIsLeftOutByDefault1vis) {
+  // MANIFEST: 1VIS 2531 atoms / 2488 without water (43 HOH).
+  const Molecule m = readMolecule(data("paper/1vis.pdb.gz"));
+  EXPECT_EQ(m.size(), 2488u);
+  EXPECT_EQ(m.skipped.water, 43u);
+  EXPECT_EQ(m.format, MoleculeFormat::Pdb);
+  EXPECT_EQ(m.modelCount, 1);
+  EXPECT_EQ(m.radiiSet, "bondi");
+  EXPECT_EQ(m.radii.size(), m.size());
+  EXPECT_EQ(m.atoms.size(), m.size());
+  for (const AtomRecord& a : m.atoms) EXPECT_NE(a.residue, "HOH");
+}
+
+TEST(MoleculePdb, KeepWaterKeepsEveryAtom1vis) {
+  ReadOptions options;
+  options.keepWater = true;
+  const Molecule m = readMolecule(data("paper/1vis.pdb.gz"), options);
+  EXPECT_EQ(m.size(), 2531u);
+  EXPECT_EQ(m.skipped.water, 0u);
+}
+
+TEST(MoleculePdb, HetatmRecordsAreAtoms1grm) {
+  // MANIFEST: 5 models x 272 atoms, per model 154 ATOM + 118 HETATM.
+  const Molecule m = readMolecule(data("paper/1grm.pdb.gz"));
+  EXPECT_EQ(m.size(), 272u);
+  EXPECT_EQ(countHetatm(m), 118u);
+  EXPECT_EQ(m.modelCount, 5);
+  EXPECT_EQ(m.modelUsed, 1);
+  EXPECT_EQ(m.skipped.otherModels, 4u * 272u);
+}
+
+TEST(MoleculePdb, Reads1aonWellUnderASecond) {
+  // 58870 ATOM/HETATM records: zcat 1aon.pdb.gz | grep -cE '^(ATOM|HETATM)'; chains A-U.
+  const auto start = std::chrono::steady_clock::now();
+  const Molecule m = readMolecule(data("paper/1aon.pdb.gz"));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(m.size(), 58870u);
+  std::set<std::string> chains;
+  for (const AtomRecord& a : m.atoms) chains.insert(a.chain);
+  EXPECT_EQ(chains.size(), 21u);
+  EXPECT_EQ(*chains.begin(), "A");
+  EXPECT_EQ(*chains.rbegin(), "U");
+  ::testing::Test::RecordProperty("read_1aon_seconds", std::to_string(seconds));
+#ifdef NDEBUG
+  EXPECT_LT(seconds, 1.0);
+#endif
+}
+
+TEST(MoleculePdb, ChainSelection) {
+  ReadOptions options;
+  options.chains = {"B"};
+  // 136 atoms per chain in model 1: awk over the ATOM/HETATM records of the first MODEL.
+  const Molecule m = readMolecule(data("paper/1grm.pdb.gz"), options);
+  EXPECT_EQ(m.size(), 136u);
+  EXPECT_EQ(m.skipped.otherChains, 136u);
+  for (const AtomRecord& a : m.atoms) EXPECT_EQ(a.chain, "B");
+
+  // zcat 1aon.pdb.gz | grep -E '^(ATOM|HETATM)' | awk 'substr($0,22,1)=="A"||...=="B"' | wc -l
+  options.chains = {"A", "B"};
+  EXPECT_EQ(readMolecule(data("paper/1aon.pdb.gz"), options).size(), 7672u);
+}
+
+TEST(MoleculePdb, UnknownChainIsAnErrorListingTheChains) {
+  ReadOptions options;
+  options.chains = {"Z"};
+  const InputError e = readError(data("paper/1grm.pdb.gz"), options);
+  EXPECT_THAT(e.what(), HasSubstr("'Z'"));
+  EXPECT_THAT(e.what(), HasSubstr("'A', 'B'"));
+}
+
+TEST(MoleculePdb, ModelSelection1d3z) {
+  // MANIFEST: 10 MODELs x 1231 atoms.
+  ReadOptions options;
+  options.model = 10;
+  const Molecule last = readMolecule(data("ensembles/1d3z.pdb.gz"), options);
+  const Molecule first = readMolecule(data("ensembles/1d3z.pdb.gz"));
+  EXPECT_EQ(last.size(), 1231u);
+  EXPECT_EQ(last.modelCount, 10);
+  EXPECT_EQ(last.modelUsed, 10);
+  EXPECT_EQ(last.skipped.otherModels, 9u * 1231u);
+  ASSERT_EQ(first.size(), last.size());
+  EXPECT_EQ(first.atoms[0].name, last.atoms[0].name);
+  EXPECT_NE(first.centers[0], last.centers[0]);  // NMR models differ
+  EXPECT_GT(last.atoms[0].line, first.atoms.back().line);
+}
+
+TEST(MoleculePdb, ModelBeyondTheFileSaysHowManyThereAre) {
+  ReadOptions options;
+  options.model = 6;
+  const InputError e = readError(data("paper/1grm.pdb.gz"), options);
+  EXPECT_THAT(e.what(), HasSubstr("model 6"));
+  EXPECT_THAT(e.what(), HasSubstr("5 models"));
+  options.model = 11;
+  EXPECT_THAT(readError(data("ensembles/1d3z.pdb.gz"), options).what(), HasSubstr("10 models"));
+  options.model = 0;
+  EXPECT_THAT(readError(data("paper/1grm.pdb.gz"), options).what(), HasSubstr("model 0"));
+}
+
+TEST(MoleculePdb, AltLocsKeepTheHighestOccupancyConformer1cbn) {
+  // 777 records: 501 without altloc, 139 A, 104 B, 33 C. Residues 22 and 25 are SER/ILE in
+  // A and B (occupancy 0.2 each) and PRO/LEU in C (0.6). Keeping, per residue, the conformer
+  // of highest mean occupancy (awk over the records) leaves 644 atoms, 314 of them H.
+  const Molecule m = readMolecule(data("structures/1cbn.pdb.gz"));
+  EXPECT_EQ(m.size(), 644u);
+  EXPECT_EQ(m.skipped.altLocs, 777u - 644u);
+  EXPECT_EQ(elementCounts(m)["H"], 314u);
+  std::set<std::tuple<std::string, int, char, std::string>> unique;
+  for (const AtomRecord& a : m.atoms) {
+    EXPECT_TRUE(unique.insert({a.chain, a.residueNumber, a.insertionCode, a.name}).second)
+        << "two conformers of " << a.name << " " << a.residueNumber;
+    if (a.residueNumber == 22) {
+      EXPECT_EQ(a.residue, "PRO");
+    }
+    if (a.residueNumber == 25) {
+      EXPECT_EQ(a.residue, "LEU");
+    }
+    if (a.residueNumber == 1 && a.altLoc != ' ') {
+      EXPECT_EQ(a.altLoc, 'A');  // THR 1: A 0.8, B 0.2
+    }
+  }
+}
+
+TEST(MoleculePdb, HydrogensCanBeLeftOut) {
+  ReadOptions options;
+  options.keepHydrogens = false;
+  // MANIFEST: 1D3Z has 629 H per model (element column 77-78 == " H": 629).
+  const Molecule m = readMolecule(data("ensembles/1d3z.pdb.gz"), options);
+  EXPECT_EQ(m.size(), 1231u - 629u);
+  EXPECT_EQ(m.skipped.hydrogens, 629u);
+  for (const AtomRecord& a : m.atoms) EXPECT_FALSE(isHydrogen(a.element));
+  EXPECT_EQ(readMolecule(data("structures/1cbn.pdb.gz"), options).skipped.hydrogens, 314u);
+}
+
+TEST(MoleculePdb, AllWaterIsAnErrorThatSaysWhy) {
+  // MANIFEST: water.pdb is 648 atoms, all water.
+  const InputError e = readError(data("small/water.pdb"));
+  EXPECT_THAT(e.what(), HasSubstr("all 648 atoms are water; use --keep-water"));
+  ReadOptions options;
+  options.keepWater = true;
+  EXPECT_EQ(readMolecule(data("small/water.pdb"), options).size(), 648u);
+}
+
+TEST(MoleculePdb, ShortLinesEndingAfterZReadFine) {
+  // incomplete.pdb: 2 MODELs of 3 CA atoms, lines end after z, a malformed 'MODEL 1'.
+  const Molecule m = readMolecule(data("small/incomplete.pdb"));
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m.modelCount, 2);
+  EXPECT_EQ(m.centers[0], glm::dvec3(111.252, 98.373, 98.187));
+  EXPECT_EQ(m.centers[2], glm::dvec3(107.607, 102.968, 96.316));
+  for (const AtomRecord& a : m.atoms) {
+    EXPECT_EQ(a.element, "C");  // "CA" in column 13 of LYS is C-alpha, not calcium
+    EXPECT_EQ(a.occupancy, 1.0);
+  }
+  EXPECT_EQ(m.atoms[0].line, 3);
+}
+
+TEST(MoleculePdb, TwoModelsWithTerRecords) {
+  // awk: 31 ATOM/HETATM records in each of the 2 MODELs.
+  ReadOptions options;
+  options.model = 2;
+  const Molecule m = readMolecule(data("small/ter-records/multi-model.pdb"), options);
+  EXPECT_EQ(m.size(), 31u);
+  EXPECT_EQ(m.modelCount, 2);
+  EXPECT_EQ(m.skipped.otherModels, 31u);
+}
+
+TEST(MoleculePdb, LineNumbersSerialsAndFileOrder) {
+  const fs::path path = data("structures/1crn.pdb");
+  const std::vector<std::string> text = lines(readText(path));
+  const Molecule m = readMolecule(path);
+  ASSERT_EQ(m.size(), 327u);  // MANIFEST
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const AtomRecord& a = m.atoms[i];
+    ASSERT_GE(a.line, 1);
+    const std::string& line = text[static_cast<std::size_t>(a.line - 1)];
+    EXPECT_EQ(line.substr(0, 4), "ATOM");
+    EXPECT_EQ(std::stoi(line.substr(6, 5)), a.serial);
+    EXPECT_EQ(a.serial, static_cast<int>(i) + 1);
+    EXPECT_DOUBLE_EQ(m.centers[i].x, std::stod(line.substr(30, 8)));
+    EXPECT_DOUBLE_EQ(m.centers[i].z, std::stod(line.substr(46, 8)));
+    EXPECT_DOUBLE_EQ(a.bFactor, std::stod(line.substr(60, 6)));
+  }
+  EXPECT_EQ(m.atoms.front().line, 273);  // grep -n -m1 '^ATOM' 1crn.pdb
+}
+
+TEST(MoleculePdb, OldEntriesWithSerialsInColumns73To80) {
+  // 1HPV keeps '1HPV 186' in columns 73-80; gemmi alone throws on it ("Wrong format for
+  // charge"). MANIFEST: 1631 / 1551 atoms. Names: 1003 C, 263 N, 356 O (80 of them water), 9 S.
+  ReadOptions options;
+  options.keepWater = true;
+  const Molecule m = readMolecule(data("structures/1hpv.pdb.gz"), options);
+  EXPECT_EQ(m.size(), 1631u);
+  const auto counts = elementCounts(m);
+  EXPECT_EQ(counts.size(), 4u);
+  EXPECT_EQ(counts.at("C"), 1003u);
+  EXPECT_EQ(counts.at("N"), 263u);
+  EXPECT_EQ(counts.at("O"), 356u);
+  EXPECT_EQ(counts.at("S"), 9u);
+  EXPECT_EQ(m.atoms[0].line, 185);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Elements
+
+TEST(MoleculeElements, InferredFromNamesMatchTheElementColumns1grm) {
+  // 1grm_single.pdb is model 1 of 1GRM with blank element columns, rewritten by MDAnalysis
+  // with its own residue split (FOR 0 + VAL 1 for FVA 1) and order; 1grm.pdb.gz has the
+  // element columns. Atoms are matched by position.
+  const Molecule inferred = readMolecule(data("small/1grm_single.pdb"));
+  const Molecule given = readMolecule(data("paper/1grm.pdb.gz"));
+  ASSERT_EQ(inferred.size(), given.size());
+  auto key = [](const glm::dvec3& c) {
+    return std::tuple{std::lround(c.x * 1000), std::lround(c.y * 1000), std::lround(c.z * 1000)};
+  };
+  std::map<std::tuple<long, long, long>, std::string> elements;
+  for (std::size_t i = 0; i < given.size(); ++i)
+    elements[key(given.centers[i])] = given.atoms[i].element;
+  ASSERT_EQ(elements.size(), given.size());
+  for (std::size_t i = 0; i < inferred.size(); ++i) {
+    const auto it = elements.find(key(inferred.centers[i]));
+    ASSERT_TRUE(it != elements.end()) << inferred.atoms[i].name;
+    EXPECT_EQ(inferred.atoms[i].element, it->second)
+        << inferred.atoms[i].name << " of " << inferred.atoms[i].residue;
+  }
+}
+
+TEST(MoleculeElements, AmberNamesStartingInColumn13) {
+  // helix_amber.pdb writes every name from column 13 ("CA  ", "HH31") without element
+  // columns; all residues are standard, so each element is the name's first letter.
+  const fs::path path = data("small/helix_amber.pdb");
+  const Molecule m = readMolecule(path);
+  ASSERT_EQ(m.size(), 392u);  // MANIFEST
+  for (const AtomRecord& a : m.atoms) {
+    ASSERT_FALSE(a.name.empty());
+    EXPECT_EQ(a.element, std::string(1, a.name[0])) << a.name << " " << a.residue;
+  }
+  EXPECT_EQ(elementCounts(m).at("H"), 189u);
+  EXPECT_EQ(elementCounts(m).count("Ca"), 0u);
+}
+
+TEST(MoleculeElements, NamesWithoutElementColumns) {
+  // odd02.pdb: ARG/VAL/... with mixed-case names Hg13 and Hh22, which are hydrogens.
+  const Molecule odd = readMolecule(data("small/odd02.pdb"));
+  const auto counts = elementCounts(odd);
+  EXPECT_EQ(counts, (std::map<std::string, std::size_t>{{"C", 10}, {"H", 19}, {"N", 5}, {"O", 2}}));
+  ReadOptions options;
+  options.keepWater = true;
+  const auto water = elementCounts(readMolecule(data("small/water.pdb"), options));
+  EXPECT_EQ(water, (std::map<std::string, std::size_t>{{"H", 432}, {"O", 216}}));
+}
+
+TEST(MoleculeElements, ElementColumnsInMixedCase) {
+  // elements.pdb has CU, FE, Mg and Ca in columns 77-78.
+  ReadOptions options;
+  options.defaultRadius = 2.0;
+  const Molecule m = readMolecule(data("small/elements.pdb"), options);
+  EXPECT_EQ(m.size(), 28u);
+  const auto counts = elementCounts(m);
+  for (const char* element : {"Cu", "Fe", "Mg", "Ca"})
+    EXPECT_EQ(counts.count(element), 1u) << element;
+  EXPECT_EQ(m.skipped.defaultRadius, 1u);  // Fe: neither Bondi nor Mantina give it
+}
+
+TEST(MoleculeElements, TheColumnTellsCarbonFromCalcium) {
+  // odd01.pdb: HETATM 500 " CA " (column 14: carbon) and 501 "CA  " (column 13: calcium) in
+  // residue UKN without element columns; three AP5 lines carry "1AKE1839" in columns 73-80.
+  ReadOptions options;
+  options.defaultRadius = 1.5;  // "AC5  AP5" reads as actinium by the column rule
+  const Molecule m = readMolecule(data("small/odd01.pdb"), options);
+  EXPECT_EQ(m.size(), 18u);
+  std::map<int, std::string> bySerial;
+  for (const AtomRecord& a : m.atoms) bySerial[a.serial] = a.element;
+  EXPECT_EQ(bySerial.at(500), "C");
+  EXPECT_EQ(bySerial.at(501), "Ca");
+  EXPECT_EQ(bySerial.at(1685), "P");  // " PE " of AP5
+  EXPECT_EQ(bySerial.at(1315), "O");  // "ABCD" with element column O
+}
+
+// ---------------------------------------------------------------------------------------------
+// mmCIF
+
+TEST(MoleculeMmcif, SameAtomsAsThePdbFile1grm) {
+  for (const int model : {1, 5}) {
+    ReadOptions options;
+    options.model = model;
+    const Molecule pdb = readMolecule(data("paper/1grm.pdb.gz"), options);
+    const Molecule cif = readMolecule(data("paper/1grm.cif.gz"), options);
+    EXPECT_EQ(cif.format, MoleculeFormat::Mmcif);
+    EXPECT_EQ(cif.modelCount, 5);
+    ASSERT_EQ(cif.size(), pdb.size());
+    for (std::size_t i = 0; i < pdb.size(); ++i) {
+      EXPECT_EQ(cif.centers[i], pdb.centers[i]) << i;
+      EXPECT_EQ(cif.atoms[i].name, pdb.atoms[i].name);
+      EXPECT_EQ(cif.atoms[i].residue, pdb.atoms[i].residue);
+      EXPECT_EQ(cif.atoms[i].chain, pdb.atoms[i].chain);
+      EXPECT_EQ(cif.atoms[i].residueNumber, pdb.atoms[i].residueNumber);
+      EXPECT_EQ(cif.atoms[i].element, pdb.atoms[i].element);
+      EXPECT_EQ(cif.atoms[i].hetatm, pdb.atoms[i].hetatm);
+      EXPECT_EQ(cif.radii[i], pdb.radii[i]);
+    }
+  }
+}
+
+TEST(MoleculeMmcif, RowLinesAndModels) {
+  // zcat 1grm.cif.gz | sed -n 519p is the first atom_site row (HETATM 1 C C . FVA).
+  const Molecule m = readMolecule(data("paper/1grm.cif.gz"));
+  EXPECT_EQ(m.atoms[0].line, 519);
+  EXPECT_EQ(m.atoms[1].line, 520);
+  EXPECT_EQ(m.atoms[0].serial, 1);
+  // MANIFEST: 1V5A, 3 models x 387 atoms.
+  ReadOptions options;
+  options.model = 3;
+  const Molecule v5a = readMolecule(data("structures/1v5a-3models.cif.gz"), options);
+  EXPECT_EQ(v5a.size(), 387u);
+  EXPECT_EQ(v5a.modelCount, 3);
+  EXPECT_EQ(v5a.skipped.otherModels, 2u * 387u);
+  options.model = 4;
+  EXPECT_THAT(readError(data("structures/1v5a-3models.cif.gz"), options).what(),
+              HasSubstr("3 models"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// gzip, CRC, formats
+
+TEST(MoleculeGzip, DetectedByMagicBytesAndCrcOfTheDecompressedBytes) {
+  const fs::path dir = tempDir();
+  const std::string plain = readText(data("structures/1crn.pdb"));
+  ASSERT_EQ(referenceCrc32("123456789"), 0xCBF43926u);  // the CRC-32 check value
+  writeText(dir / "crambin.pdb.gz", storedGzip(plain));
+  writeText(dir / "crambin_gzip_without_gz.pdb", storedGzip(plain));
+  // Two gzip members, as `cat a.gz b.gz` makes.
+  writeText(dir / "two_members.pdb.gz",
+            storedGzip(plain.substr(0, 20000)) + storedGzip(plain.substr(20000)));
+
+  const Molecule reference = readMolecule(data("structures/1crn.pdb"));
+  EXPECT_EQ(reference.inputCrc32, referenceCrc32(plain));
+  for (const char* name : {"crambin.pdb.gz", "crambin_gzip_without_gz.pdb", "two_members.pdb.gz"}) {
+    const Molecule m = readMolecule(dir / name);
+    EXPECT_EQ(m.inputCrc32, referenceCrc32(plain)) << name;
+    EXPECT_EQ(m.centers, reference.centers) << name;
+    EXPECT_EQ(m.atoms.back().line, reference.atoms.back().line) << name;
+  }
+}
+
+TEST(MoleculeFormat, ExtensionDecidesUnlessTheFormatIsGiven) {
+  const fs::path dir = tempDir();
+  fs::copy_file(data("structures/1crn.pdb"), dir / "crambin.txt");
+  const InputError e = readError(dir / "crambin.txt");
+  EXPECT_THAT(e.what(), HasSubstr("'.txt'"));
+  ReadOptions options;
+  options.format = MoleculeFormat::Pdb;
+  EXPECT_EQ(readMolecule(dir / "crambin.txt", options).size(), 327u);
+  EXPECT_STREQ(formatName(MoleculeFormat::Mmcif), "mmCIF");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: each names the file, the line and the value
+
+TEST(MoleculeBadInput, NanCoordinate) { expectError(data("bad/nan_coordinate.pdb"), 4, "'nan'"); }
+
+TEST(MoleculeBadInput, CoordinateThatIsNotANumber) {
+  // gemmi itself would read "  12.7a4" as 12.7 and "abc" as 0.
+  expectError(data("bad/garbage_coordinate.pdb"), 3, "'  12.7a4'");
+  expectError(data("bad/partial_number.pdb"), 5, "'   1.2.3'");
+}
+
+TEST(MoleculeBadInput, TruncatedLastLine) {
+  expectError(data("bad/truncated.pdb"), 4, "ends at column 42");
+}
+
+TEST(MoleculeBadInput, TruncatedGzip) {
+  expectError(data("bad/truncated.pdb.gz"), 183, "truncated");
+}
+
+TEST(MoleculeBadInput, GzNameButNotGzip) {
+  expectError(data("bad/not_gzip.pdb.gz"), 0, "not gzip-compressed");
+}
+
+TEST(MoleculeBadInput, MissingFile) { expectError(data("bad/no_such_file.pdb"), 0, "cannot open"); }
+
+TEST(MoleculeBadInput, EmptyFile) { expectError(data("bad/empty.pdb"), 0, "empty"); }
+
+TEST(MoleculeBadInput, BinaryFile) {
+  expectError(data("bad/binary.pdb"), 1, "byte 0x00 at offset 1");
+}
+
+TEST(MoleculeBadInput, NoAtoms) { expectError(data("bad/no_atoms.pdb"), 0, "no ATOM or HETATM"); }
+
+TEST(MoleculeBadInput, GemmiErrorsKeepTheirLine) {
+  expectError(data("bad/model_without_endmdl.pdb"), 4, "MODEL without ENDMDL");
+}
+
+TEST(MoleculeBadInput, UnreadableOccupancyOfAnAlternateLocation) {
+  // An unreadable occupancy elsewhere is tolerated (fullerene.pdb has "inf"): it chooses nothing.
+  expectError(data("bad/altloc_occupancy.pdb"), 3, "'  n/a '");
+  const Molecule fullerene = readMolecule(data("small/fullerene.pdb"));
+  EXPECT_EQ(fullerene.size(), 60u);
+  EXPECT_TRUE(std::isnan(fullerene.atoms[0].occupancy));
+}
+
+TEST(MoleculeBadInput, MmcifNumbers) {
+  expectError(data("bad/garbage_coordinate.cif"), 22, "'1.2.3'");
+  expectError(data("bad/missing_coordinate.cif"), 23, "'?'");
+}
+
+TEST(MoleculeBadInput, TruncatedMmcif) {
+  expectError(data("bad/truncated.cif"), 3, "incomplete row");
+}
+
+TEST(MoleculeBadInput, MalformedPqrLine) { expectError(data("bad/malformed.pqr"), 3, "got 9"); }
+
+TEST(MoleculeBadInput, NegativeAndNonFiniteRadii) {
+  expectError(data("bad/negative_radius.pqr"), 2, "'-1.9080'");
+  expectError(data("bad/nan_radius.xyzr"), 2, "'nan'");
+}
+
+TEST(MoleculeBadInput, XyzrLineWithThreeColumns) {
+  expectError(data("bad/short_line.xyzr"), 4, "expected 4 fields (x y z r), got 3");
+}
+
+TEST(MoleculeBadInput, XyzProblems) {
+  expectError(data("bad/truncated.xyz"), 6, "3 of the 5 atoms");
+  expectError(data("bad/bad_count.xyz"), 1, "'five'");
+  expectError(data("bad/inf_coordinate.xyz"), 4, "'inf'");
+}
+
+// ---------------------------------------------------------------------------------------------
+// validateMolecule
+
+TEST(MoleculeValidate, RejectsNonFiniteCentresAndBadRadii) {
+  Molecule m;
+  m.source = "frame.dcd";
+  m.centers = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}};
+  m.radii = {1.5, 1.5};
+  m.atoms.resize(2);
+  m.atoms[1].name = "CA";
+  m.atoms[1].line = 7;
+  EXPECT_NO_THROW(validateMolecule(m));
+
+  m.centers[1].y = std::nan("");
+  try {
+    validateMolecule(m);
+    ADD_FAILURE() << "no error for a NaN centre";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 7);
+    EXPECT_THAT(e.what(), HasSubstr("'CA'"));
+  }
+  m.centers[1].y = 0.0;
+  m.radii[0] = 0.0;
+  EXPECT_THROW(validateMolecule(m), InputError);
+  m.radii[0] = 1.5;
+  m.radii.pop_back();
+  EXPECT_THROW(validateMolecule(m), InputError);
+  EXPECT_THROW(validateMolecule(Molecule{}), InputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// PQR
+
+struct PqrColumns {
+  glm::dvec3 center;
+  double radius;
+};
+using PqrKey = std::pair<int, std::string>;  // residue number, atom name
+
+// ATOM records of a PQR file read independently: PDB columns 13-16 (name), 23-26 (residue
+// number) and 31-54 (x, y, z); the radius is the last field.
+std::map<PqrKey, PqrColumns> pqrByColumns(const fs::path& path) {
+  std::map<PqrKey, PqrColumns> out;
+  for (const std::string& line : lines(readText(path))) {
+    if (line.rfind("ATOM", 0) != 0) continue;
+    std::istringstream name(line.substr(12, 4));
+    std::string trimmed;
+    name >> trimmed;
+    const std::string radius = line.substr(line.find_last_of(' ') + 1);
+    out[{std::stoi(line.substr(22, 4)), trimmed}] = {
+        {std::stod(line.substr(30, 8)), std::stod(line.substr(38, 8)),
+         std::stod(line.substr(46, 8))},
+        std::stod(radius)};
+  }
+  return out;
+}
+
+const char* const kPqrVariants[] = {"1000.pqr",
+                                    "1000-chain.pqr",
+                                    "1000-chain-whitespace.pqr",
+                                    "1000-custom.pqr",
+                                    "1000-resi.pqr",
+                                    "1000-resi-chain.pqr",
+                                    "1000-resi-chain-whitespace.pqr",
+                                    "1000-resi-whitespace.pqr",
+                                    "1000-whitespace.pqr"};
+
+TEST(Pqr, RadiiAreTheFilesLastColumn) {
+  for (const char* name : kPqrVariants) {
+    const fs::path path = data(std::string("small/pqr/") + name);
+    const Molecule m = readMolecule(path);
+    EXPECT_EQ(m.radiiSet, "file");
+    std::vector<double> lastColumn;
+    for (const std::string& line : lines(readText(path)))
+      if (line.rfind("ATOM", 0) == 0)
+        lastColumn.push_back(std::stod(line.substr(line.find_last_of(' ') + 1)));
+    EXPECT_EQ(m.radii, lastColumn) << name;
+  }
+}
+
+TEST(Pqr, EveryLayoutGivesTheSameCoordinates) {
+  // 1000.pqr runs its coordinates together ("1999.3232998.770-900.490"), so its PDB columns
+  // are the reference. The -resi variants number the residues from 1001 and order some
+  // hydrogens differently, so atoms are matched by residue and name.
+  const std::map<PqrKey, PqrColumns> reference = pqrByColumns(data("small/pqr/1000.pqr"));
+  ASSERT_EQ(reference.size(), 36u);  // MANIFEST
+  for (const char* name : kPqrVariants) {
+    const Molecule m = readMolecule(data(std::string("small/pqr/") + name));
+    ASSERT_EQ(m.size(), reference.size()) << name;
+    const std::string variant = name;
+    const int offset = variant.find("resi") != std::string::npos ? 1000 : 0;
+    const bool chain = variant.find("chain") != std::string::npos;
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const AtomRecord& a = m.atoms[i];
+      const auto it = reference.find({a.residueNumber - offset, a.name});
+      ASSERT_TRUE(it != reference.end()) << name << ": " << a.name << " " << a.residueNumber;
+      EXPECT_EQ(m.centers[i], it->second.center) << name << " " << a.name << " " << a.residueNumber;
+      EXPECT_EQ(m.radii[i], it->second.radius) << name << " " << a.name;
+      EXPECT_EQ(a.chain, chain ? "A" : "") << name;
+    }
+    EXPECT_EQ(m.atoms[1].name, "CA");
+    EXPECT_EQ(m.atoms[1].element, "C");
+    EXPECT_NEAR(m.atoms[0].charge, 0.1414, 1e-12);
+    EXPECT_EQ(elementCounts(m), (std::map<std::string, std::size_t>{
+                                    {"C", 10}, {"H", 16}, {"N", 3}, {"O", 6}, {"S", 1}}))
+        << name;
+  }
+}
+
+TEST(Pqr, ZeroRadiusIsAnErrorUnlessDropped) {
+  // example.pqr (PDB2PQR, AMBER) gives two hydroxyl hydrogens radius 0.0000; PyMOL's PQR
+  // writer gives every atom 0.000.
+  expectError(data("small/pqr/example.pqr"), 32, "'0.0000'");
+  expectError(data("small/pqr/1000-pymol.pqr"), 1, "'0.000'");
+  ReadOptions options;
+  options.dropZeroRadius = true;
+  const fs::path path = data("small/pqr/example.pqr");
+  const Molecule m = readMolecule(path, options);
+  EXPECT_EQ(m.size(), 191u - 2u);  // MANIFEST: 191 atoms
+  EXPECT_EQ(m.skipped.zeroRadius, 2u);
+  std::vector<double> lastColumn;
+  for (const std::string& line : lines(readText(path))) {
+    if (line.rfind("ATOM", 0) != 0) continue;
+    const double r = std::stod(line.substr(line.find_last_of(' ') + 1));
+    if (r != 0.0) lastColumn.push_back(r);
+  }
+  EXPECT_EQ(m.radii, lastColumn);
+  EXPECT_THAT(readError(data("small/pqr/1000-pymol-chain.pqr"), options).what(),
+              HasSubstr("all 19 atoms have radius 0"));
+}
+
+TEST(Pqr, RadiusTableReplacesTheFileRadii) {
+  const fs::path dir = tempDir();
+  writeText(dir / "radii.txt", "C 2.0\nALA:CB 2.5\n");
+  ReadOptions options;
+  options.radiiFile = dir / "radii.txt";
+  const Molecule m = readMolecule(data("small/pqr/1000.pqr"), options);
+  EXPECT_EQ(m.radiiSet, "table:" + (dir / "radii.txt").string());
+  EXPECT_EQ(m.radii[0], 1.55);  // N: Bondi
+  EXPECT_EQ(m.radii[1], 2.0);   // CA
+  EXPECT_EQ(m.radii[4], 2.5);   // CB of ALA
+}
+
+// ---------------------------------------------------------------------------------------------
+// XYZR and XYZ
+
+TEST(Xyz, XyzrRoundTrip) {
+  const fs::path dir = tempDir();
+  const Molecule original = readMolecule(data("structures/1crn.pdb"));
+  std::ostringstream out;
+  out.precision(17);
+  out << "# crambin as x y z r\n";
+  for (std::size_t i = 0; i < original.size(); ++i)
+    out << original.centers[i].x << ' ' << original.centers[i].y << ' ' << original.centers[i].z
+        << ' ' << original.radii[i] << '\n';
+  writeText(dir / "crambin.xyzr", out.str());
+
+  const Molecule back = readMolecule(dir / "crambin.xyzr");
+  EXPECT_EQ(back.format, MoleculeFormat::Xyzr);
+  EXPECT_EQ(back.radiiSet, "file");
+  EXPECT_EQ(back.centers, original.centers);
+  EXPECT_EQ(back.radii, original.radii);
+  EXPECT_EQ(back.atoms[0].line, 2);
+  EXPECT_EQ(back.atoms.back().serial, 327);
+
+  ReadOptions options;
+  options.keepHydrogens = false;  // XYZR has no elements to tell hydrogens by
+  EXPECT_THAT(readError(dir / "crambin.xyzr", options).what(), HasSubstr("no elements"));
+  options = {};
+  options.radiiFile = dir / "crambin.xyzr";
+  EXPECT_THAT(readError(dir / "crambin.xyzr", options).what(), HasSubstr("cannot apply"));
+}
+
+TEST(Xyz, XyzRoundTripWithFrames) {
+  const fs::path dir = tempDir();
+  const Molecule original = readMolecule(data("structures/1crn.pdb"));
+  std::ostringstream out;
+  out.precision(17);
+  for (int frame = 0; frame < 2; ++frame) {
+    out << original.size() << "\nframe " << frame + 1 << "\n";
+    for (std::size_t i = 0; i < original.size(); ++i)
+      out << original.atoms[i].element << ' ' << original.centers[i].x + 10.0 * frame << ' '
+          << original.centers[i].y << ' ' << original.centers[i].z << '\n';
+  }
+  writeText(dir / "crambin.xyz", out.str());
+
+  ReadOptions options;
+  options.model = 2;
+  const Molecule back = readMolecule(dir / "crambin.xyz", options);
+  EXPECT_EQ(back.format, MoleculeFormat::Xyz);
+  EXPECT_EQ(back.modelCount, 2);
+  EXPECT_EQ(back.skipped.otherModels, original.size());
+  ASSERT_EQ(back.size(), original.size());
+  for (std::size_t i = 0; i < back.size(); ++i) {
+    EXPECT_EQ(back.centers[i], original.centers[i] + glm::dvec3(10.0, 0.0, 0.0));
+    EXPECT_EQ(back.atoms[i].element, original.atoms[i].element);
+    EXPECT_EQ(back.radii[i], original.radii[i]);
+  }
+  EXPECT_EQ(back.atoms[0].line, static_cast<int>(original.size()) + 2 + 3);
+
+  options.model = 3;
+  EXPECT_THAT(readError(dir / "crambin.xyz", options).what(), HasSubstr("2 frames"));
+  options.model = 1;
+  options.chains = {"A"};
+  EXPECT_THAT(readError(dir / "crambin.xyz", options).what(), HasSubstr("no chains"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Radii
+
+TEST(Radii, BondiWithMantinaExtensions) {
+  EXPECT_EQ(bondiRadius("H"), 1.20);
+  EXPECT_EQ(bondiRadius("D"), 1.20);
+  EXPECT_EQ(bondiRadius("C"), 1.70);
+  EXPECT_EQ(bondiRadius("N"), 1.55);
+  EXPECT_EQ(bondiRadius("O"), 1.52);
+  EXPECT_EQ(bondiRadius("S"), 1.80);
+  EXPECT_EQ(bondiRadius("P"), 1.80);
+  EXPECT_EQ(bondiRadius("Se"), 1.90);
+  EXPECT_EQ(bondiRadius("Zn"), 1.39);
+  EXPECT_EQ(bondiRadius("Ca"), 2.31);  // Mantina
+  EXPECT_EQ(bondiRadius("B"), 1.92);   // Mantina
+  EXPECT_EQ(bondiRadius("Fe"), std::nullopt);
+  EXPECT_EQ(bondiRadius("X"), std::nullopt);
+  EXPECT_EQ(bondiRadius(""), std::nullopt);
+}
+
+TEST(Radii, ElementSymbols) {
+  EXPECT_EQ(canonicalElement("FE"), "Fe");
+  EXPECT_EQ(canonicalElement("fe"), "Fe");
+  EXPECT_EQ(canonicalElement(" C"), "C");
+  EXPECT_EQ(canonicalElement("D"), "D");
+  EXPECT_EQ(canonicalElement("LP"), "");
+  EXPECT_EQ(canonicalElement("X"), "");
+  EXPECT_EQ(canonicalElement("CAL"), "");
+  EXPECT_EQ(elementSymbol(26), "Fe");
+  EXPECT_EQ(elementSymbol(118), "Og");
+  EXPECT_EQ(elementSymbol(0), "");
+}
+
+TEST(Radii, ElementsFromAtomNames) {
+  using L = AtomNameLayout;
+  EXPECT_EQ(elementFromAtomName(" CA ", "ALA", L::PdbColumns), "C");
+  EXPECT_EQ(elementFromAtomName("CA  ", "CA", L::PdbColumns), "Ca");
+  EXPECT_EQ(elementFromAtomName("CA  ", "ALA", L::PdbColumns), "C");  // Amber, standard residue
+  EXPECT_EQ(elementFromAtomName("FE  ", "HEM", L::PdbColumns), "Fe");
+  EXPECT_EQ(elementFromAtomName("HH31", "ACE", L::PdbColumns), "H");
+  EXPECT_EQ(elementFromAtomName("HG21", "LIG", L::PdbColumns), "H");
+  EXPECT_EQ(elementFromAtomName("1HB ", "LIG", L::PdbColumns), "H");
+  EXPECT_EQ(elementFromAtomName("C210", "LIG", L::PdbColumns), "C");
+  EXPECT_EQ(elementFromAtomName("CA", "ALA", L::Token), "C");
+  EXPECT_EQ(elementFromAtomName("CA", "CA", L::Token), "Ca");
+  EXPECT_EQ(elementFromAtomName("FE", "HEM", L::Token), "Fe");
+  EXPECT_EQ(elementFromAtomName("ZN", "ZN", L::Token), "Zn");
+  EXPECT_EQ(elementFromAtomName("NE2", "HIS", L::Token), "N");
+  EXPECT_EQ(elementFromAtomName("X1", "LIG", L::Token), "");
+}
+
+TEST(Radii, UnknownElementNamesFileLineAndAtom) {
+  // elements.xyz: one atom of each of 113 "elements", the first "LP" (a lone pair).
+  expectError(data("small/elements.xyz"), 3, "'LP'");
+  expectError(data("bad/unknown_element.pdb"), 3, "'XX'");
+  const InputError e = readError(data("small/elements.pdb"));
+  EXPECT_EQ(e.line(), 21);  // FE, HETATM on line 21
+  EXPECT_THAT(e.what(), HasSubstr("element Fe"));
+}
+
+TEST(Radii, DefaultRadiusCoversUnknownElements) {
+  // elements.xyz holds LP and H..Cn (112 elements). Bondi (38, with D) and Mantina (16)
+  // cover 54 of them, so 113 - 54 = 59 atoms take the default.
+  ReadOptions options;
+  options.defaultRadius = 1.8;
+  const Molecule m = readMolecule(data("small/elements.xyz"), options);
+  ASSERT_EQ(m.size(), 113u);
+  EXPECT_EQ(m.skipped.defaultRadius, 59u);
+  std::map<std::string, double> radius;
+  for (std::size_t i = 0; i < m.size(); ++i) radius[m.atoms[i].element] = m.radii[i];
+  EXPECT_EQ(radius.at("C"), 1.70);
+  EXPECT_EQ(radius.at("Ca"), 2.31);
+  EXPECT_EQ(radius.at("Fe"), 1.8);
+  EXPECT_EQ(radius.at("Cn"), 1.8);
+  EXPECT_EQ(m.radii[0], 1.8);  // LP
+  options.defaultRadius = -1.0;
+  EXPECT_THAT(readError(data("small/elements.xyz"), options).what(), HasSubstr("default radius"));
+}
+
+TEST(Radii, UserTable) {
+  const fs::path dir = tempDir();
+  writeText(dir / "radii.txt", "# test table\nC 2.0   # carbon\n\nTHR:OG1 1.25\nfe 1.9\n");
+  ReadOptions options;
+  options.radiiFile = dir / "radii.txt";
+  const Molecule m = readMolecule(data("structures/1crn.pdb"), options);
+  EXPECT_EQ(m.radiiSet, "table:" + (dir / "radii.txt").string());
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const AtomRecord& a = m.atoms[i];
+    if (a.residue == "THR" && a.name == "OG1") {
+      EXPECT_EQ(m.radii[i], 1.25);
+    } else if (a.element == "C") {
+      EXPECT_EQ(m.radii[i], 2.0);
+    } else {
+      EXPECT_EQ(m.radii[i], *bondiRadius(a.element)) << a.name;  // not in the table
+    }
+  }
+  const RadiusTable table = RadiusTable::load(dir / "radii.txt");
+  EXPECT_EQ(table.find("HEM", "FE", "Fe"), 1.9);
+  EXPECT_EQ(table.find("thr", "og1", "O"), 1.25);
+  EXPECT_EQ(table.find("SER", "OG", "O"), std::nullopt);
+}
+
+TEST(Radii, MalformedTableLineNamesTheTable) {
+  ReadOptions options;
+  options.radiiFile = data("bad/malformed_radii.txt");
+  const InputError e = readError(data("structures/1crn.pdb"), options);
+  EXPECT_EQ(e.path(), data("bad/malformed_radii.txt").string());
+  EXPECT_EQ(e.line(), 4);
+  EXPECT_THAT(e.what(), HasSubstr("'O'"));
+
+  const fs::path dir = tempDir();
+  writeText(dir / "zero.txt", "C 0\n");
+  writeText(dir / "element.txt", "Xx 1.0\n");
+  writeText(dir / "twice.txt", "C 1.7\nc 1.8\n");
+  EXPECT_THROW(RadiusTable::load(dir / "zero.txt"), InputError);
+  try {
+    RadiusTable::load(dir / "element.txt");
+    ADD_FAILURE();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.line(), 1);
+    EXPECT_THAT(err.what(), HasSubstr("'Xx'"));
+  }
+  try {
+    RadiusTable::load(dir / "twice.txt");
+    ADD_FAILURE();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.line(), 2);
+    EXPECT_THAT(err.what(), HasSubstr("line 1"));
+  }
+}
+
+}  // namespace
+}  // namespace surftrace::build
