@@ -24,11 +24,14 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
   group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
   group->add_option("--radii", options.radiiFile,
-                    "Radius table replacing Bondi radii: lines 'ELEMENT r' or 'RES:ATOM r', '#' comments")
+                    "Radius table overriding Bondi radii: lines 'ELEMENT r' or 'RES:ATOM r', '#' comments; "
+                    "elements not in it keep their Bondi radius")
       ->check(CLI::ExistingFile);
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
       ->check(CLI::PositiveNumber);
+  group->add_flag("--drop-zero-radius", options.dropZeroRadius,
+                  "Drop atoms whose file gives radius 0 (PQR hydrogens) instead of stopping with an error");
   static const std::map<std::string, build::MoleculeFormat> kFormats{
       {"auto", build::MoleculeFormat::Auto}, {"pdb", build::MoleculeFormat::Pdb},
       {"mmcif", build::MoleculeFormat::Mmcif}, {"cif", build::MoleculeFormat::Mmcif},
