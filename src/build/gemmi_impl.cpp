@@ -217,7 +217,37 @@ std::string pdbElement(std::string_view line, const std::string& residue) {
 
 }  // namespace
 
+// MODEL records written with the serial right after the keyword ("MODEL 7", as MDAnalysis
+// writes them) make gemmi read the serial from columns 11-14 of the *next* line, and then
+// fail on a "duplicate MODEL number". Rewrite such records in the standard columns; the
+// line count is unchanged, so line numbers stay right.
+static void normalizeModelRecords(std::string& text) {
+  std::string out;
+  bool changed = false;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    std::string_view line(text.data() + pos, end - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    std::string_view rest = line.size() > 5 ? trim(line.substr(5)) : std::string_view();
+    const bool shortModel = line.size() < 14 && line.substr(0, std::min<std::size_t>(5, line.size())) == "MODEL" &&
+                            !rest.empty() && rest.size() <= 4 &&
+                            std::all_of(rest.begin(), rest.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (shortModel) {
+      changed = true;
+      out.append("MODEL     ").append(4 - rest.size(), ' ').append(rest);
+    } else {
+      out.append(line);
+    }
+    if (end < text.size()) out.push_back('\n');
+    pos = end + 1;
+  }
+  if (changed) text = std::move(out);
+}
+
 Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) {
+  normalizeModelRecords(text);
   // gemmi keeps no line numbers and reorders atoms into chains and residues. One pass over
   // the ATOM/HETATM lines checks the numbers we use and overwrites each serial field with the
   // record's index, so every atom gemmi returns leads back to its line. The charge columns

@@ -56,7 +56,7 @@ void sortNearlySorted(std::uint32_t* first, std::uint32_t* last) {
 // computed like s with r_max in place of r_j.
 int axisCell(double x, double origin, double cellFromWorld, int dim) {
   double t = (x - origin) * cellFromWorld;
-  if (!(t > 0.0)) return 0;
+  if (!(t > 0.0)) return 0; if (t > 1e9) return 0;
   const double last = static_cast<double>(dim - 1);
   if (t > last) t = last;
   return static_cast<int>(t);

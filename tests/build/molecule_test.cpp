@@ -900,3 +900,21 @@ TEST(Radii, MalformedTableLineNamesTheTable) {
 
 }  // namespace
 }  // namespace surftrace::build
+
+namespace surftrace::build {
+namespace {
+
+// MDAnalysis writes "MODEL 7" with the serial right after the keyword; gemmi alone reads
+// the serial from the next line and reports a duplicate model.
+TEST(MoleculeModels, ShortModelRecordsFromMdAnalysis) {
+  const std::string path = std::string(SURFTRACE_TEST_DATA) + "/ensembles/1grm_elNemo_mode7.pdb.gz";
+  ReadOptions options;
+  options.model = 7;
+  const Molecule m = readMolecule(path, options);
+  EXPECT_EQ(m.modelCount, 11);
+  EXPECT_EQ(m.size(), 264u);
+  EXPECT_EQ(m.atoms.front().line, 1611);  // "MODEL 7" on line 1609, a REMARK, then the first ATOM
+}
+
+}  // namespace
+}  // namespace surftrace::build
