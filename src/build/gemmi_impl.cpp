@@ -220,10 +220,13 @@ std::string pdbElement(std::string_view line, const std::string& residue) {
 // MODEL records written with the serial right after the keyword ("MODEL 7", as MDAnalysis
 // writes them) make gemmi read the serial from columns 11-14 of the *next* line, and then
 // fail on a "duplicate MODEL number". Rewrite such records in the standard columns; the
-// line count is unchanged, so line numbers stay right.
+// line count is unchanged, so line numbers stay right. Such files also repeat serials
+// ("MODEL 1" twice in incomplete.pdb), and models are chosen by position anyway, so the
+// rewritten records are numbered in order of appearance.
 static void normalizeModelRecords(std::string& text) {
   std::string out;
   bool changed = false;
+  int models = 0;
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -234,9 +237,11 @@ static void normalizeModelRecords(std::string& text) {
     const bool shortModel = line.size() < 14 && line.substr(0, std::min<std::size_t>(5, line.size())) == "MODEL" &&
                             !rest.empty() && rest.size() <= 4 &&
                             std::all_of(rest.begin(), rest.end(), [](char c) { return c >= '0' && c <= '9'; });
-    if (shortModel) {
+    if (line.substr(0, std::min<std::size_t>(5, line.size())) == "MODEL") ++models;
+    if (shortModel && models <= 9999) {
       changed = true;
-      out.append("MODEL     ").append(4 - rest.size(), ' ').append(rest);
+      const std::string serial = std::to_string(models);
+      out.append("MODEL     ").append(4 - serial.size(), ' ').append(serial);
     } else {
       out.append(line);
     }

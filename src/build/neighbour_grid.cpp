@@ -1,5 +1,6 @@
 // The flexible neighbour grid of Lindow et al. 2010 (Sect. 4.1, 4.3): a counting sort of the
-// atoms into at most 2n cubic cells over their bounding box.
+// atoms into at most 2n cubic cells over their bounding box (or over the bulk of the atoms
+// when a few outliers stretch the box).
 #include "build/neighbour_grid.hpp"
 
 #include <algorithm>
@@ -21,11 +22,22 @@ constexpr std::size_t kCellsPerAtom = 2;
 // reach divided by this. See chooseCells() for the measurements behind the value.
 constexpr double kCellsPerReach = 1.0;
 
+// When the 2n cap makes cells this much coarser than aimed for, the bounding box is
+// probably stretched by a few outliers, and the grid is laid over the bulk instead:
+// per axis, from the k-th smallest to the k-th largest coordinate, k = n / kBulkTrim.
+constexpr double kCoarseCells = 2.0;
+constexpr std::size_t kBulkTrim = 1000;
+
+double aimedCellSize(double maxRadius, double probeRadius) {
+  return (2.0 * maxRadius + 2.0 * probeRadius) / kCellsPerReach;
+}
+
 // Sorts a query's result in place. The candidates come out cell by cell, each cell in
 // increasing index, and atoms close in space tend to be close in index (residues along a
-// chain), so the list is nearly sorted: insertion sort beat std::sort by 10-30% on the
-// all-neighbours query of 1AF6 even at rp = 3 (~140 neighbours). Its cost is the length
-// plus the inversions, so past a budget std::sort takes over (a big atomsNear reach).
+// chain), so the list is nearly sorted: insertion sort made the all-neighbours query of
+// 1AF6 20% faster than std::sort at rp = 1.4 and still 7% at rp = 3 (~140 neighbours). Its
+// cost is the length plus the inversions, so past a budget std::sort takes over (a big
+// atomsNear reach).
 void sortNearlySorted(std::uint32_t* first, std::uint32_t* last) {
   const std::ptrdiff_t budget = 64 * (last - first) + 4096;
   std::ptrdiff_t moves = 0;
@@ -56,7 +68,7 @@ void sortNearlySorted(std::uint32_t* first, std::uint32_t* last) {
 // computed like s with r_max in place of r_j.
 int axisCell(double x, double origin, double cellFromWorld, int dim) {
   double t = (x - origin) * cellFromWorld;
-  if (!(t > 0.0)) return 0; if (t > 1e9) return 0;
+  if (!(t > 0.0)) return 0;
   const double last = static_cast<double>(dim - 1);
   if (t > last) t = last;
   return static_cast<int>(t);
@@ -82,6 +94,7 @@ void NeighbourGrid::reserve(std::size_t capacity) {
   cellAtoms_.assign(capacity, 0);
   sorted_.assign(capacity, glm::dvec4(0.0));
   atomSlot_.assign(capacity, 0);
+  scratch_.assign(capacity, 0.0);
 }
 
 std::size_t NeighbourGrid::cellCount() const {
@@ -91,13 +104,17 @@ std::size_t NeighbourGrid::cellCount() const {
 
 // Cell size. With edge h, a query of reach R scans on average about (2R + h)^3 of space in
 // (2R/h + 1)^2 rows of cells, so smaller cells scan fewer atoms but pay more per row; the
-// 2n cap alone stops edges below ~3.3 Å on 1AON and 1VIS. Measured (all-neighbours query
-// of 1AF6, min of 6 interleaved runs on a busy 2-core machine, ms):
-//   h = R_max * 4/3, 1, 2/3, 1/2 at rp = 0:   2.5, 2.4, 2.8, 2.8
-//                                   rp = 1.4: 8.5, 8.2, 8.6, 9.3
-//                                   rp = 3:  29.2, 28.2, 31.2, 32.8
-// where R_max = 2 r_max + 2 rp. Cells of edge R_max (at most 3 x 3 x 3 per query) win or
-// tie everywhere, and the curve is flat enough that no cleverer rule would pay.
+// 2n cap alone stops edges below ~3.3 Å on 1AON and 1VIS. All-neighbours query time in ms
+// (min of 4 interleaved runs, one core of a shared 2-core machine, noise ~3%), for
+// h = R_max * (4/3, 1, 2/3, 1/2, 1/3) where R_max = 2 r_max + 2 rp:
+//   1AF6 rp = 0:     2.5,   2.4,   2.8,   2.8,   2.8
+//        rp = 1.4:   8.7,   8.2,   8.5,   9.0,   9.6
+//        rp = 3:    29.3,  29.8,  29.5,  31.4,  32.1
+//   1AON rp = 0:    14.2,  13.9,  14.6,  14.8,  14.6
+//        rp = 1.4:  45.7,  43.6,  45.7,  50.6,  49.2   (the last two both hit the cap)
+//        rp = 3:   148.5, 148.2, 151.8, 162.3, 174.4
+// Cells of edge R_max (at most 3 x 3 x 3 per query) win or tie everywhere, and the curve
+// is flat enough that no cleverer rule would pay.
 void NeighbourGrid::chooseCells(const glm::dvec3& lo, const glm::dvec3& hi) {
   const glm::dvec3 extent = hi - lo;
   const double maxExtent = std::max({extent.x, extent.y, extent.z});
@@ -111,7 +128,7 @@ void NeighbourGrid::chooseCells(const glm::dvec3& lo, const glm::dvec3& hi) {
     return;
   }
   const double maxCells = static_cast<double>(std::max<std::size_t>(kCellsPerAtom * n_, 1));
-  double h = (2.0 * maxRadius_ + 2.0 * probeRadius_) / kCellsPerReach;
+  double h = aimedCellSize(maxRadius_, probeRadius_);
   if (cellProduct(extent, h) > maxCells) {
     // The product only decreases as h grows and is 1 at h = maxExtent (> h here, or the
     // product would be 1), so bisect for the smallest h that satisfies the cap.
@@ -127,6 +144,23 @@ void NeighbourGrid::chooseCells(const glm::dvec3& lo, const glm::dvec3& hi) {
   for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::max(1.0, std::ceil(extent[a] / h)));
   cellSize_ = h;
   cellFromWorld_ = 1.0 / h;
+}
+
+void NeighbourGrid::bulkBounds(std::span<const glm::dvec3> centers, glm::dvec3& lo, glm::dvec3& hi) {
+  const std::size_t n = centers.size();
+  const std::size_t k = n / kBulkTrim;
+  if (k == 0) return;  // fewer than kBulkTrim atoms: keep the full bounds
+  const auto first = scratch_.begin();
+  const auto last = first + static_cast<std::ptrdiff_t>(n);
+  const auto kth = first + static_cast<std::ptrdiff_t>(k);
+  const auto kthLargest = first + static_cast<std::ptrdiff_t>(n - 1 - k);
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < n; ++i) scratch_[i] = centers[i][a];
+    std::nth_element(first, kth, last);
+    lo[a] = *kth;
+    std::nth_element(kth, kthLargest, last);  // everything before kth is <= *kth
+    hi[a] = *kthLargest;
+  }
 }
 
 glm::ivec3 NeighbourGrid::cellOf(const glm::dvec3& p) const {
@@ -160,11 +194,19 @@ void NeighbourGrid::build(std::span<const glm::dvec3> centers, std::span<const d
     maxRadius_ = std::max(maxRadius_, radii[i]);
   }
   chooseCells(lo, hi);
+  if (cellSize_ > kCoarseCells * aimedCellSize(maxRadius_, probeRadius_)) {
+    // One atom 1e6 Å away would otherwise put all others into one cell and make every
+    // query O(n). Atoms outside the bulk box are clamped into its border cells, which is
+    // still exact (see axisCell) and leaves those cells only a few extra atoms.
+    bulkBounds(centers, lo, hi);
+    chooseCells(lo, hi);
+  }
 
   // Counting sort (Lindow et al. Sect. 4.3): count per cell, prefix-sum into cellStart_,
   // scatter in increasing atom order so each cell lists its atoms in increasing index.
   // atomSlot_ holds each atom's cell until the scatter overwrites it with the slot.
   const std::size_t cells = cellCount();
+  SURFTRACE_ASSERT(cells < cellStart_.size());
   std::fill_n(cellStart_.begin(), cells + 1, 0u);
   for (std::size_t i = 0; i < n; ++i) {
     const glm::ivec3 c = cellOf(centers[i]);
@@ -203,7 +245,8 @@ void NeighbourGrid::collect(const glm::dvec3& lo, const glm::dvec3& hi, Accept&&
     }
   };
   // Writing every candidate and advancing the cursor only past accepted ones avoids a
-  // branch that mispredicts for most of the ~20% of candidates that are accepted.
+  // branch that mispredicts on most of the ~20% of candidates accepted: all-neighbours of
+  // 1VIS went from 3.4 to 2.5 ms against push_back behind an if.
   std::size_t candidates = 0;
   forEachRun([&](std::uint32_t begin, std::uint32_t end) { candidates += end - begin; });
   const std::size_t first = out.size();

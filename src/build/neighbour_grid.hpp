@@ -16,9 +16,15 @@ namespace surftrace::build {
 // the spans passed to build() need not outlive it.
 //
 // Both predicates are evaluated in double exactly as written here, so that callers testing
-// the same pair with the same expression agree with the grid even at the boundary:
-//   neighbours: dot(d, d) < s * s  with d = c_i - c_j, s = (r_i + r_j) + 2 * rp
-//   atomsNear:  s > 0 && dot(d, d) < s * s  with d = p - c_j, s = r_j + reach
+// the same pair with the same expression agree with the grid even at the boundary
+// (d2 = dx*dx + dy*dy + dz*dz, summed left to right):
+//   neighbours: d2 < s * s           with d = c_i - c_j, s = (r_i + r_j) + 2 * rp
+//   atomsNear:  s > 0 && d2 < s * s  with d = p - c_j,   s = r_j + reach
+//
+// Cells: Lindow et al.'s at most 2n cubic cells over the atoms' bounding box, of edge
+// 2 r_max + 2 rp where the cap allows. When a few far outliers would force much coarser
+// cells, the grid covers the bulk of the atoms instead and the outliers sit in its border
+// cells; results are exact either way.
 class NeighbourGrid {
  public:
   // Reserves room for up to `capacity` atoms (and 2*capacity cells). build() with at most
@@ -48,6 +54,7 @@ class NeighbourGrid {
  private:
   void reserve(std::size_t capacity);
   void chooseCells(const glm::dvec3& lo, const glm::dvec3& hi);
+  void bulkBounds(std::span<const glm::dvec3> centers, glm::dvec3& lo, glm::dvec3& hi);
   glm::ivec3 cellOf(const glm::dvec3& p) const;
   // Appends, in increasing order, the atom of every sorted slot s in the cells overlapping
   // the box [lo, hi] for which accept(s) holds.
@@ -69,6 +76,7 @@ class NeighbourGrid {
   std::vector<std::uint32_t> cellAtoms_;  // atom index of each sorted slot, ascending per cell
   std::vector<glm::dvec4> sorted_;        // (centre, radius) of each sorted slot
   std::vector<std::uint32_t> atomSlot_;   // sorted slot of each atom
+  std::vector<double> scratch_;           // one coordinate per atom, for bulkBounds()
 };
 
 }  // namespace surftrace::build
