@@ -133,6 +133,7 @@ class Reader {
     constexpr std::size_t kScalarSize = Info::kScalar == Scalar::F64 ? 8 : 4;
     if (count > (size_ - pos_) / sizeof(T)) fail(std::string("array ") + what + " runs past the end of the file");
     v.resize(count);
+    if (count == 0) return;  // v.data() may be null; memcpy forbids that even for 0 bytes
     std::memcpy(v.data(), data_ + pos_, count * sizeof(T));
     pos_ += count * sizeof(T);
     if (swap_) {

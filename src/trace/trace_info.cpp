@@ -1,2 +1,0 @@
-// Placeholder until the Embree renderer lands (issue 4).
-namespace surftrace::trace { const char* traceInfo() { return "embree"; } }
