@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
-# Quick start, part 1: install what is missing, build (Release), and run SurfTrace on the
-# bundled demo molecule (1VIS, mevalonate kinase, 2531 atoms).
+# Quick start, part 1: install what is missing, build (Release), and ray-trace the SES of the
+# bundled demo molecule (1VIS, mevalonate kinase, 2531 atoms) to out/1vis.png, with every
+# per-pixel buffer (depth, normal, patch kind and id, atom id, flags) in out/1vis.exr.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake --preset release >/dev/null
 cmake --build --preset release --target surftrace
 demo=tests/data/paper/1vis.pdb.gz
+mkdir -p out
 ./build/release/tools/surftrace info "$demo"
 echo
 ./build/release/tools/surftrace area "$demo" --probe 1.4
-./build/release/tools/surftrace build "$demo" --probe 1.4 -o build/release/1vis.stp
+echo
+./build/release/tools/surftrace render "$demo" --probe 1.4 --size 1024x1024 --spp 4 \
+  -o out/1vis.png --exr out/1vis.exr
+echo "Open out/1vis.png (convex patches green, toroidal yellow, concave red)."

@@ -15,5 +15,7 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
 
 void addInfoCommand(CLI::App& app);
 void addBuildCommands(CLI::App& app);  // build, area
+// `commandLine` is the whole invocation, recorded in every image's metadata.
+void addRenderCommand(CLI::App& app, const std::string& commandLine);
 
 }  // namespace surftrace::tools

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       "  surftrace info 1vis.pdb.gz                 what is in a structure file, what gets skipped\n"
       "  surftrace area 1vis.pdb.gz --probe 1.4      exact SAS/SES areas and SES volume\n"
       "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES patch list for renderers\n"
+      "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the SES exactly (add --exr for buffers)\n"
       "\n"
       "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ.\n"
       "Run `surftrace COMMAND --help` for the options of one command.",
@@ -26,6 +27,9 @@ int main(int argc, char** argv) {
 
   surftrace::tools::addInfoCommand(app);
   surftrace::tools::addBuildCommands(app);
+  std::string commandLine;
+  for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
+  surftrace::tools::addRenderCommand(app, commandLine);
 
   try {
     app.parse(argc, argv);

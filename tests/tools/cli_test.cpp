@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "build/patch_list.hpp"
+#include "trace/camera.hpp"
+#include "trace/image_io.hpp"
 
 namespace {
 
@@ -90,3 +92,64 @@ TEST(Cli, BuildWritesAReadablePatchList) {
 }
 
 }  // namespace
+
+// `render` writes a PNG and an EXR of the requested size whose metadata holds the camera,
+// and a patch list built earlier renders the same image as building it on the fly.
+TEST(Cli, RenderWritesImagesWithTheirCamera) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string png = (dir / "r.png").string(), exr = (dir / "r.exr").string(), exr2 = (dir / "r2.exr").string(),
+                    stp = (dir / "r.stp").string();
+  const Result r = run("render " + data("structures/1crn.pdb") + " --size 64x48 --quiet -o " + png + " --exr " + exr);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::file_size(png) > 100);
+  const auto frame = surftrace::trace::readExr(exr);
+  EXPECT_EQ(frame.width, 64);
+  EXPECT_EQ(frame.height, 48);
+  std::size_t covered = 0;
+  for (auto k : frame.kind) covered += k != 0;
+  EXPECT_GT(covered, frame.pixels() / 4) << "the framed molecule should fill much of the image";
+  surftrace::trace::ImageMetadata meta;
+  surftrace::trace::readExr(exr, &meta);
+  const auto camera = surftrace::trace::cameraFromJson(meta.at("surftrace:camera"));
+  EXPECT_EQ(camera.width, 64);
+
+  ASSERT_EQ(run("build " + data("structures/1crn.pdb") + " -o " + stp).status, 0);
+  const Result again = run("render " + data("structures/1crn.pdb") + " --patches " + stp + " --size 64x48 --quiet --exr " + exr2);
+  ASSERT_EQ(again.status, 0) << again.output;
+  const auto frame2 = surftrace::trace::readExr(exr2);
+  EXPECT_EQ(frame2.depth, frame.depth);
+  EXPECT_EQ(frame2.patchId, frame.patchId);
+}
+
+TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
+  const std::string out = (std::filesystem::path(testing::TempDir()) / "x.png").string();
+  const std::string mol = data("structures/1crn.pdb");
+  struct Case {
+    std::string args, mustSay;
+  };
+  const Case cases[] = {
+      {"--size 0x10", "--size '0x10'"},
+      {"--size 10", "--size '10'"},
+      {"--view sideways", "unknown view 'sideways'"},
+      {"--view 0,0,0", "unknown view '0,0,0'"},
+      {"--eye 1,2", "--eye '1,2'"},
+      {"--fov 180", "field of view"},
+      {"--background 2,0,0", "--background"},
+      {"--color rainbow", "rainbow"},
+      {"--patches " + data("structures/1crn.pdb"), "not a SurfTrace patch list"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run("render " + mol + " --quiet -o " + out + " " + c.args);
+    EXPECT_NE(r.status, 0) << c.args;
+    EXPECT_NE(r.output.find(c.mustSay), std::string::npos) << c.args << "\n" << r.output;
+  }
+  const Result none = run("render " + mol + " --quiet");
+  EXPECT_NE(none.status, 0);
+  EXPECT_NE(none.output.find("nothing to write"), std::string::npos) << none.output;
+  // A patch list of another molecule is refused, not rendered as a wrong picture.
+  const std::string stp = (std::filesystem::path(testing::TempDir()) / "other.stp").string();
+  ASSERT_EQ(run("build " + data("small/1grm_single.pdb") + " -o " + stp).status, 0);
+  const Result other = run("render " + mol + " --quiet -o " + out + " --patches " + stp);
+  EXPECT_NE(other.status, 0);
+  EXPECT_NE(other.output.find("different input"), std::string::npos) << other.output;
+}

@@ -1,0 +1,85 @@
+// Embree reference renderer: scene build and frame time at 1024×1024, one sample per pixel,
+// for the paper's molecules (SES and, as a spheres-only lower bound, the vdW surface).
+#include <map>
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "build/contour_buildup.hpp"
+#include "build/molecule.hpp"
+#include "trace/render.hpp"
+
+namespace {
+
+using namespace surftrace;
+
+struct Prepared {
+  build::Molecule molecule;
+  build::PatchList ses;
+};
+
+const Prepared& prepared(const std::string& name) {
+  static std::map<std::string, Prepared> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) {
+    Prepared p;
+    p.molecule = build::readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/" + name);
+    p.ses = build::buildSes(p.molecule.centers, p.molecule.radii, build::SesParams{1.4});
+    it = cache.emplace(name, std::move(p)).first;
+  }
+  return it->second;
+}
+
+trace::ScenePatches patchesFor(const Prepared& p, bool ses) {
+  return ses ? trace::ScenePatches::fromPatchList(p.ses) : trace::ScenePatches::fromAtoms(p.molecule.centers, p.molecule.radii, 0.0);
+}
+
+trace::Camera frontCamera(const Prepared& p, int size) {
+  trace::Camera c;
+  c.width = c.height = size;
+  std::vector<double> reach(p.molecule.radii);
+  for (double& r : reach) r += 1.4;
+  return trace::frameSpheres(c, p.molecule.centers, reach, trace::namedViewDirection("front"));
+}
+
+// range(0): threads; range(1): 1 = SES, 0 = vdW.
+void BM_SceneBuild(benchmark::State& state, const std::string& name) {
+  const Prepared& p = prepared(name);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+  for (auto _ : state) {
+    trace::PatchScene scene(patchesFor(p, state.range(1) == 1));
+    benchmark::DoNotOptimize(scene.buildSeconds());
+  }
+}
+
+void BM_Frame(benchmark::State& state, const std::string& name) {
+  const Prepared& p = prepared(name);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+  const trace::PatchScene scene(patchesFor(p, state.range(1) == 1));
+  trace::RenderOptions o;
+  o.camera = frontCamera(p, 1024);
+  std::size_t rays = 0;
+  for (auto _ : state) {
+    const trace::FrameBuffers f = trace::render(scene, o, {});
+    rays = f.rays;
+    benchmark::DoNotOptimize(f.depth.data());
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["patches"] = static_cast<double>(scene.patches().size());
+}
+
+}  // namespace
+
+#define SURFTRACE_RENDER_BENCH(name, file)                                                                 \
+  BENCHMARK_CAPTURE(BM_SceneBuild, name, std::string(file))                                                \
+      ->ArgsProduct({{1, 2}, {1, 0}})->ArgNames({"threads", "ses"})                                        \
+      ->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);          \
+  BENCHMARK_CAPTURE(BM_Frame, name, std::string(file))                                                     \
+      ->ArgsProduct({{1, 2}, {1, 0}})->ArgNames({"threads", "ses"})                                        \
+      ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(5)->ReportAggregatesOnly(true)
+
+SURFTRACE_RENDER_BENCH(1vis, "1vis.pdb.gz");
+SURFTRACE_RENDER_BENCH(1af6, "1af6.pdb.gz");
+SURFTRACE_RENDER_BENCH(1aon, "1aon.pdb.gz");

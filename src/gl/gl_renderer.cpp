@@ -1,0 +1,385 @@
+// The GL ray caster: the patch list drawn by geometry shaders and fragment ray casting (Lindow et al. 2010, Sect. 5).
+#include "gl/gl_renderer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "gl/gl_api.hpp"
+
+namespace surftrace::gl {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kProgramCount = 3;
+constexpr int kStorageCount = 7;  // SSBO bindings 0..6 of gpu_layout.hpp
+// The perspective boxes are clipped at this fraction of the scene's depth extent from the
+// eye: far below a pixel footprint, far above float rounding of the clip coordinates.
+constexpr double kNearFraction = 1e-5;
+
+const char* programName(ProgramKind kind) {
+  switch (kind) {
+    case ProgramKind::Sphere: return "sphere";
+    case ProgramKind::Torus: return "torus";
+    case ProgramKind::Concave: return "concave";
+  }
+  return "?";
+}
+
+std::string shaderLog(GLuint shader) {
+  GLint length = 0;
+  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+  glGetShaderInfoLog(shader, length, nullptr, log.data());
+  return log.c_str();
+}
+
+std::string programLog(GLuint program) {
+  GLint length = 0;
+  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+  glGetProgramInfoLog(program, length, nullptr, log.data());
+  return log.c_str();
+}
+
+GLuint compileShader(GLenum stage, const std::string& source, const std::string& name) {
+  const GLuint shader = glCreateShader(stage);
+  const char* text = source.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    const std::string log = shaderLog(shader);
+    glDeleteShader(shader);
+    throw std::runtime_error("OpenGL: compiling the " + name + " shader failed:\n" + log);
+  }
+  return shader;
+}
+
+GLuint linkProgram(ProgramKind kind) {
+  const ProgramSources sources = programSources(kind);
+  const std::string name = programName(kind);
+  const GLuint stages[3] = {compileShader(GL_VERTEX_SHADER, sources.vertex, name + " vertex"),
+                            compileShader(GL_GEOMETRY_SHADER, sources.geometry, name + " geometry"),
+                            compileShader(GL_FRAGMENT_SHADER, sources.fragment, name + " fragment")};
+  const GLuint program = glCreateProgram();
+  for (GLuint s : stages) glAttachShader(program, s);
+  glLinkProgram(program);
+  for (GLuint s : stages) {
+    glDetachShader(program, s);
+    glDeleteShader(s);
+  }
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    const std::string log = programLog(program);
+    glDeleteProgram(program);
+    throw std::runtime_error("OpenGL: linking the " + name + " program failed:\n" + log);
+  }
+  return program;
+}
+
+template <class T> void bufferData(GLuint buffer, const std::vector<T>& data) {
+  // A zero-sized store cannot be bound as a storage buffer; 16 bytes stand in for none.
+  const std::size_t bytes = data.size() * sizeof(T);
+  if (bytes == 0) {
+    glNamedBufferData(buffer, 16, nullptr, GL_STREAM_DRAW);
+  } else {
+    glNamedBufferData(buffer, static_cast<GLsizeiptr>(bytes), data.data(), GL_STREAM_DRAW);
+  }
+}
+
+glm::vec4 vec4Of(const glm::dvec3& v, double w) { return glm::vec4(glm::vec3(v), static_cast<float>(w)); }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+TorusMethod parseTorusMethod(const std::string& name) {
+  if (name == "quartic") return TorusMethod::Quartic;
+  if (name == "sphere-tracing") return TorusMethod::SphereTracing;
+  throw std::invalid_argument("unknown torus method '" + name + "': use quartic or sphere-tracing");
+}
+
+const char* torusMethodName(TorusMethod method) {
+  return method == TorusMethod::Quartic ? "quartic" : "sphere-tracing";
+}
+
+struct GlRenderer::Impl {
+  GLuint programs[kProgramCount] = {};
+  GLuint vao = 0;
+  GLuint storage[kStorageCount] = {};
+  GLuint frameBuffer = 0;  // the uniform block
+  GLuint clipBuffer = 0, clipTexture = 0;
+  std::size_t sphereCount = 0, torusCount = 0, concaveCount = 0;
+  glm::dvec3 origin{0.0}, boundsCenter{0.0};
+  double boundsRadius = 0.0;
+  bool uploaded = false;
+  // Render targets: colour, (t, viewZ), normal, (kind, patch id, atom, flags), depth.
+  GLuint fbo = 0, targets[4] = {}, depth = 0;
+  int width = 0, height = 0;
+
+  ~Impl() {
+    for (GLuint p : programs)
+      if (p != 0) glDeleteProgram(p);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(kStorageCount, storage);
+    glDeleteBuffers(1, &frameBuffer);
+    glDeleteBuffers(1, &clipBuffer);
+    glDeleteTextures(1, &clipTexture);
+    releaseTargets();
+  }
+
+  void releaseTargets() {
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(4, targets);
+    glDeleteRenderbuffers(1, &depth);
+    fbo = depth = 0;
+    std::fill(std::begin(targets), std::end(targets), 0u);
+    width = height = 0;
+  }
+
+  void ensureTargets(int w, int h) {
+    if (w == width && h == height) return;
+    releaseTargets();
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    if (w > maxSize || h > maxSize)
+      throw std::invalid_argument("gl engine: image " + std::to_string(w) + "x" + std::to_string(h) +
+                                  " exceeds the driver's largest render target, " + std::to_string(maxSize));
+    const GLenum formats[4] = {GL_RGBA32F, GL_RG32F, GL_RGBA32F, GL_RGBA32UI};
+    glCreateTextures(GL_TEXTURE_2D, 4, targets);
+    glCreateFramebuffers(1, &fbo);
+    for (int i = 0; i < 4; ++i) {
+      glTextureStorage2D(targets[i], 1, formats[i], w, h);
+      glNamedFramebufferTexture(fbo, static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i), targets[i], 0);
+    }
+    glCreateRenderbuffers(1, &depth);
+    glNamedRenderbufferStorage(depth, GL_DEPTH_COMPONENT32F, w, h);
+    glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    const GLenum draw[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(fbo, 4, draw);
+    const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    checkGlError("creating the render targets");
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("OpenGL: the render targets (RGBA32F, RG32F, RGBA32F, RGBA32UI, depth 32F) are not "
+                               "complete, status 0x" + std::to_string(status));
+    width = w;
+    height = h;
+  }
+};
+
+GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>()) {
+  context.makeCurrent();
+  Impl& m = *impl_;
+  m.programs[0] = linkProgram(ProgramKind::Sphere);
+  m.programs[1] = linkProgram(ProgramKind::Torus);
+  m.programs[2] = linkProgram(ProgramKind::Concave);
+  glCreateVertexArrays(1, &m.vao);
+  glCreateBuffers(kStorageCount, m.storage);
+  glCreateBuffers(1, &m.frameBuffer);
+  glCreateBuffers(1, &m.clipBuffer);
+  glCreateTextures(GL_TEXTURE_BUFFER, 1, &m.clipTexture);
+  checkGlError("creating the GL renderer");
+}
+
+GlRenderer::~GlRenderer() = default;
+
+unsigned GlRenderer::program(ProgramKind kind) const { return impl_->programs[static_cast<int>(kind)]; }
+
+void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin) {
+  Impl& m = *impl_;
+  const GpuPatches g = packPatches(patches, origin);
+  bufferData(m.storage[kSphereBinding], g.spheres);
+  bufferData(m.storage[kSphereAtomBinding], g.sphereAtoms);
+  bufferData(m.storage[kTorusBinding], g.tori);
+  bufferData(m.storage[kTorusAtomBinding], g.torusAtoms);
+  bufferData(m.storage[kConcaveBinding], g.concave);
+  bufferData(m.storage[kConcaveAtomBinding], g.concaveAtoms);
+  bufferData(m.clipBuffer, g.clipPlanes);
+  // Re-attach: the buffer's data store was just re-specified.
+  glTextureBuffer(m.clipTexture, GL_RGBA32F, m.clipBuffer);
+  checkGlError("uploading the patches");
+  m.sphereCount = g.spheres.size();
+  m.torusCount = g.tori.size();
+  m.concaveCount = g.concave.size();
+  m.origin = origin;
+  m.boundsCenter = g.boundsCenter;
+  m.boundsRadius = g.boundsRadius;
+  m.uploaded = true;
+}
+
+void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> atomColors, const GlOptions& gl) {
+  Impl& m = *impl_;
+  if (!m.uploaded) throw std::logic_error("GlRenderer::draw before upload");
+  const trace::Camera& cam = o.camera;
+  cam.validate();
+  if (o.samplesPerPixel != 1 || o.shadows || o.aoSamples != 0)
+    throw std::invalid_argument(
+        "gl engine: renders one sample per pixel without shadows or ambient occlusion; "
+        "drop --spp/--shadows/--ao or use --engine embree");
+  if (gl.maxSteps < 1 || gl.maxSteps > 10000) throw std::invalid_argument("gl engine: sphere-tracing steps must be in [1, 10000]");
+  if (!(gl.traceEpsilon > 0.0)) throw std::invalid_argument("gl engine: sphere-tracing epsilon must be > 0");
+  m.ensureTargets(cam.width, cam.height);
+
+  GpuFrame f{};
+  const bool ortho = cam.projection == trace::Projection::Orthographic;
+  f.eyeProjection = vec4Of(cam.eye - m.origin, ortho ? 1.0 : 0.0);
+  f.forwardTan = vec4Of(cam.forward(), std::tan(0.5 * cam.fovY * kPi / 180.0));
+  f.rightAspect = vec4Of(cam.right(), static_cast<double>(cam.width) / cam.height);
+  f.upHalfHeight = vec4Of(cam.trueUp(), 0.5 * cam.orthoHeight);
+  const double reach = glm::length(cam.eye - m.boundsCenter) + m.boundsRadius;
+  f.viewport = glm::vec4(static_cast<float>(cam.width), static_cast<float>(cam.height),
+                         static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
+  f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
+  f.background = glm::vec4(o.background, 0.0f);
+  f.kindColor[0] = glm::vec4(trace::kConvexColor, 1.0f);
+  f.kindColor[1] = glm::vec4(trace::kToroidalColor, 1.0f);
+  f.kindColor[2] = glm::vec4(trace::kConcaveColor, 1.0f);
+  f.idBase = glm::uvec4(0u, static_cast<unsigned>(m.sphereCount), static_cast<unsigned>(m.sphereCount + m.torusCount),
+                        o.color == trace::ColorMode::Patch ? 0u : 1u);
+  f.counts = glm::uvec4(static_cast<unsigned>(atomColors.size()), gl.torus == TorusMethod::Quartic ? 0u : 1u,
+                        static_cast<unsigned>(gl.maxSteps), gl.probeBallJumps ? 0u : 1u);
+  f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), 0.0f, 0.0f, 0.0f);
+  glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
+  std::vector<glm::vec4> colors;
+  colors.reserve(atomColors.size());
+  for (const glm::vec3& c : atomColors) colors.emplace_back(c, 1.0f);
+  bufferData(m.storage[kAtomColorBinding], colors);
+
+  const float inf = std::numeric_limits<float>::infinity();
+  const float clearColor[4] = {o.background.r, o.background.g, o.background.b, 0.0f};
+  const float clearDepth[4] = {inf, inf, 0.0f, 0.0f};
+  const float clearNormal[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const GLuint clearIds[4] = {0u, ~0u, ~0u, 0u};
+  const float farDepth = 1.0f;
+  glClearNamedFramebufferfv(m.fbo, GL_COLOR, 0, clearColor);
+  glClearNamedFramebufferfv(m.fbo, GL_COLOR, 1, clearDepth);
+  glClearNamedFramebufferfv(m.fbo, GL_COLOR, 2, clearNormal);
+  glClearNamedFramebufferuiv(m.fbo, GL_COLOR, 3, clearIds);
+  glClearNamedFramebufferfv(m.fbo, GL_DEPTH, 0, &farDepth);
+
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+  glViewport(0, 0, cam.width, cam.height);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(m.vao);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, m.frameBuffer);
+  for (unsigned i = 0; i < kStorageCount; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, m.storage[i]);
+  glBindTextureUnit(kClipPlaneUnit, m.clipTexture);
+  const std::size_t counts[kProgramCount] = {m.sphereCount, m.torusCount, m.concaveCount};
+  for (int k = 0; k < kProgramCount; ++k) {
+    if (counts[k] == 0) continue;
+    glUseProgram(m.programs[k]);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(counts[k]));
+  }
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  checkGlError("drawing the patches");
+}
+
+trace::FrameBuffers GlRenderer::readBack() const {
+  const Impl& m = *impl_;
+  trace::FrameBuffers fb;
+  fb.width = m.width;
+  fb.height = m.height;
+  const std::size_t n = fb.pixels(), w = static_cast<std::size_t>(m.width), h = static_cast<std::size_t>(m.height);
+  std::vector<float> color(4 * n), depth(2 * n), normal(4 * n);
+  std::vector<GLuint> ids(4 * n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(m.targets[0], 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(color.size() * sizeof(float)), color.data());
+  glGetTextureImage(m.targets[1], 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(depth.size() * sizeof(float)), depth.data());
+  glGetTextureImage(m.targets[2], 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(normal.size() * sizeof(float)), normal.data());
+  glGetTextureImage(m.targets[3], 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(ids.size() * sizeof(GLuint)),
+                    ids.data());
+  checkGlError("reading the frame back");
+
+  fb.rgba.resize(4 * n);
+  fb.depth.resize(n);
+  fb.viewZ.resize(n);
+  fb.normal.resize(3 * n);
+  fb.kind.resize(n);
+  fb.patchId.resize(n);
+  fb.atomId.resize(n);
+  fb.flags.assign(n, 0u);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (std::size_t y = 0; y < h; ++y) {
+    // GL's row 0 is the bottom of the image, FrameBuffers' row 0 the top.
+    const std::size_t src = (h - 1 - y) * w, dst = y * w;
+    for (std::size_t x = 0; x < w; ++x) {
+      const std::size_t s = src + x, d = dst + x;
+      const bool hit = ids[4 * s] != 0u;
+      for (int c = 0; c < 4; ++c) fb.rgba[4 * d + c] = color[4 * s + c];
+      fb.depth[d] = hit ? depth[2 * s] : inf;
+      fb.viewZ[d] = hit ? depth[2 * s + 1] : inf;
+      for (int c = 0; c < 3; ++c) fb.normal[3 * d + c] = hit ? normal[4 * s + c] : 0.0f;
+      fb.kind[d] = ids[4 * s];
+      fb.patchId[d] = hit ? ids[4 * s + 1] : ~0u;
+      fb.atomId[d] = hit ? ids[4 * s + 2] : ~0u;
+    }
+  }
+  fb.rays = n;
+  return fb;
+}
+
+trace::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
+                             const trace::RenderOptions& options, std::span<const glm::vec3> atomColors,
+                             const GlOptions& gl) {
+  const auto start = std::chrono::steady_clock::now();
+  GlRenderer renderer(context);
+  // The look-at point is the molecule's centre for framed views and near the surface for
+  // close-ups: either way the coordinates the GPU sees are small (ORACLES D.4).
+  renderer.upload(patches, options.camera.lookAt);
+  renderer.draw(options, atomColors, gl);
+  trace::FrameBuffers fb = renderer.readBack();
+  fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return fb;
+}
+
+GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& options,
+                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames) {
+  if (frames < 1) throw std::invalid_argument("benchmark: frames must be >= 1");
+  GlRenderer renderer(context);
+  using Clock = std::chrono::steady_clock;
+  const glm::dvec3 origin = options.camera.lookAt;
+  renderer.upload(patches, origin);
+  renderer.draw(options, atomColors, gl);  // warm-up: shader compilation inside the driver, allocation
+  std::vector<double> frame, draw;
+  for (int i = 0; i < frames; ++i) {
+    const auto t0 = Clock::now();
+    renderer.upload(patches, origin);
+    renderer.draw(options, atomColors, gl);
+    frame.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  for (int i = 0; i < frames; ++i) {
+    const auto t0 = Clock::now();
+    renderer.draw(options, atomColors, gl);
+    draw.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  GlTimings t;
+  t.frames = frames;
+  t.medianFrameSeconds = median(frame);
+  t.medianDrawSeconds = median(draw);
+  t.minDrawSeconds = *std::min_element(draw.begin(), draw.end());
+  t.renderer = context.description();
+  return t;
+}
+
+}  // namespace surftrace::gl

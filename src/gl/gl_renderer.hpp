@@ -1,0 +1,82 @@
+// The GL ray caster: the patch list drawn by geometry shaders and fragment ray casting (Lindow et al. 2010, Sect. 5).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "build/patch_list.hpp"
+#include "gl/gl_context.hpp"
+#include "gl/gpu_layout.hpp"
+#include "gl/shaders.hpp"
+#include "trace/render.hpp"
+
+namespace surftrace::gl {
+
+// How the fragment shader intersects a saddle.
+enum class TorusMethod {
+  Quartic,        // all real roots of the quartic in float by root isolation, polished on the tube
+  SphereTracing,  // the paper's sphere tracing, at most maxSteps steps per ray
+};
+TorusMethod parseTorusMethod(const std::string& name);  // "quartic" | "sphere-tracing"; throws std::invalid_argument
+const char* torusMethodName(TorusMethod method);
+
+struct GlOptions {
+  TorusMethod torus = TorusMethod::Quartic;
+  int maxSteps = 30;             // sphere tracing: steps per ray (Lindow et al. 2010: 30)
+  double traceEpsilon = 1e-4;    // sphere tracing: stop distance to the tube, Å
+  // Sphere tracing inside the probe tube: jump to the far side of the local probe ball
+  // (true), or step by the distance as outside (false, the textbook march).
+  bool probeBallJumps = true;
+};
+
+// Holds the compiled programs, the uploaded patches and the render targets of one context.
+// Use (and destroy) it on the context's thread while that context is current.
+class GlRenderer {
+ public:
+  // Compiles and links the three programs; throws std::runtime_error with the info log.
+  explicit GlRenderer(const GlContext& context);
+  ~GlRenderer();
+  GlRenderer(const GlRenderer&) = delete;
+  GlRenderer& operator=(const GlRenderer&) = delete;
+
+  // Uploads the patch list in the compact GPU form (gpu_layout.hpp), coordinates shifted by
+  // −origin in double first (use the camera's look-at or the molecule centre). Once per frame.
+  void upload(const build::PatchList& patches, const glm::dvec3& origin);
+  // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
+  // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion
+  // are rejected with std::invalid_argument (the Embree path renders those).
+  void draw(const trace::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {});
+  // Reads the last frame back: the buffers of trace::render, rows top first; flags 0.
+  trace::FrameBuffers readBack() const;
+
+  // The program of a kind, for layout queries in the tests.
+  unsigned program(ProgramKind kind) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// upload + draw + readBack: the GL counterpart of trace::render (same options, same
+// buffers and meanings: rgba, depth = ray distance, viewZ, normal, kind, patchId, atomId).
+// fb.seconds is the wall time of all three.
+trace::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
+                             const trace::RenderOptions& options, std::span<const glm::vec3> atomColors,
+                             const GlOptions& gl = {});
+
+// Frame times of `frames` frames after one warm-up frame, each waited for with glFinish.
+struct GlTimings {
+  int frames = 0;
+  double medianFrameSeconds = 0.0;   // upload + draw
+  double medianDrawSeconds = 0.0;    // draw only (patches uploaded once)
+  double minDrawSeconds = 0.0;
+  std::string renderer;              // GlContext::description()
+};
+GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& options,
+                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames);
+
+}  // namespace surftrace::gl

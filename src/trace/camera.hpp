@@ -1,0 +1,71 @@
+// The camera: pixel-centre rays in double precision, automatic framing, named views.
+#pragma once
+
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "trace/ray.hpp"
+
+namespace surftrace::trace {
+
+enum class Projection { Perspective, Orthographic };
+
+// Everything another renderer needs to reproduce a view exactly; written into every
+// output's metadata (cameraToJson). Pixel (x, y), x to the right and y down, has its
+// centre at (x + 0.5, y + 0.5); the ray through image point (sx, sy) is
+//   perspective:  org = eye, dir = normalize(forward + (2 sx/W − 1)·tan(fovY/2)·aspect·right
+//                                            − (2 sy/H − 1)·tan(fovY/2)·up')
+//   orthographic: org = eye + (2 sx/W − 1)·(orthoHeight/2)·aspect·right
+//                           − (2 sy/H − 1)·(orthoHeight/2)·up', dir = forward
+// with forward = normalize(lookAt − eye), right = normalize(forward × up),
+// up' = right × forward, aspect = W/H.
+struct Camera {
+  Projection projection = Projection::Perspective;
+  glm::dvec3 eye{0.0, 0.0, 10.0};
+  glm::dvec3 lookAt{0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};
+  double fovY = 30.0;         // degrees, perspective
+  double orthoHeight = 10.0;  // Å, orthographic
+  int width = 512;
+  int height = 512;
+
+  glm::dvec3 forward() const;
+  glm::dvec3 right() const;
+  glm::dvec3 trueUp() const;
+  // The ray through image point (sx, sy) in pixel units; its dir is unit.
+  Ray ray(double sx, double sy) const;
+  // Footprint of one pixel at ray distance t (ORACLES D.4): 2 t tan(fovY/2)/H or orthoHeight/H.
+  double pixelFootprint(double t) const;
+  // The view frame and scale factors, computed once per frame: ray() recomputes them on
+  // every call, which costs a tan, three normalisations and two cross products per ray.
+  struct Frame {
+    glm::dvec3 eye, forward, right, up;
+    double scaleX, scaleY, invWidth, invHeight;
+    bool perspective;
+    // Bit-identical to Camera::ray(sx, sy).
+    Ray ray(double sx, double sy) const;
+  };
+  Frame frame() const;
+  // Throws std::invalid_argument naming the bad field (zero size, eye == lookAt, up
+  // parallel to the view direction, fov outside (0, 180), non-finite values).
+  void validate() const;
+};
+
+// The view direction (from the eye towards the molecule) named by `view`: front (−z),
+// back (+z), left (+x), right (−x), top (−y), bottom (+y), or "x,y,z". Throws
+// std::invalid_argument with the accepted names on anything else.
+glm::dvec3 namedViewDirection(const std::string& view);
+
+// Frames the spheres (centres, radii) looking along `direction`: the look-at point is the
+// centre of their extent in the view frame, and the eye is as close as it can be with every
+// sphere inside the frustum (or the orthographic window), times `margin`. Keeps projection,
+// fovY and size; sets eye, lookAt, up (world y, or z when looking along y), orthoHeight.
+Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                    const glm::dvec3& direction, double margin = 1.05);
+
+std::string cameraToJson(const Camera& camera);
+Camera cameraFromJson(const std::string& json);
+
+}  // namespace surftrace::trace

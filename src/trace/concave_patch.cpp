@@ -1,0 +1,170 @@
+// Ray intersection with SES concave spherical triangles (ORACLES A.4, A.5, B.5), in double.
+#include "trace/concave_patch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace surftrace::trace {
+namespace {
+
+// Outward padding of the box, in units of ε times the coordinate's magnitude: the extreme
+// directions come from a cross product, a division and a square root (a few ε each), then
+// p + rp·u rounds once more. 16 keeps the box conservative (STYLE §3.6).
+constexpr double kBoundsPadUlps = 16.0;
+
+// The cone's face normals g_ij = dirI × dirJ, g_jk, g_ki, oriented inwards (ORACLES A.4:
+// g_ij·dirK > 0), so u is in the cone iff all three g·u >= 0.
+struct ConeFaces {
+  glm::dvec3 ij, jk, ki;
+};
+
+ConeFaces coneFaces(const ConcavePatch& p) {
+  ConeFaces g{glm::cross(p.dirI, p.dirJ), glm::cross(p.dirJ, p.dirK), glm::cross(p.dirK, p.dirI)};
+  // g_ij·dirK = g_jk·dirI = g_ki·dirJ = det(dirI, dirJ, dirK): one sign orients all three
+  // faces, so a nearly flat triangle cannot get three inconsistently rounded orientations.
+  if (glm::dot(g.ij, p.dirK) < 0.0) {
+    g.ij = -g.ij;
+    g.jk = -g.jk;
+    g.ki = -g.ki;
+  }
+  return g;
+}
+
+// The sphere's extreme values of u·e_k over the great-circle arc from a to b (the minor arc:
+// the cone is pointed, ORACLES A.4). On the circle with normal m = a × b the extremes are
+// ±sqrt(1 − m_k²/|m|²), at ±(e_k − (e_k·m̂)m̂). Such a point lies on the arc iff it is on b's
+// side of a and on a's side of b; with the tangents m × a (at a, towards b) and b × m (at b,
+// towards a) those two tests reduce to the signs of their k-th components, so the extreme
+// point itself is never formed. Inclusive tests: an extra candidate only widens the box.
+void extendByArc(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& lo, glm::dvec3& hi) {
+  const glm::dvec3 m = glm::cross(a, b);
+  const double mm = glm::dot(m, m);
+  if (!(mm > 0.0)) return;  // coincident or antipodal vertices: the vertices bound it
+  const glm::dvec3 ta = glm::cross(m, a), tb = glm::cross(b, m);
+  for (int k = 0; k < 3; ++k) {
+    const double extreme = std::sqrt(std::max(0.0, 1.0 - m[k] * m[k] / mm));
+    if (ta[k] >= 0.0 && tb[k] >= 0.0) hi[k] = std::max(hi[k], extreme);
+    if (ta[k] <= 0.0 && tb[k] <= 0.0) lo[k] = std::min(lo[k], -extreme);
+  }
+}
+
+}  // namespace
+
+ConcavePatch concavePatch(const build::PatchList& patches, std::size_t index) {
+  const build::ConcaveTriangles& cv = patches.concave;
+  ConcavePatch p;
+  p.probe = cv.probe[index];
+  p.probeRadius = patches.params.probeRadius;
+  p.dirI = cv.dirI[index];
+  p.dirJ = cv.dirJ[index];
+  p.dirK = cv.dirK[index];
+  p.clipPlanes = std::span<const build::Plane>(patches.clipPlanes.data() + cv.clipBegin[index], cv.clipCount[index]);
+  return p;
+}
+
+Bounds3d bounds(const ConcavePatch& p) {
+  // Box of the unclipped triangle on the unit sphere: the coordinate extremes of a spherical
+  // triangle sit at a vertex, at an edge arc's interior extreme, or at a pole ±e_k inside it.
+  glm::dvec3 lo = glm::min(glm::min(p.dirI, p.dirJ), p.dirK);
+  glm::dvec3 hi = glm::max(glm::max(p.dirI, p.dirJ), p.dirK);
+  extendByArc(p.dirI, p.dirJ, lo, hi);
+  extendByArc(p.dirJ, p.dirK, lo, hi);
+  extendByArc(p.dirK, p.dirI, lo, hi);
+  const ConeFaces g = coneFaces(p);
+  for (int k = 0; k < 3; ++k) {
+    // g·(±e_k) = ±g[k]: the pole is inside iff every face normal has that sign.
+    if (g.ij[k] >= 0.0 && g.jk[k] >= 0.0 && g.ki[k] >= 0.0) hi[k] = 1.0;
+    if (g.ij[k] <= 0.0 && g.jk[k] <= 0.0 && g.ki[k] <= 0.0) lo[k] = -1.0;
+  }
+  // A NaN direction would make the box invalid and Embree drop the patch silently
+  // (STYLE §3.6); fall back to the whole probe sphere, which is always conservative.
+  if (!(std::isfinite(lo.x + lo.y + lo.z) && std::isfinite(hi.x + hi.y + hi.z))) {
+    lo = glm::dvec3(-1.0);
+    hi = glm::dvec3(1.0);
+  }
+  const double rp = p.probeRadius;
+  const glm::dvec3 pad = kBoundsPadUlps * std::numeric_limits<double>::epsilon() * (glm::abs(p.probe) + rp);
+  Bounds3d b;
+  b.lower = p.probe + rp * lo - pad;
+  b.upper = p.probe + rp * hi + pad;
+  return b;
+}
+
+bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack) {
+  const ConeFaces g = coneFaces(p);
+  const glm::dvec3 v = x - p.probe;
+  // Distances to the cone faces are g·v/|g|; only a widened test needs the lengths.
+  if (slack > 0.0) {
+    if (glm::dot(g.ij, v) < -slack * glm::length(g.ij) || glm::dot(g.jk, v) < -slack * glm::length(g.jk) ||
+        glm::dot(g.ki, v) < -slack * glm::length(g.ki))
+      return false;
+  } else if (glm::dot(g.ij, v) < 0.0 || glm::dot(g.jk, v) < 0.0 || glm::dot(g.ki, v) < 0.0) {
+    return false;
+  }
+  // ORACLES A.5: keep n·x + w <= 0, the side of the patch's own probe.
+  for (const build::Plane& c : p.clipPlanes)
+    if (glm::dot(glm::dvec3(c), x) + c.w > slack) return false;
+  return true;
+}
+
+std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double tMin, double tMax) {
+  // Unit direction internally (Embree's float directions are unit only to float
+  // precision); t is converted back to the caller's parametrisation.
+  const double len = glm::length(ray.dir);
+  const glm::dvec3 d = ray.dir / len;
+  const glm::dvec3 op = ray.org - p.probe;
+  const double rp = p.probeRadius, rr = rp * rp;
+  // ORACLES B.5: f is the ray's closest point to the probe centre; ρ² − |f|² keeps the
+  // small discriminant that b² − (|op|² − ρ²) would cancel away.
+  const double b = glm::dot(op, d);
+  const glm::dvec3 f = op - b * d;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return std::nullopt;  // also rejects NaN (zero direction)
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
+  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;  // q = 0: double root at 0
+  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
+  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
+  if (!nearInRange && !farInRange) return std::nullopt;
+
+  // ORACLES A.4: the visible root is usually the far one, but test both in ascending t.
+  const ConeFaces g = coneFaces(p);
+  for (int side = 0; side < 2; ++side) {
+    if (!(side == 0 ? nearInRange : farInRange)) continue;
+    // The point relative to the probe, in the shifted frame: f ∓ √disc·d (near, far).
+    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
+    const double sij = glm::dot(g.ij, v), sjk = glm::dot(g.jk, v), ski = glm::dot(g.ki, v);
+    if (sij < 0.0 || sjk < 0.0 || ski < 0.0) continue;
+    const glm::dvec3 x = p.probe + v;
+    double clipMargin = std::numeric_limits<double>::infinity();
+    bool kept = true;
+    for (const build::Plane& c : p.clipPlanes) {
+      const double e = glm::dot(glm::dvec3(c), x) + c.w;  // ORACLES A.5: keep e <= 0
+      if (e > 0.0) {
+        kept = false;
+        break;
+      }
+      clipMargin = std::min(clipMargin, -e);
+    }
+    if (!kept) continue;
+
+    PatchHit hit;
+    hit.t = side == 0 ? tNear : tFar;
+    hit.normal = glm::normalize(-v);  // (p − x)/rp: out of the SES body, into the probe
+    if (root < kGrazingCosine * rp) hit.flags |= kHitGrazing;  // |n·d| = √disc/rp
+    // A seam: within tol of a cone face (distance g·v/|g|, compared squared to skip the
+    // square roots) or of a clipping plane, the neighbouring patch may own the pixel.
+    const double tol = kBoundaryTolerance * rp, tol2 = tol * tol;
+    if (sij * sij < tol2 * glm::dot(g.ij, g.ij) || sjk * sjk < tol2 * glm::dot(g.jk, g.jk) ||
+        ski * ski < tol2 * glm::dot(g.ki, g.ki) || clipMargin < tol)
+      hit.flags |= kHitNearBoundary;
+    return hit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace surftrace::trace

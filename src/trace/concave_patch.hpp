@@ -1,0 +1,37 @@
+// SES concave spherical triangle: a probe sphere inside the cone of its three contact
+// directions, minus the caps cut off by its self-intersection clipping planes.
+#pragma once
+
+#include <optional>
+#include <span>
+
+#include "build/patch_list.hpp"
+#include "trace/ray.hpp"
+
+namespace surftrace::trace {
+
+// ORACLES A.4, A.5. The patch is {p + rp u : u in cone(dirI, dirJ, dirK)} with every
+// kept point x satisfying n·x + w <= 0 for each clipping plane (n, w). `clipPlanes` views
+// planes owned elsewhere (the PatchList, or ScenePatches): the patch must not outlive them.
+struct ConcavePatch {
+  glm::dvec3 probe{0.0};
+  double probeRadius = 1.0;
+  glm::dvec3 dirI{1.0, 0.0, 0.0}, dirJ{0.0, 1.0, 0.0}, dirK{0.0, 0.0, 1.0};  // unit
+  std::span<const build::Plane> clipPlanes;
+};
+
+ConcavePatch concavePatch(const build::PatchList& patches, std::size_t index);
+
+// Conservative, finite box of the spherical triangle (clipping ignored, so conservative).
+Bounds3d bounds(const ConcavePatch& p);
+
+// Both roots of the probe sphere in ascending t; the first in (tMin, tMax] inside the cone
+// and on the kept side of every clipping plane is the hit. Normal (p − x)/rp, pointing out
+// of the SES body. Flags: grazing, near a cone edge or a clipping plane.
+std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double tMin, double tMax);
+
+// The clip test intersect() applies to a point on the probe sphere. `slack` (Å, >= 0)
+// widens the patch by that distance from its cone faces and clipping planes.
+bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack = 0.0);
+
+}  // namespace surftrace::trace

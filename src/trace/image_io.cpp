@@ -1,0 +1,123 @@
+// Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR.
+#include "trace/image_io.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <OpenImageIO/imageio.h>
+
+namespace surftrace::trace {
+namespace {
+
+namespace oiio = OIIO;
+
+constexpr const char* kFloatChannels[] = {"R", "G", "B", "A", "depth.t", "depth.z", "N.X", "N.Y", "N.Z"};
+constexpr const char* kUintChannels[] = {"patch.kind", "patch.id", "atom.id", "flags"};
+constexpr int kFloatCount = 9, kUintCount = 4, kChannels = kFloatCount + kUintCount;
+
+void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
+  for (const auto& [key, value] : metadata) spec.attribute(key, value);
+}
+
+std::unique_ptr<oiio::ImageOutput> openOutput(const std::string& path, const oiio::ImageSpec& spec) {
+  auto out = oiio::ImageOutput::create(path);
+  if (!out) throw std::runtime_error(path + ": cannot write this image format (" + oiio::geterror() + ")");
+  if (!out->open(path, spec)) throw std::runtime_error(path + ": cannot open for writing: " + out->geterror());
+  return out;
+}
+
+}  // namespace
+
+void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
+  oiio::ImageSpec spec(f.width, f.height, 3, oiio::TypeDesc::UINT8);
+  addMetadata(spec, metadata);
+  std::vector<unsigned char> pixels(3 * f.pixels());
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    for (int c = 0; c < 3; ++c)
+      pixels[3 * p + c] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(f.rgba[4 * p + c], 0.0f, 1.0f)));
+  auto out = openOutput(path, spec);
+  if (!out->write_image(oiio::TypeDesc::UINT8, pixels.data()) || !out->close())
+    throw std::runtime_error(path + ": write failed: " + out->geterror());
+}
+
+void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
+  oiio::ImageSpec spec(f.width, f.height, kChannels, oiio::TypeDesc::FLOAT);
+  spec.channelnames.assign(std::begin(kFloatChannels), std::end(kFloatChannels));
+  spec.channelnames.insert(spec.channelnames.end(), std::begin(kUintChannels), std::end(kUintChannels));
+  spec.channelformats.assign(kFloatCount, oiio::TypeDesc::FLOAT);
+  spec.channelformats.insert(spec.channelformats.end(), kUintCount, oiio::TypeDesc::UINT32);
+  spec.alpha_channel = 3;
+  spec.z_channel = 5;
+  spec.attribute("compression", "zip");
+  addMetadata(spec, metadata);
+  // Native per-channel layout: 9 floats then 4 uint32 per pixel, all 4 bytes wide.
+  std::vector<std::uint32_t> pixels(kChannels * f.pixels());
+  for (std::size_t p = 0; p < f.pixels(); ++p) {
+    const float values[kFloatCount] = {f.rgba[4 * p], f.rgba[4 * p + 1], f.rgba[4 * p + 2], f.rgba[4 * p + 3],
+                                       f.depth[p], f.viewZ[p], f.normal[3 * p], f.normal[3 * p + 1], f.normal[3 * p + 2]};
+    std::memcpy(&pixels[kChannels * p], values, sizeof values);
+    pixels[kChannels * p + 9] = f.kind[p];
+    pixels[kChannels * p + 10] = f.patchId[p];
+    pixels[kChannels * p + 11] = f.atomId[p];
+    pixels[kChannels * p + 12] = f.flags[p];
+  }
+  auto out = openOutput(path, spec);
+  if (!out->write_image(oiio::TypeUnknown, pixels.data()) || !out->close())
+    throw std::runtime_error(path + ": write failed: " + out->geterror());
+}
+
+FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
+  auto in = oiio::ImageInput::open(path);
+  if (!in) throw std::runtime_error(path + ": cannot read: " + oiio::geterror());
+  const oiio::ImageSpec& spec = in->spec();
+  auto channel = [&](const char* name, oiio::TypeDesc type) {
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channelnames[static_cast<std::size_t>(c)] == name) {
+        if (spec.channelformat(c) != type)
+          throw std::runtime_error(path + ": channel " + name + " has type " + spec.channelformat(c).c_str() +
+                                   ", expected " + type.c_str());
+        return c;
+      }
+    throw std::runtime_error(path + ": no channel '" + name + "'; is this a surftrace EXR?");
+  };
+  FrameBuffers f;
+  f.width = spec.width;
+  f.height = spec.height;
+  const std::size_t n = f.pixels();
+  // Read each channel on its own in its own type, so that integer ids are not normalised.
+  auto readFloat = [&](const char* name, std::vector<float>& dst, int stride, int offset) {
+    const int c = channel(name, oiio::TypeDesc::FLOAT);
+    std::vector<float> tmp(n);
+    if (!in->read_image(0, 0, c, c + 1, oiio::TypeDesc::FLOAT, tmp.data()))
+      throw std::runtime_error(path + ": " + in->geterror());
+    for (std::size_t p = 0; p < n; ++p) dst[stride * p + static_cast<std::size_t>(offset)] = tmp[p];
+  };
+  auto readUint = [&](const char* name, std::vector<std::uint32_t>& dst) {
+    const int c = channel(name, oiio::TypeDesc::UINT32);
+    if (!in->read_image(0, 0, c, c + 1, oiio::TypeDesc::UINT32, dst.data()))
+      throw std::runtime_error(path + ": " + in->geterror());
+  };
+  f.rgba.resize(4 * n);
+  f.depth.resize(n);
+  f.viewZ.resize(n);
+  f.normal.resize(3 * n);
+  f.kind.resize(n);
+  f.patchId.resize(n);
+  f.atomId.resize(n);
+  f.flags.resize(n);
+  for (int c = 0; c < 4; ++c) readFloat(kFloatChannels[c], f.rgba, 4, c);
+  readFloat("depth.t", f.depth, 1, 0);
+  readFloat("depth.z", f.viewZ, 1, 0);
+  for (int c = 0; c < 3; ++c) readFloat(kFloatChannels[6 + c], f.normal, 3, c);
+  readUint("patch.kind", f.kind);
+  readUint("patch.id", f.patchId);
+  readUint("atom.id", f.atomId);
+  readUint("flags", f.flags);
+  if (metadata)
+    for (const auto& attr : spec.extra_attribs)
+      if (attr.type() == oiio::TypeDesc::STRING) (*metadata)[attr.name().string()] = attr.get_string();
+  return f;
+}
+
+}  // namespace surftrace::trace

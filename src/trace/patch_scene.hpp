@@ -1,0 +1,94 @@
+// The patch list as an Embree 3 scene of user geometry: one geometry per patch kind.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "build/patch_list.hpp"
+#include "trace/concave_patch.hpp"
+#include "trace/ray.hpp"
+#include "trace/sphere_patch.hpp"
+#include "trace/torus_patch.hpp"
+
+namespace surftrace::trace {
+
+// Patch kinds as written to the `patch.kind` image channel (0 = no hit).
+enum class PatchKind : std::uint32_t { None = 0, Convex = 1, Toroidal = 2, Concave = 3 };
+const char* patchKindName(PatchKind kind);
+
+// A hit in double precision, with the patch it belongs to.
+struct SceneHit {
+  PatchKind kind = PatchKind::None;
+  std::uint32_t patch = 0;  // index within its kind
+  PatchHit hit;
+  bool valid() const { return kind != PatchKind::None; }
+};
+
+// The patches a scene holds, in the intersectors' own form. The SES holds all three
+// kinds; the vdW and SAS surfaces hold spheres only.
+struct ScenePatches {
+  std::vector<SpherePatch> spheres;
+  std::vector<std::uint32_t> sphereAtom;  // atom of each sphere
+  std::vector<TorusPatch> tori;
+  std::vector<std::uint32_t> torusAtomI, torusAtomJ;
+  std::vector<build::Plane> clipPlanes;   // concave patches' spans point in here
+  std::vector<ConcavePatch> concave;
+  std::vector<glm::uvec3> concaveAtoms;
+
+  // Concave patches hold spans into clipPlanes: moving keeps them valid, copying would not.
+  ScenePatches() = default;
+  ScenePatches(ScenePatches&&) = default;
+  ScenePatches& operator=(ScenePatches&&) = default;
+  ScenePatches(const ScenePatches&) = delete;
+  ScenePatches& operator=(const ScenePatches&) = delete;
+
+  static ScenePatches fromPatchList(const build::PatchList& patches);
+  // Whole spheres of radius r + inflate for every atom: vdW (0) or SAS (probe radius).
+  static ScenePatches fromAtoms(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate);
+
+  std::size_t size() const { return spheres.size() + tori.size() + concave.size(); }
+  // Global patch id: spheres first, then tori, then concave triangles.
+  std::uint32_t globalId(PatchKind kind, std::uint32_t patch) const;
+  // The atom a hit belongs to: its sphere's atom, the nearer contact atom of a torus or
+  // concave triangle.
+  std::uint32_t atomOf(const SceneHit& hit, const glm::dvec3& x) const;
+  Bounds3d bounds() const;
+
+  // The hit a plain loop over every patch finds (no BVH): the scene's test oracle.
+  SceneHit intersectAll(const Ray& ray, double tMin, double tMax) const;
+  // The double-precision hit on one given patch in (tMin, tMax].
+  SceneHit intersectPatch(PatchKind kind, std::uint32_t patch, const Ray& ray, double tMin, double tMax) const;
+};
+
+class PatchScene {
+ public:
+  explicit PatchScene(ScenePatches patches);
+  ~PatchScene();
+  PatchScene(const PatchScene&) = delete;
+  PatchScene& operator=(const PatchScene&) = delete;
+
+  const ScenePatches& patches() const { return patches_; }
+  double buildSeconds() const { return buildSeconds_; }
+
+  // Nearest hit of up to 16 rays traced as one coherent Embree packet (valid[i] != 0 marks
+  // the active lanes). Embree sees the rays rounded to float (embreeRay); the intersectors
+  // work in double on that same ray, and the nearest hit is kept in double beside
+  // Embree's float tfar, so hits are exact and ordered in double.
+  void intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const;
+  SceneHit intersect1(const Ray& ray, double tMin, double tMax) const;
+  bool occluded(const Ray& ray, double tMin, double tMax) const;
+
+  // The ray as Embree sees it (float-rounded origin and direction), in double.
+  static Ray embreeRay(const Ray& ray);
+
+ private:
+  struct Embree;
+  ScenePatches patches_;
+  std::unique_ptr<Embree> embree_;
+  double buildSeconds_ = 0.0;
+};
+
+}  // namespace surftrace::trace

@@ -1,0 +1,54 @@
+// Real roots of small polynomials (degree <= 4) in an interval: the root isolation under the
+// ray–torus intersector (ORACLES B.4).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+namespace surftrace::trace {
+
+inline constexpr int kMaxPolynomialDegree = 4;
+
+// Default tolerance for tangential (double) roots: a local extremum t* of p with
+// |p(t*)| <= τ is reported as a root (ORACLES B.4: τ ≈ 1e-14 in normalised units). τ is
+// absolute because what it must absorb is mostly the rounding of the coefficients
+// themselves, which the caller knows and the polynomial does not: the torus quartic's c0 is
+// K² + 4R²(z² − r²), a difference of O(1) terms that is ~1e-16 for a ray tangent at the
+// origin of the shifted frame. Callers with other scales pass ~45 ε times their scale of p.
+inline constexpr double kTangencyTolerance = 1e-14;
+
+// Up to kMaxPolynomialDegree roots in ascending order. No heap: this runs once per ray and
+// candidate patch in the renderer's hot path.
+struct PolynomialRoots {
+  std::array<double, kMaxPolynomialDegree> value{};
+  // Bit k set: value[k] is a critical point reported as a tangential double root (no sign
+  // change around it) or an exact zero of p that is also a critical point.
+  std::uint32_t tangentMask = 0;
+  int count = 0;
+
+  bool tangent(int k) const { return ((tangentMask >> k) & 1u) != 0; }
+  const double* begin() const { return value.data(); }
+  const double* end() const { return value.data() + count; }
+};
+
+// p(t) = c[0] + c[1] t + … + c[n] t^n by Horner's rule; n = c.size() − 1 <= 4.
+double evaluatePolynomial(std::span<const double> c, double t);
+
+// All real roots of p in the closed interval [lo, hi], sorted (ORACLES B.4 (ii)):
+//  - trailing zero coefficients lower the degree; the zero polynomial has no roots;
+//  - degree 1 and 2: closed form, the quadratic in the stable form q = −(b + sign(b)√Δ)/2,
+//    roots q/a and c/q, with Δ = b² − 4ac from a fused difference of products;
+//  - degree 3 and 4: the roots of p' in [lo, hi] (recursively) split the interval into
+//    monotone pieces; each piece with a sign change holds exactly one root, found by
+//    bracketed Newton (bisect whenever Newton leaves the bracket or stalls) to ~4 ulp;
+//  - at an interior critical point that is a local extremum of |p| towards zero with no
+//    sign change on either side, |p(t*)| <= τ reports t* as a tangential double
+//    root (once, with its bit set in tangentMask). A near-double root is thus reported
+//    either as two simple roots or as one tangential root, never as three.
+// Exact zeros of p at a split point are reported once. A double root is reported once.
+// Coefficients of more than 5 entries, NaN bounds or lo > hi give no roots.
+PolynomialRoots realRoots(std::span<const double> c, double lo, double hi,
+                          double tangencyTolerance = kTangencyTolerance);
+
+}  // namespace surftrace::trace

@@ -1,0 +1,184 @@
+// Tile-parallel rendering of a patch scene into colour and per-pixel buffers.
+#include "trace/render.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+namespace surftrace::trace {
+namespace {
+
+constexpr int kTile = 16;    // pixels per tile side: 16 packets of 4×4 rays
+constexpr int kPacket = 4;   // 4×4 = 16 rays, Embree's widest packet
+constexpr double kPi = 3.14159265358979323846;
+
+glm::vec3 kindColor(PatchKind kind) {
+  switch (kind) {
+    case PatchKind::Convex: return kConvexColor;
+    case PatchKind::Toroidal: return kToroidalColor;
+    case PatchKind::Concave: return kConcaveColor;
+    case PatchKind::None: break;
+  }
+  return glm::vec3(0.0f);
+}
+
+// A small, fast, deterministic hash-based generator: AO samples depend only on the pixel
+// and sample index, so images do not depend on the thread schedule.
+struct PixelRng {
+  std::uint64_t state;
+  explicit PixelRng(std::uint64_t seed) : state(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
+  double next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  }
+};
+
+class Shader {
+ public:
+  Shader(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors)
+      : scene_(scene), o_(o), atomColors_(atomColors), offset_(1e-6 * sceneScale(scene)) {
+    const Camera& c = o.camera;
+    keyLight_ = glm::normalize(-c.forward() + 0.5 * c.trueUp() - 0.5 * c.right());
+  }
+
+  glm::vec3 color(const Ray& ray, const SceneHit& h, std::uint32_t atom, std::uint64_t pixel) const {
+    const glm::vec3 base = o_.color == ColorMode::Patch ? kindColor(h.kind)
+                           : atom < atomColors_.size()  ? atomColors_[atom]
+                                                        : glm::vec3(1.0f, 0.0f, 1.0f);
+    const glm::dvec3 toEye = -glm::normalize(ray.dir);
+    glm::vec3 c = shade(base, h.hit.normal, toEye, o_.lighting);
+    const glm::dvec3 x = ray.org + h.hit.t * ray.dir;
+    const glm::dvec3 start = x + offset_ * h.hit.normal;
+    if (o_.shadows && scene_.occluded(Ray{start, keyLight_}, 0.0, std::numeric_limits<double>::infinity()))
+      c *= 0.6f;
+    if (o_.aoSamples > 0) c *= static_cast<float>(ambientVisibility(start, h.hit.normal, pixel));
+    return c;
+  }
+
+ private:
+  static double sceneScale(const PatchScene& scene) {
+    const Bounds3d b = scene.patches().bounds();
+    return b.empty() ? 1.0 : std::max(1.0, glm::length(b.upper - b.lower));
+  }
+  // Fraction of cosine-weighted hemisphere rays that escape within aoDistance.
+  double ambientVisibility(const glm::dvec3& x, const glm::dvec3& n, std::uint64_t pixel) const {
+    const glm::dvec3 t = std::abs(n.x) < 0.9 ? glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0)))
+                                             : glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0)));
+    const glm::dvec3 b = glm::cross(n, t);
+    PixelRng rng(pixel);
+    int open = 0;
+    for (int s = 0; s < o_.aoSamples; ++s) {
+      const double u = rng.next(), v = rng.next();
+      const double r = std::sqrt(u), phi = 2.0 * kPi * v;
+      const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u)) * n;
+      if (!scene_.occluded(Ray{x, d}, 0.0, o_.aoDistance)) ++open;
+    }
+    return 0.3 + 0.7 * static_cast<double>(open) / o_.aoSamples;
+  }
+
+  const PatchScene& scene_;
+  const RenderOptions& o_;
+  std::span<const glm::vec3> atomColors_;
+  double offset_;
+  glm::dvec3 keyLight_;
+};
+
+}  // namespace
+
+FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
+  o.camera.validate();
+  if (o.samplesPerPixel < 1 || o.samplesPerPixel > 1024)
+    throw std::invalid_argument("samples per pixel " + std::to_string(o.samplesPerPixel) + " must be in [1, 1024]");
+  if (o.aoSamples < 0 || o.aoSamples > 4096) throw std::invalid_argument("ambient-occlusion samples must be in [0, 4096]");
+  const auto start = std::chrono::steady_clock::now();
+  const Camera& cam = o.camera;
+  FrameBuffers fb;
+  fb.width = cam.width;
+  fb.height = cam.height;
+  const std::size_t n = fb.pixels();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  fb.rgba.assign(4 * n, 0.0f);
+  fb.depth.assign(n, kInf);
+  fb.viewZ.assign(n, kInf);
+  fb.normal.assign(3 * n, 0.0f);
+  fb.kind.assign(n, 0u);
+  fb.patchId.assign(n, ~0u);
+  fb.atomId.assign(n, ~0u);
+  fb.flags.assign(n, 0u);
+
+  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.samplesPerPixel))));
+  const int extraSamples = k > 1 ? k * k : 0;  // centre ray always; a k×k grid on top when spp > 1
+  const Shader shader(scene, o, atomColors);
+  const glm::dvec3 forward = cam.forward();
+  const Camera::Frame view = cam.frame();
+  const ScenePatches& patches = scene.patches();
+  const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
+  std::atomic<int> tilesDone{0};
+
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
+    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+        for (int py = ty * kTile; py < std::min(cam.height, (ty + 1) * kTile); py += kPacket)
+          for (int px = tx * kTile; px < std::min(cam.width, (tx + 1) * kTile); px += kPacket) {
+            // Sample s of a packet: s = 0 is the pixel centre, 1..k² the stratified grid.
+            for (int s = 0; s <= extraSamples; ++s) {
+              Ray rays[16];
+              bool valid[16];
+              for (int j = 0; j < 16; ++j) {
+                const int x = px + j % kPacket, y = py + j / kPacket;
+                valid[j] = x < cam.width && y < cam.height;
+                double sx = x + 0.5, sy = y + 0.5;
+                if (s > 0) {
+                  sx = x + ((s - 1) % k + 0.5) / k;
+                  sy = y + ((s - 1) / k + 0.5) / k;
+                }
+                rays[j] = PatchScene::embreeRay(view.ray(sx, sy));
+              }
+              SceneHit hits[16];
+              scene.intersect16(rays, valid, 0.0, hits);
+              for (int j = 0; j < 16; ++j) {
+                if (!valid[j]) continue;
+                const std::size_t p = static_cast<std::size_t>(py + j / kPacket) * cam.width + (px + j % kPacket);
+                const SceneHit& h = hits[j];
+                const float weight = extraSamples == 0 ? 1.0f : (s == 0 ? 0.0f : 1.0f / static_cast<float>(extraSamples));
+                if (!h.valid()) {
+                  for (int c = 0; c < 3; ++c) fb.rgba[4 * p + c] += weight * o.background[c];
+                  continue;
+                }
+                const glm::dvec3 x = rays[j].org + h.hit.t * rays[j].dir;
+                const std::uint32_t atom = patches.atomOf(h, x);
+                if (s == 0) {
+                  fb.depth[p] = static_cast<float>(h.hit.t);
+                  fb.viewZ[p] = static_cast<float>(glm::dot(x - cam.eye, forward));
+                  for (int c = 0; c < 3; ++c) fb.normal[3 * p + c] = static_cast<float>(h.hit.normal[c]);
+                  fb.kind[p] = static_cast<std::uint32_t>(h.kind);
+                  fb.patchId[p] = patches.globalId(h.kind, h.patch);
+                  fb.atomId[p] = atom;
+                  fb.flags[p] = h.hit.flags;
+                }
+                if (weight == 0.0f) continue;
+                const glm::vec3 c = shader.color(rays[j], h, atom, p * 1024u + static_cast<std::uint64_t>(s));
+                for (int ch = 0; ch < 3; ++ch) fb.rgba[4 * p + ch] += weight * c[ch];
+                fb.rgba[4 * p + 3] += weight;
+              }
+            }
+          }
+        const int done = ++tilesDone;
+        if (o.progress && done % std::max(1, tilesX * tilesY / 100) == 0)
+          o.progress(static_cast<double>(done) / (tilesX * tilesY));
+      }
+  });
+  // Background pixels: colour only, alpha 0 stays.
+  fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fb.rays = n * static_cast<std::size_t>(1 + extraSamples);
+  return fb;
+}
+
+}  // namespace surftrace::trace

@@ -1,0 +1,22 @@
+// Whole spheres: SES convex patches (drawn whole, Lindow et al. 2010 Sect. 5.2: the hidden
+// part is enclosed by the surface), van der Waals and solvent-accessible spheres.
+#pragma once
+
+#include <optional>
+
+#include "trace/ray.hpp"
+
+namespace surftrace::trace {
+
+struct SpherePatch {
+  glm::dvec3 center{0.0};
+  double radius = 1.0;
+};
+
+Bounds3d bounds(const SpherePatch& s);
+
+// The first root in (tMin, tMax] (ORACLES B.5: perpendicular-distance form, stable roots).
+// A ray starting inside the sphere hits its far side. Normal (x − c)/r.
+std::optional<PatchHit> intersect(const SpherePatch& s, const Ray& ray, double tMin, double tMax);
+
+}  // namespace surftrace::trace

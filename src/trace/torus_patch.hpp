@@ -1,0 +1,48 @@
+// SES saddle (toroidal) patch: exact ray–torus intersection by quartic root isolation.
+#pragma once
+
+#include <optional>
+
+#include "build/patch_list.hpp"
+#include "trace/ray.hpp"
+
+namespace surftrace::trace {
+
+// One torus patch in its own frame (ORACLES A.3): centre c, unit axis n, e1 ⊥ n,
+// e2 = n × e1; big radius R, tube radius rp; the saddle is θ ∈ [thetaI, thetaJ]
+// (θ = 0 points from the probe-centre circle towards the axis) swept over
+// φ ∈ [0, phiExtent] from e1 towards e2. When R < rp (spindle) only the own-tube
+// part with ρ >= 0 belongs to it, i.e. |x − c| >= sqrt(rp² − R²); cusps at c ± h n.
+struct TorusPatch {
+  glm::dvec3 center{0.0};
+  glm::dvec3 axis{0.0, 0.0, 1.0};
+  glm::dvec3 e1{1.0, 0.0, 0.0};
+  glm::dvec3 e2{0.0, 1.0, 0.0};
+  double bigRadius = 2.0;
+  double probeRadius = 1.0;
+  double thetaI = -0.5;
+  double thetaJ = 0.5;
+  double phiExtent = 6.283185307179586;
+};
+
+TorusPatch torusPatch(const build::Tori& tori, std::size_t index, double probeRadius);
+
+// Conservative, finite box of the patch itself (not of the whole torus).
+Bounds3d bounds(const TorusPatch& p);
+
+// The nearest hit in (tMin, tMax] on the patch (ORACLES B.1, B.2, B.4): local frame,
+// scale by R + rp, clip to the bounding sphere, shift the origin to the closest approach,
+// isolate all real roots of the quartic in the interval, polish on the own-tube factor,
+// reject lemon roots, and take the first root inside the θ and φ limits. Normal
+// (P − x)/rp. Flags: grazing, cusp, near the trimming boundary.
+std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tMin, double tMax);
+
+// Outward SES normal at a point on (or near) the patch: (P(φ) − x)/rp.
+glm::dvec3 normalAt(const TorusPatch& p, const glm::dvec3& x);
+
+// Whether a point on the torus lies inside the patch's θ/φ limits (and on the SES sheet
+// of a spindle torus), with `slack` radians of tolerance: the clip test the intersector
+// and its brute-force oracle share.
+bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack = 0.0);
+
+}  // namespace surftrace::trace

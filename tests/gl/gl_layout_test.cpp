@@ -1,0 +1,137 @@
+// The GPU records: C++ struct offsets against what the linked GLSL programs report, and the packing.
+#include <cstddef>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include "build/patch_list.hpp"
+#include "gl/gl_context.hpp"
+#include "gl/gl_renderer.hpp"
+#include "gl/gpu_layout.hpp"
+
+namespace surftrace::gl {
+namespace {
+
+struct Member {
+  const char* name;
+  GLint offset;
+};
+
+GLint resourceProperty(GLuint program, GLenum interface, const std::string& name, GLenum property) {
+  const GLuint index = glGetProgramResourceIndex(program, interface, name.c_str());
+  if (index == GL_INVALID_INDEX) return -1;
+  GLint value = -1;
+  glGetProgramResourceiv(program, interface, index, 1, &property, 1, nullptr, &value);
+  return value;
+}
+
+TEST(GlLayout, StorageRecordsMatchStd430) {
+  const GlContext context;
+  const GlRenderer renderer(context);
+  const GLuint torus = renderer.program(ProgramKind::Torus);
+  const Member torusMembers[] = {{"tori[0].centerR", offsetof(GpuTorus, centerR)},
+                                 {"tori[0].axisRp", offsetof(GpuTorus, axisRp)},
+                                 {"tori[0].e1Phi", offsetof(GpuTorus, e1Phi)},
+                                 {"tori[0].theta", offsetof(GpuTorus, theta)}};
+  for (const Member& m : torusMembers)
+    EXPECT_EQ(resourceProperty(torus, GL_BUFFER_VARIABLE, m.name, GL_OFFSET), m.offset) << m.name;
+  EXPECT_EQ(resourceProperty(torus, GL_BUFFER_VARIABLE, "tori[0].centerR", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuTorus)));
+  EXPECT_EQ(resourceProperty(torus, GL_BUFFER_VARIABLE, "torusAtoms[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::uvec2)));
+
+  const GLuint concave = renderer.program(ProgramKind::Concave);
+  const Member concaveMembers[] = {{"concaves[0].probeRp", offsetof(GpuConcave, probeRp)},
+                                   {"concaves[0].dirIBegin", offsetof(GpuConcave, dirIBegin)},
+                                   {"concaves[0].dirJCount", offsetof(GpuConcave, dirJCount)},
+                                   {"concaves[0].dirK", offsetof(GpuConcave, dirK)}};
+  for (const Member& m : concaveMembers)
+    EXPECT_EQ(resourceProperty(concave, GL_BUFFER_VARIABLE, m.name, GL_OFFSET), m.offset) << m.name;
+  EXPECT_EQ(resourceProperty(concave, GL_BUFFER_VARIABLE, "concaves[0].probeRp", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuConcave)));
+  EXPECT_EQ(resourceProperty(concave, GL_BUFFER_VARIABLE, "concaveAtoms[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::uvec4)));
+
+  const GLuint sphere = renderer.program(ProgramKind::Sphere);
+  EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "spheres[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuSphere)));
+  EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "sphereAtoms[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(std::uint32_t)));
+  EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "atomColors[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::vec4)));
+
+  // The bindings the renderer binds its buffers to.
+  const struct {
+    GLuint program;
+    const char* block;
+    GLint binding;
+  } blocks[] = {{sphere, "Spheres", kSphereBinding},       {sphere, "SphereAtoms", kSphereAtomBinding},
+                {torus, "Tori", kTorusBinding},            {torus, "TorusAtoms", kTorusAtomBinding},
+                {concave, "Concaves", kConcaveBinding},    {concave, "ConcaveAtoms", kConcaveAtomBinding},
+                {sphere, "AtomColors", kAtomColorBinding}};
+  for (const auto& b : blocks)
+    EXPECT_EQ(resourceProperty(b.program, GL_SHADER_STORAGE_BLOCK, b.block, GL_BUFFER_BINDING), b.binding) << b.block;
+}
+
+TEST(GlLayout, FrameBlockMatchesStd140) {
+  const GlContext context;
+  const GlRenderer renderer(context);
+  const GLuint program = renderer.program(ProgramKind::Torus);
+  const Member members[] = {{"Frame.eyeProjection", offsetof(GpuFrame, eyeProjection)},
+                            {"Frame.forwardTan", offsetof(GpuFrame, forwardTan)},
+                            {"Frame.rightAspect", offsetof(GpuFrame, rightAspect)},
+                            {"Frame.upHalfHeight", offsetof(GpuFrame, upHalfHeight)},
+                            {"Frame.viewport", offsetof(GpuFrame, viewport)},
+                            {"Frame.lighting", offsetof(GpuFrame, lighting)},
+                            {"Frame.background", offsetof(GpuFrame, background)},
+                            {"Frame.kindColor[0]", offsetof(GpuFrame, kindColor)},
+                            {"Frame.idBase", offsetof(GpuFrame, idBase)},
+                            {"Frame.counts", offsetof(GpuFrame, counts)},
+                            {"Frame.traceParams", offsetof(GpuFrame, traceParams)}};
+  for (const Member& m : members) EXPECT_EQ(resourceProperty(program, GL_UNIFORM, m.name, GL_OFFSET), m.offset) << m.name;
+  EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_DATA_SIZE), static_cast<GLint>(sizeof(GpuFrame)));
+  EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_BINDING), static_cast<GLint>(kFrameBinding));
+}
+
+// The origin shift happens in double, before rounding: a molecule 1e4 Å from the origin
+// keeps its sub-milliångström detail, and the clipping planes move with it.
+TEST(GlLayout, PackingShiftsInDoubleBeforeRounding) {
+  build::PatchList list;
+  list.params.probeRadius = 1.5;
+  const glm::dvec3 origin(1e4, -2e4, 3e4);
+  list.convex.center = {origin + glm::dvec3(1.0001234, 0.0, 0.0)};
+  list.convex.radius = {1.7};
+  list.convex.atom = {7};
+  list.concave.probe = {origin + glm::dvec3(0.0, 2.0000321, 0.0)};
+  list.concave.dirI = {{1, 0, 0}};
+  list.concave.dirJ = {{0, 1, 0}};
+  list.concave.dirK = {{0, 0, 1}};
+  list.concave.atomI = {1};
+  list.concave.atomJ = {2};
+  list.concave.atomK = {3};
+  list.concave.clipBegin = {0};
+  list.concave.clipCount = {1};
+  // Keep x·(0,0,1) − (origin.z + 0.5) <= 0, i.e. z' <= 0.5 after the shift.
+  list.clipPlanes = {{0.0, 0.0, 1.0, -(origin.z + 0.5)}};
+  const GpuPatches g = packPatches(list, origin);
+  ASSERT_EQ(g.spheres.size(), 1u);
+  EXPECT_FLOAT_EQ(g.spheres[0].x, 1.0001234f);
+  EXPECT_FLOAT_EQ(g.spheres[0].w, 1.7f);
+  EXPECT_EQ(g.sphereAtoms[0], 7u);
+  EXPECT_FLOAT_EQ(g.concave[0].probeRp.y, 2.0000321f);
+  EXPECT_FLOAT_EQ(g.concave[0].probeRp.w, 1.5f);
+  EXPECT_EQ(g.concave[0].dirIBegin.w, 0.0f);
+  EXPECT_EQ(g.concave[0].dirJCount.w, 1.0f);
+  EXPECT_EQ(g.concaveAtoms[0], glm::uvec4(1, 2, 3, 0));
+  ASSERT_EQ(g.clipPlanes.size(), 1u);
+  EXPECT_FLOAT_EQ(g.clipPlanes[0].w, -0.5f);
+  build::PatchList mss;
+  mss.mss.kind = {0};
+  EXPECT_THROW(packPatches(mss, origin), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace surftrace::gl

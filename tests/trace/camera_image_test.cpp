@@ -1,0 +1,226 @@
+// Camera rays and framing against their defining formulas; EXR/PNG round trips.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include <OpenImageIO/imageio.h>
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "trace/camera.hpp"
+#include "trace/image_io.hpp"
+#include "trace/patch_scene.hpp"
+
+namespace surftrace::trace {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The corner and centre rays follow from the field of view alone.
+TEST(Camera, PerspectiveRaysSpanTheFieldOfView) {
+  Camera c;
+  c.eye = {1, 2, 3};
+  c.lookAt = {1, 2, -7};
+  c.fovY = 60.0;
+  c.width = 200;
+  c.height = 100;
+  const Ray centre = c.ray(100.0, 50.0);
+  EXPECT_NEAR(glm::length(centre.dir - glm::dvec3(0, 0, -1)), 0.0, 1e-15);
+  // Top edge centre: the angle to the axis is fov/2; it points up (+y).
+  const Ray top = c.ray(100.0, 0.0);
+  EXPECT_NEAR(std::acos(glm::dot(top.dir, centre.dir)), 30.0 * kPi / 180.0, 1e-12);
+  EXPECT_GT(top.dir.y, 0.0);
+  // Right edge: tan(angle) = aspect·tan(fov/2).
+  const Ray right = c.ray(200.0, 50.0);
+  EXPECT_NEAR(std::tan(std::acos(glm::dot(right.dir, centre.dir))), 2.0 * std::tan(30.0 * kPi / 180.0), 1e-12);
+  EXPECT_GT(right.dir.x, 0.0);
+  EXPECT_NEAR(c.pixelFootprint(10.0), 2.0 * 10.0 * std::tan(30.0 * kPi / 180.0) / 100.0, 1e-15);
+}
+
+TEST(Camera, OrthographicRaysAreParallel) {
+  Camera c;
+  c.projection = Projection::Orthographic;
+  c.eye = {0, 0, 10};
+  c.lookAt = {0, 0, 0};
+  c.orthoHeight = 8.0;
+  c.width = c.height = 64;
+  const Ray a = c.ray(0.0, 0.0), b = c.ray(64.0, 64.0);
+  EXPECT_EQ(a.dir, b.dir);
+  EXPECT_NEAR(a.org.x, -4.0, 1e-14);
+  EXPECT_NEAR(a.org.y, 4.0, 1e-14);
+  EXPECT_NEAR(b.org.x, 4.0, 1e-14);
+  EXPECT_NEAR(b.org.y, -4.0, 1e-14);
+}
+
+// After framing, every sphere projects inside the image and the camera is outside all.
+TEST(Camera, FramingKeepsEverySphereInView) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-20.0, 20.0), r(0.5, 3.0);
+  std::vector<glm::dvec3> centers;
+  std::vector<double> radii;
+  for (int i = 0; i < 200; ++i) centers.push_back({u(rng), u(rng) * 0.3, u(rng) + 100.0}), radii.push_back(r(rng));
+  for (const char* view : {"front", "back", "left", "right", "top", "bottom", "1,2,3"}) {
+    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+      Camera c;
+      c.width = 300;
+      c.height = 200;
+      c.projection = proj;
+      c = frameSpheres(c, centers, radii, namedViewDirection(view));
+      c.validate();
+      const glm::dvec3 f = c.forward(), rt = c.right(), up = c.trueUp();
+      for (std::size_t i = 0; i < centers.size(); ++i) {
+        const glm::dvec3 v = centers[i] - c.eye;
+        const double z = glm::dot(v, f);
+        ASSERT_GT(z, radii[i]) << view;
+        double sx, sy;  // normalised image coordinates in [-1, 1] (for the sphere's centre)
+        if (proj == Projection::Perspective) {
+          const double h = std::tan(0.5 * c.fovY * kPi / 180.0);
+          sx = glm::dot(v, rt) / z / (h * 1.5);
+          sy = glm::dot(v, up) / z / h;
+        } else {
+          sx = glm::dot(v, rt) / (0.5 * c.orthoHeight * 1.5);
+          sy = glm::dot(v, up) / (0.5 * c.orthoHeight);
+        }
+        EXPECT_LE(std::abs(sx), 1.0) << view;
+        EXPECT_LE(std::abs(sy), 1.0) << view;
+      }
+    }
+  }
+}
+
+TEST(Camera, RejectsImpossibleSettings) {
+  Camera c;
+  c.lookAt = c.eye;
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  c = Camera{};
+  c.up = c.lookAt - c.eye;
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  c = Camera{};
+  c.fovY = 180.0;
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  c = Camera{};
+  c.width = 0;
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  c = Camera{};
+  c.eye.x = std::nan("");
+  EXPECT_THROW(c.validate(), std::invalid_argument);
+  EXPECT_THROW(namedViewDirection("sideways"), std::invalid_argument);
+  EXPECT_THROW(namedViewDirection("0,0,0"), std::invalid_argument);
+  EXPECT_THROW(namedViewDirection("1,2"), std::invalid_argument);
+}
+
+TEST(Camera, JsonRoundTripIsExact) {
+  Camera c;
+  c.projection = Projection::Orthographic;
+  c.eye = {0.1, -2.0 / 3.0, 1e5 + 1.0 / 7.0};
+  c.lookAt = {std::sqrt(2.0), 0.0, -1.0 / 3.0};
+  c.up = {0.0, 1.0, 1e-3};
+  c.fovY = 33.3333333;
+  c.orthoHeight = 12.345678901234567;
+  c.width = 321;
+  c.height = 123;
+  const Camera d = cameraFromJson(cameraToJson(c));
+  EXPECT_EQ(d.eye, c.eye);
+  EXPECT_EQ(d.lookAt, c.lookAt);
+  EXPECT_EQ(d.up, c.up);
+  EXPECT_EQ(d.fovY, c.fovY);
+  EXPECT_EQ(d.orthoHeight, c.orthoHeight);
+  EXPECT_EQ(d.width, c.width);
+  EXPECT_EQ(d.height, c.height);
+  EXPECT_EQ(d.projection, c.projection);
+}
+
+FrameBuffers randomFrame(int w, int h) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> u(-100.0f, 100.0f);
+  FrameBuffers f;
+  f.width = w;
+  f.height = h;
+  const std::size_t n = f.pixels();
+  for (std::size_t i = 0; i < 4 * n; ++i) f.rgba.push_back(u(rng));
+  for (std::size_t i = 0; i < n; ++i) {
+    f.depth.push_back(i % 7 ? u(rng) : std::numeric_limits<float>::infinity());
+    f.viewZ.push_back(u(rng));
+    f.kind.push_back(static_cast<std::uint32_t>(i % 4));
+    f.patchId.push_back(i % 5 ? static_cast<std::uint32_t>(rng()) : ~0u);  // ids beyond 2^24 must survive
+    f.atomId.push_back(static_cast<std::uint32_t>(rng()));
+    f.flags.push_back(static_cast<std::uint32_t>(i % 8));
+  }
+  for (std::size_t i = 0; i < 3 * n; ++i) f.normal.push_back(u(rng));
+  return f;
+}
+
+// Every channel survives the EXR round trip bit for bit, integer ids included.
+TEST(ImageIo, ExrRoundTripIsExact) {
+  const auto path = (std::filesystem::temp_directory_path() / "surftrace_roundtrip.exr").string();
+  const FrameBuffers f = randomFrame(37, 23);
+  writeExr(path, f, {{"surftrace:camera", "{\"x\":1}"}});
+  ImageMetadata meta;
+  const FrameBuffers g = readExr(path, &meta);
+  EXPECT_EQ(g.width, f.width);
+  EXPECT_EQ(g.height, f.height);
+  EXPECT_EQ(g.rgba, f.rgba);
+  EXPECT_EQ(g.depth, f.depth);
+  EXPECT_EQ(g.viewZ, f.viewZ);
+  EXPECT_EQ(g.normal, f.normal);
+  EXPECT_EQ(g.kind, f.kind);
+  EXPECT_EQ(g.patchId, f.patchId);
+  EXPECT_EQ(g.atomId, f.atomId);
+  EXPECT_EQ(g.flags, f.flags);
+  EXPECT_EQ(meta["surftrace:camera"], "{\"x\":1}");
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, PngHoldsTheClampedColour) {
+  const auto path = (std::filesystem::temp_directory_path() / "surftrace_colour.png").string();
+  FrameBuffers f = randomFrame(5, 3);
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    for (int c = 0; c < 4; ++c) f.rgba[4 * p + c] = static_cast<float>((p * 4 + c) % 11) / 10.0f;
+  writePng(path, f, {});
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  ASSERT_EQ(in->spec().nchannels, 3);
+  std::vector<unsigned char> px(3 * f.pixels());
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(px[3 * p + c], static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, f.rgba[4 * p + c]))));
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, ForeignFileIsAClearError) {
+  const auto path = (std::filesystem::temp_directory_path() / "surftrace_foreign.png").string();
+  FrameBuffers f = randomFrame(4, 4);
+  writePng(path, f, {});
+  try {
+    readExr(path);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace surftrace::trace
+
+namespace surftrace::trace {
+namespace {
+
+// Embree sees float rays; embreeRay must round every component (GCC 12 once dropped two).
+TEST(PatchScene, EmbreeRayRoundsEveryComponentToFloat) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(-100.0, 100.0);
+  for (int i = 0; i < 1000; ++i) {
+    const Ray r{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+    const Ray e = PatchScene::embreeRay(r);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(e.org[k], static_cast<double>(static_cast<float>(r.org[k]))) << i << " " << k;
+      EXPECT_EQ(e.dir[k], static_cast<double>(static_cast<float>(r.dir[k]))) << i << " " << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace surftrace::trace

@@ -1,0 +1,236 @@
+// `surftrace render`: exact ray tracing of a molecular surface to PNG and EXR.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include <embree3/rtcore_config.h>
+#include <tbb/global_control.h>
+
+#include "build/contour_buildup.hpp"
+#include "build/molecule.hpp"
+#include "commands.hpp"
+#include "trace/image_io.hpp"
+#include "trace/render.hpp"
+
+namespace surftrace::tools {
+namespace {
+
+struct RenderCommandOptions {
+  std::string path;
+  build::ReadOptions read;
+  std::string surface = "ses";
+  double probe = 1.4;
+  std::string patches;
+  std::string size = "1024x1024";
+  std::string view = "front";
+  std::string eye, lookAt, up;
+  double fov = 30.0;
+  bool ortho = false;
+  std::string color = "patch";
+  std::string uniformColor = "0.8,0.8,0.8";
+  std::string background = "1,1,1";
+  int spp = 1;
+  bool shadows = false;
+  int ao = 0;
+  double aoDistance = 8.0;
+  std::string output, exr;
+  int threads = 0;
+  bool quiet = false;
+  std::string commandLine;
+};
+
+glm::dvec3 parseVector(const std::string& option, const std::string& text) {
+  std::istringstream in(text);
+  glm::dvec3 v;
+  char c1 = 0, c2 = 0;
+  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z))
+    throw std::invalid_argument(option + " '" + text + "': expected three finite numbers x,y,z");
+  return v;
+}
+
+glm::vec3 parseColor(const std::string& option, const std::string& text) {
+  const glm::dvec3 c = parseVector(option, text);
+  if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > 1 || c.y > 1 || c.z > 1)
+    throw std::invalid_argument(option + " '" + text + "': colour components must be in [0, 1]");
+  return glm::vec3(c);
+}
+
+void parseSize(const std::string& text, int& width, int& height) {
+  std::istringstream in(text);
+  char x = 0;
+  if (!(in >> width >> x >> height) || (x != 'x' && x != 'X') || in.peek() != EOF || width < 1 || height < 1 ||
+      width > 32768 || height > 32768)
+    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, each 1..32768, e.g. 1024x768");
+}
+
+// A one-line progress bar on stderr when it is a terminal.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
+  void update(double fraction) {
+    if (!enabled_) return;
+    std::lock_guard lock(mutex_);
+    const int percent = static_cast<int>(100.0 * fraction);
+    if (percent <= last_) return;
+    last_ = percent;
+    const int bars = percent / 4;
+    std::fprintf(stderr, "\rrendering [%-25s] %3d%%", std::string(static_cast<std::size_t>(bars), '#').c_str(), percent);
+    if (percent >= 100) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  std::mutex mutex_;
+  int last_ = -1;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void runRender(const RenderCommandOptions& o) {
+  if (o.output.empty() && o.exr.empty()) throw std::invalid_argument("nothing to write: give -o OUT.png and/or --exr OUT.exr");
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<std::size_t>(o.threads));
+  trace::RenderOptions ro;
+  parseSize(o.size, ro.camera.width, ro.camera.height);
+  ro.camera.projection = o.ortho ? trace::Projection::Orthographic : trace::Projection::Perspective;
+  ro.camera.fovY = o.fov;
+  ro.color = trace::parseColorMode(o.color);
+  ro.background = parseColor("--background", o.background);
+  const glm::vec3 uniform = parseColor("--uniform-color", o.uniformColor);
+  ro.samplesPerPixel = o.spp;
+  ro.shadows = o.shadows;
+  ro.aoSamples = o.ao;
+  ro.aoDistance = o.aoDistance;
+  // Every option is checked before the slow work starts.
+  const glm::dvec3 viewDirection = trace::namedViewDirection(o.view);
+  if (!(o.fov > 0.0 && o.fov < 180.0))
+    throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
+  std::optional<glm::dvec3> eye, lookAt, up;
+  if (!o.eye.empty()) eye = parseVector("--eye", o.eye);
+  if (!o.lookAt.empty()) lookAt = parseVector("--look-at", o.lookAt);
+  if (!o.up.empty()) up = parseVector("--up", o.up);
+
+  auto start = std::chrono::steady_clock::now();
+  const build::Molecule molecule = build::readMolecule(o.path, o.read);
+  const double readSeconds = secondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  trace::ScenePatches patches;
+  double buildSeconds = 0.0;
+  if (!o.patches.empty()) {
+    if (o.surface != "ses") throw std::invalid_argument("--patches holds an SES patch list; it cannot be combined with --surface " + o.surface);
+    build::PatchList list = build::readPatchList(o.patches);
+    list.validate();
+    if (list.params.atomCount != molecule.size() || list.params.inputCrc32 != molecule.inputCrc32)
+      throw std::invalid_argument(o.patches + " was built from a different input (" + std::to_string(list.params.atomCount) +
+                                  " atoms) than " + o.path + " with these options (" + std::to_string(molecule.size()) +
+                                  " atoms); rebuild it with `surftrace build`");
+    patches = trace::ScenePatches::fromPatchList(list);
+  } else if (o.surface == "ses") {
+    const build::PatchList list = build::buildSes(molecule.centers, molecule.radii, build::SesParams{o.probe});
+    buildSeconds = secondsSince(start);
+    patches = trace::ScenePatches::fromPatchList(list);
+  } else {
+    patches = trace::ScenePatches::fromAtoms(molecule.centers, molecule.radii, o.surface == "sas" ? o.probe : 0.0);
+  }
+
+  // Frame the atoms as the surface extends them (r + rp bounds the SES and the SAS).
+  std::vector<double> reach(molecule.radii);
+  if (o.surface != "vdw")
+    for (double& r : reach) r += o.probe;
+  ro.camera = trace::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  if (lookAt) ro.camera.lookAt = *lookAt;
+  if (eye) ro.camera.eye = *eye;
+  if (up) ro.camera.up = *up;
+  ro.camera.validate();
+
+  const trace::PatchScene scene(std::move(patches));
+  const auto colors = trace::atomColors(molecule, ro.color, uniform);
+  ProgressBar bar(!o.quiet);
+  ro.progress = [&bar](double f) { bar.update(f); };
+  const trace::FrameBuffers frame = trace::render(scene, ro, colors);
+
+  trace::ImageMetadata meta;
+  meta["surftrace:renderer"] = std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+  meta["surftrace:camera"] = trace::cameraToJson(ro.camera);
+  meta["surftrace:surface"] = o.surface;
+  meta["surftrace:probe_radius"] = std::to_string(o.probe);
+  meta["surftrace:input"] = o.path;
+  meta["surftrace:color"] = o.color;
+  meta["surftrace:command"] = o.commandLine;
+  meta["Software"] = "surftrace 0.1.0";
+  if (!o.output.empty()) trace::writePng(o.output, frame, meta);
+  if (!o.exr.empty()) trace::writeExr(o.exr, frame, meta);
+
+  std::size_t covered = 0;
+  for (auto k : frame.kind) covered += k != 0;
+  std::printf("%s: %zu atoms, %s, %zu patches (%zu spheres, %zu tori, %zu concave)\n", o.path.c_str(), molecule.size(),
+              o.surface.c_str(), scene.patches().size(), scene.patches().spheres.size(), scene.patches().tori.size(),
+              scene.patches().concave.size());
+  std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
+              readSeconds * 1e3, buildSeconds * 1e3, scene.buildSeconds() * 1e3, frame.seconds * 1e3, frame.width,
+              frame.height, o.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
+              100.0 * static_cast<double>(covered) / static_cast<double>(frame.pixels()));
+  if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
+  if (!o.exr.empty()) std::printf("wrote %s\n", o.exr.c_str());
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, const std::string& commandLine) {
+  auto o = std::make_shared<RenderCommandOptions>();
+  o->commandLine = commandLine;
+  auto* cmd = app.add_subcommand(
+      "render",
+      "Ray-trace a molecular surface exactly (Embree, double-precision patches) to a PNG and/or an EXR with "
+      "depth, normal, patch kind, patch id, atom id and ambiguity flags for pixel-by-pixel validation");
+  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd->add_option("--surface", o->surface, "ses (exact patches), vdw (atom spheres) or sas (spheres of r + probe)")
+      ->check(CLI::IsMember({"ses", "vdw", "sas"}))
+      ->default_val("ses");
+  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(CLI::PositiveNumber)->default_val(1.4);
+  cmd->add_option("--patches", o->patches, "Render this patch list (from `surftrace build`) instead of building it")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
+  cmd->add_option("--view", o->view,
+                  "Direction to look along for automatic framing: front (−z), back, left, right, top, bottom, or x,y,z")
+      ->default_val("front");
+  cmd->add_option("--eye", o->eye, "Explicit eye position x,y,z (Å); overrides the framing's eye");
+  cmd->add_option("--look-at", o->lookAt, "Explicit look-at point x,y,z (Å)");
+  cmd->add_option("--up", o->up, "Explicit up vector x,y,z");
+  cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (perspective)")->default_val(30.0);
+  cmd->add_flag("--ortho", o->ortho, "Orthographic projection (framed to fit the molecule)");
+  cmd->add_option("--color", o->color, "Colouring: patch (convex green, toroidal yellow, concave red), element, chain, "
+                                       "bfactor, uniform")
+      ->check(CLI::IsMember({"patch", "element", "chain", "bfactor", "uniform"}))
+      ->default_val("patch");
+  cmd->add_option("--uniform-color", o->uniformColor, "Colour r,g,b in [0,1] for --color uniform")->default_val("0.8,0.8,0.8");
+  cmd->add_option("--background", o->background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
+  cmd->add_option("--spp", o->spp, "Samples per pixel for anti-aliasing (a k×k grid; buffers use the pixel centre)")
+      ->check(CLI::Range(1, 1024))
+      ->default_val(1);
+  cmd->add_flag("--shadows", o->shadows, "Ray-traced shadows from a key light above-left of the eye");
+  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(CLI::Range(0, 4096))->default_val(0);
+  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(CLI::PositiveNumber)->default_val(8.0);
+  cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
+  cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
+  cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--quiet", o->quiet, "No progress bar");
+  addMoleculeOptions(*cmd, o->read);
+  cmd->callback([o] { runRender(*o); });
+}
+
+}  // namespace surftrace::tools
