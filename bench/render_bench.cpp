@@ -17,7 +17,7 @@ using namespace surftrace;
 
 struct Prepared {
   build::Molecule molecule;
-  build::PatchList ses;
+  build::PatchList ses, vdw;
 };
 
 const Prepared& prepared(const std::string& name) {
@@ -27,13 +27,14 @@ const Prepared& prepared(const std::string& name) {
     Prepared p;
     p.molecule = build::readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/" + name);
     p.ses = build::buildSes(p.molecule.centers, p.molecule.radii, build::SesParams{1.4});
+    p.vdw = build::atomSpheres(p.molecule.centers, p.molecule.radii, 0.0, build::SurfaceKind::Vdw);
     it = cache.emplace(name, std::move(p)).first;
   }
   return it->second;
 }
 
 trace::ScenePatches patchesFor(const Prepared& p, bool ses) {
-  return ses ? trace::ScenePatches::fromPatchList(p.ses) : trace::ScenePatches::fromAtoms(p.molecule.centers, p.molecule.radii, 0.0);
+  return trace::ScenePatches::fromPatchList(ses ? p.ses : p.vdw);
 }
 
 trace::Camera frontCamera(const Prepared& p, int size) {

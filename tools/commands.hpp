@@ -17,5 +17,6 @@ void addInfoCommand(CLI::App& app);
 void addBuildCommands(CLI::App& app);  // build, area
 // `commandLine` is the whole invocation, recorded in every image's metadata.
 void addRenderCommand(CLI::App& app, const std::string& commandLine);
+void addCompareCommand(CLI::App& app);
 
 }  // namespace surftrace::tools

@@ -16,7 +16,10 @@
 #include "build/contour_buildup.hpp"
 #include "build/molecule.hpp"
 #include "commands.hpp"
+#include "gl/gl_context.hpp"
+#include "gl/gl_renderer.hpp"
 #include "trace/image_io.hpp"
+#include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
 
 namespace surftrace::tools {
@@ -40,6 +43,9 @@ struct RenderCommandOptions {
   bool shadows = false;
   int ao = 0;
   double aoDistance = 8.0;
+  std::string engine = "embree";
+  std::string glTorus = "quartic";
+  int glSteps = 30;
   std::string output, exr;
   int threads = 0;
   bool quiet = false;
@@ -98,6 +104,9 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 void runRender(const RenderCommandOptions& o) {
   if (o.output.empty() && o.exr.empty()) throw std::invalid_argument("nothing to write: give -o OUT.png and/or --exr OUT.exr");
+  if (o.engine == "gl" && (o.spp > 1 || o.shadows || o.ao > 0))
+    throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
+                                "--spp/--shadows/--ao or use --engine embree");
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -127,24 +136,23 @@ void runRender(const RenderCommandOptions& o) {
   const double readSeconds = secondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  trace::ScenePatches patches;
+  build::PatchList list;
   double buildSeconds = 0.0;
   if (!o.patches.empty()) {
     if (o.surface != "ses") throw std::invalid_argument("--patches holds an SES patch list; it cannot be combined with --surface " + o.surface);
-    build::PatchList list = build::readPatchList(o.patches);
+    list = build::readPatchList(o.patches);
     list.validate();
     if (list.params.atomCount != molecule.size() || list.params.inputCrc32 != molecule.inputCrc32)
       throw std::invalid_argument(o.patches + " was built from a different input (" + std::to_string(list.params.atomCount) +
                                   " atoms) than " + o.path + " with these options (" + std::to_string(molecule.size()) +
                                   " atoms); rebuild it with `surftrace build`");
-    patches = trace::ScenePatches::fromPatchList(list);
   } else if (o.surface == "ses") {
-    const build::PatchList list = build::buildSes(molecule.centers, molecule.radii, build::SesParams{o.probe});
-    buildSeconds = secondsSince(start);
-    patches = trace::ScenePatches::fromPatchList(list);
+    list = build::buildSes(molecule.centers, molecule.radii, build::SesParams{o.probe});
   } else {
-    patches = trace::ScenePatches::fromAtoms(molecule.centers, molecule.radii, o.surface == "sas" ? o.probe : 0.0);
+    list = build::atomSpheres(molecule.centers, molecule.radii, o.surface == "sas" ? o.probe : 0.0,
+                              o.surface == "sas" ? build::SurfaceKind::Sas : build::SurfaceKind::Vdw);
   }
+  buildSeconds = secondsSince(start);
 
   // Frame the atoms as the surface extends them (r + rp bounds the SES and the SAS).
   std::vector<double> reach(molecule.radii);
@@ -156,14 +164,28 @@ void runRender(const RenderCommandOptions& o) {
   if (up) ro.camera.up = *up;
   ro.camera.validate();
 
-  const trace::PatchScene scene(std::move(patches));
   const auto colors = trace::atomColors(molecule, ro.color, uniform);
-  ProgressBar bar(!o.quiet);
-  ro.progress = [&bar](double f) { bar.update(f); };
-  const trace::FrameBuffers frame = trace::render(scene, ro, colors);
-
+  trace::FrameBuffers frame;
   trace::ImageMetadata meta;
-  meta["surftrace:renderer"] = std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+  double sceneSeconds = 0.0;
+  if (o.engine == "gl") {
+    gl::GlOptions glOptions;
+    glOptions.torus = gl::parseTorusMethod(o.glTorus);
+    glOptions.maxSteps = o.glSteps;
+    const gl::GlContext context;
+    frame = gl::renderGl(context, list, ro, colors, glOptions);
+    meta["surftrace:renderer"] = "surftrace 0.1.0 gl: " + context.description();
+    meta["surftrace:gl_torus_method"] = gl::torusMethodName(glOptions.torus);
+  } else {
+    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list));
+    sceneSeconds = scene.buildSeconds();
+    ProgressBar bar(!o.quiet);
+    ro.progress = [&bar](double f) { bar.update(f); };
+    frame = trace::render(scene, ro, colors);
+    meta["surftrace:renderer"] = std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+  }
+
+  meta["surftrace:engine"] = o.engine;
   meta["surftrace:camera"] = trace::cameraToJson(ro.camera);
   meta["surftrace:surface"] = o.surface;
   meta["surftrace:probe_radius"] = std::to_string(o.probe);
@@ -176,11 +198,11 @@ void runRender(const RenderCommandOptions& o) {
 
   std::size_t covered = 0;
   for (auto k : frame.kind) covered += k != 0;
-  std::printf("%s: %zu atoms, %s, %zu patches (%zu spheres, %zu tori, %zu concave)\n", o.path.c_str(), molecule.size(),
-              o.surface.c_str(), scene.patches().size(), scene.patches().spheres.size(), scene.patches().tori.size(),
-              scene.patches().concave.size());
+  std::printf("%s: %zu atoms, %s, %zu patches (%zu spheres, %zu tori, %zu concave); engine %s\n", o.path.c_str(),
+              molecule.size(), o.surface.c_str(), list.patchCount(), list.convex.size(), list.tori.size(),
+              list.concave.size(), o.engine.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
-              readSeconds * 1e3, buildSeconds * 1e3, scene.buildSeconds() * 1e3, frame.seconds * 1e3, frame.width,
+              readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
               frame.height, o.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
               100.0 * static_cast<double>(covered) / static_cast<double>(frame.pixels()));
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
@@ -226,6 +248,17 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(CLI::PositiveNumber)->default_val(8.0);
   cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
   cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
+  cmd->add_option("--engine", o->engine,
+                  "embree: exact double-precision CPU ray tracing (the reference); gl: the headless OpenGL "
+                  "geometry-shader ray caster (llvmpipe without a GPU), one sample per pixel, no shadows or AO")
+      ->check(CLI::IsMember({"embree", "gl"}))
+      ->default_val("embree");
+  cmd->add_option("--gl-torus", o->glTorus, "GL saddle intersection: quartic (analytic) or sphere-tracing")
+      ->check(CLI::IsMember({"quartic", "sphere-tracing"}))
+      ->default_val("quartic");
+  cmd->add_option("--gl-steps", o->glSteps, "GL sphere-tracing steps per ray (Lindow et al. 2010 use 30)")
+      ->check(CLI::Range(1, 10000))
+      ->default_val(30);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", o->quiet, "No progress bar");

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
       "  surftrace area 1vis.pdb.gz --probe 1.4      exact SAS/SES areas and SES volume\n"
       "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES patch list for renderers\n"
       "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the SES exactly (add --exr for buffers)\n"
+      "  surftrace compare gl.exr embree.exr        validate another renderer pixel by pixel\n"
       "\n"
       "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ.\n"
       "Run `surftrace COMMAND --help` for the options of one command.",
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   std::string commandLine;
   for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
   surftrace::tools::addRenderCommand(app, commandLine);
+  surftrace::tools::addCompareCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,12 @@ struct PatchList {
   // past its array, an atom index is >= params.atomCount, or a value is not finite.
   void validate() const;
 };
+
+// The van der Waals (inflate = 0, SurfaceKind::Vdw) or solvent-accessible (inflate = rp,
+// SurfaceKind::Sas) surface as a patch list of whole spheres, one convex patch per atom,
+// so that every renderer draws it through the same contract as the SES. Areas are left 0.
+PatchList atomSpheres(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate,
+                      SurfaceKind kind);
 
 // Binary patch-list file (.stp). Layout, all little-endian:
 //   magic "SURFTRCE" | u32 version | u32 endian tag 0x01020304 | u64 body size |

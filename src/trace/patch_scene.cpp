@@ -129,16 +129,6 @@ ScenePatches ScenePatches::fromPatchList(const build::PatchList& list) {
   return s;
 }
 
-ScenePatches ScenePatches::fromAtoms(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate) {
-  ScenePatches s;
-  s.spheres.reserve(centers.size());
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    s.spheres.push_back({centers[i], radii[i] + inflate});
-    s.sphereAtom.push_back(static_cast<std::uint32_t>(i));
-  }
-  return s;
-}
-
 std::uint32_t ScenePatches::globalId(PatchKind kind, std::uint32_t patch) const {
   switch (kind) {
     case PatchKind::Convex: return patch;

@@ -28,7 +28,7 @@ struct SceneHit {
 };
 
 // The patches a scene holds, in the intersectors' own form. The SES holds all three
-// kinds; the vdW and SAS surfaces hold spheres only.
+// kinds; the vdW and SAS surfaces (build::atomSpheres) hold spheres only.
 struct ScenePatches {
   std::vector<SpherePatch> spheres;
   std::vector<std::uint32_t> sphereAtom;  // atom of each sphere
@@ -46,8 +46,6 @@ struct ScenePatches {
   ScenePatches& operator=(const ScenePatches&) = delete;
 
   static ScenePatches fromPatchList(const build::PatchList& patches);
-  // Whole spheres of radius r + inflate for every atom: vdW (0) or SAS (probe radius).
-  static ScenePatches fromAtoms(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate);
 
   std::size_t size() const { return spheres.size() + tori.size() + concave.size(); }
   // Global patch id: spheres first, then tori, then concave triangles.

@@ -17,8 +17,8 @@ constexpr int kMaxNewtonIterations = 100;
 // Stop when the last step or the bracket is below this many ulps of the root (ORACLES B.4).
 constexpr double kStopUlps = 4.0;
 
-// The degree is a template parameter below so that Horner's loops unroll: this code runs
-// per ray and patch, and the loop overhead was a third of its instructions.
+// The degree is a template parameter below so that Horner's loops unroll and the recursion
+// on derivatives is resolved at compile time: this runs per ray and candidate patch.
 template <int D>
 double horner(const double* c, double t) {
   double p = c[D];

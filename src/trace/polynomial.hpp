@@ -41,13 +41,15 @@ double evaluatePolynomial(std::span<const double> c, double t);
 //    roots q/a and c/q, with Δ = b² − 4ac from a fused difference of products;
 //  - degree 3 and 4: the roots of p' in [lo, hi] (recursively) split the interval into
 //    monotone pieces; each piece with a sign change holds exactly one root, found by
-//    bracketed Newton (bisect whenever Newton leaves the bracket or stalls) to ~4 ulp;
+//    bracketed Newton (bisect whenever Newton leaves the bracket or stalls) to ~4 ulp, or
+//    until |p| is below Horner's rounding bound, whichever comes first;
 //  - at an interior critical point that is a local extremum of |p| towards zero with no
 //    sign change on either side, |p(t*)| <= τ reports t* as a tangential double
 //    root (once, with its bit set in tangentMask). A near-double root is thus reported
 //    either as two simple roots or as one tangential root, never as three.
 // Exact zeros of p at a split point are reported once. A double root is reported once.
-// Coefficients of more than 5 entries, NaN bounds or lo > hi give no roots.
+// More than 5 coefficients, non-finite bounds or lo > hi give no roots. (Also see the
+// tangency tolerance above: it is absolute.)
 PolynomialRoots realRoots(std::span<const double> c, double lo, double hi,
                           double tangencyTolerance = kTangencyTolerance);
 

@@ -13,7 +13,7 @@
 #include "build/molecule.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
-#include "gl/frame_agreement.hpp"
+#include "trace/image_compare.hpp"
 #include "trace/image_io.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
@@ -168,7 +168,7 @@ trace::RenderOptions viewOptions(const Scene& s, const View& v) {
 }
 
 struct Compared {
-  test::Agreement agreement;
+  trace::FrameComparison agreement;
   double sceneSize;
 };
 
@@ -179,10 +179,10 @@ Compared compareWithEmbree(const View& v, const GlOptions& gl) {
   const trace::FrameBuffers ref = trace::render(scene, o, {});
   const GlContext context;
   const trace::FrameBuffers f = renderGl(context, s.patches, o, {}, gl);
-  const test::Agreement a = test::compareFrames(f, ref);
+  const trace::FrameComparison a = trace::compareFrames(f, ref);
   const std::string method = std::string(torusMethodName(gl.torus)) +
                              (gl.torus == TorusMethod::SphereTracing && !gl.probeBallJumps ? "-plain" : "");
-  std::printf("%s, %s (%s): %s\n", v.name, method.c_str(), context.renderer().c_str(), a.summary(s.size).c_str());
+  std::printf("%s, %s (%s): %s\n", v.name, method.c_str(), context.renderer().c_str(), a.summary().c_str());
   // SURFTRACE_GL_TEST_IMAGES=<folder> keeps both images for a look.
   if (const char* folder = std::getenv("SURFTRACE_GL_TEST_IMAGES")) {
     const trace::ImageMetadata meta{{"surftrace:renderer", context.description()}};
@@ -199,7 +199,7 @@ TEST_P(GlVsEmbree, QuarticMeetsTheAgreementBounds) {
   GlOptions gl;
   gl.torus = TorusMethod::Quartic;
   const Compared c = compareWithEmbree(GetParam(), gl);
-  const test::Agreement& a = c.agreement;
+  const trace::FrameComparison& a = c.agreement;
   EXPECT_GT(a.depthSamples, a.pixels / 10);
   EXPECT_LT(a.coverageFraction, kMaxCoverageMismatch);
   EXPECT_LT(a.depthP99, kMaxDepthP99 * c.sceneSize);
@@ -215,7 +215,7 @@ TEST_P(GlVsEmbree, SphereTracingIsMeasured) {
   gl.torus = TorusMethod::SphereTracing;
   gl.maxSteps = 30;
   const Compared c = compareWithEmbree(GetParam(), gl);
-  const test::Agreement& a = c.agreement;
+  const trace::FrameComparison& a = c.agreement;
   RecordProperty("coverage_mismatch", std::to_string(a.coverageFraction));
   RecordProperty("depth_p99_relative", std::to_string(a.depthP99 / c.sceneSize));
   RecordProperty("kind_agreement", std::to_string(a.kindAgreement));

@@ -1,0 +1,202 @@
+// Pixel-by-pixel comparison of two renderings of the same view (ORACLES D.4).
+#include "trace/image_compare.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+namespace surftrace::trace {
+namespace {
+
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
+  return v[i];
+}
+
+// The reference's 3×3 neighbourhood decides which pixels are genuinely ambiguous.
+struct Neighbourhood {
+  bool band = false;      // hit/miss changes: silhouette
+  bool kindSeam = false;  // patch kind changes, or the reference flags the pixel
+  bool seam = false;      // patch id changes, or the reference flags the pixel
+};
+
+Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
+  const int w = ref.width, h = ref.height;
+  auto at = [w](int px, int py) { return static_cast<std::size_t>(py) * static_cast<std::size_t>(w) + static_cast<std::size_t>(px); };
+  const std::size_t p = at(x, y);
+  const bool hit = ref.kind[p] != 0;
+  Neighbourhood n;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const std::size_t q = at(std::clamp(x + dx, 0, w - 1), std::clamp(y + dy, 0, h - 1));
+      n.band = n.band || (ref.kind[q] != 0) != hit;
+      n.kindSeam = n.kindSeam || ref.kind[q] != ref.kind[p];
+      n.seam = n.seam || ref.patchId[q] != ref.patchId[p];
+    }
+  const bool flagged = (ref.flags[p] & (kHitGrazing | kHitCusp | kHitNearBoundary)) != 0;
+  n.kindSeam = n.kindSeam || flagged;
+  n.seam = n.seam || flagged;
+  return n;
+}
+
+void checkSameSize(const FrameBuffers& a, const FrameBuffers& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                                " vs " + std::to_string(b.width) + "x" + std::to_string(b.height));
+}
+
+}  // namespace
+
+FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref, const Camera* camera) {
+  checkSameSize(test, ref);
+  FrameComparison c;
+  c.pixels = ref.pixels();
+  std::vector<double> depth, depthPixels, angle;
+  std::size_t kindSame = 0, patchSame = 0;
+  double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
+      const bool refHit = ref.kind[p] != 0;
+      if (refHit) tMin = std::min(tMin, static_cast<double>(ref.depth[p])), tMax = std::max(tMax, static_cast<double>(ref.depth[p]));
+      const Neighbourhood n = neighbourhood(ref, x, y);
+      if (n.band) {
+        ++c.silhouette;
+        continue;
+      }
+      if ((test.kind[p] != 0) != refHit) {
+        ++c.coverageMismatch;
+        continue;
+      }
+      if (!refHit) continue;
+      const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
+      depth.push_back(dt);
+      if (camera) depthPixels.push_back(dt / camera->pixelFootprint(ref.depth[p]));
+      if (!n.kindSeam) {
+        ++c.kindSamples;
+        kindSame += test.kind[p] == ref.kind[p];
+      }
+      if (n.seam) continue;
+      const glm::dvec3 nt(test.normal[3 * p], test.normal[3 * p + 1], test.normal[3 * p + 2]);
+      const glm::dvec3 nr(ref.normal[3 * p], ref.normal[3 * p + 1], ref.normal[3 * p + 2]);
+      const double lt = glm::length(nt), lr = glm::length(nr);
+      angle.push_back(lt > 0.0 && lr > 0.0 ? std::acos(std::clamp(glm::dot(nt / lt, nr / lr), -1.0, 1.0)) * kDegrees : 180.0);
+      ++c.patchSamples;
+      patchSame += test.patchId[p] == ref.patchId[p];
+    }
+  c.coverageFraction = static_cast<double>(c.coverageMismatch) / static_cast<double>(std::max<std::size_t>(1, c.pixels - c.silhouette));
+  c.depthSamples = depth.size();
+  c.depthMedian = percentile(depth, 0.5);
+  c.depthP99 = percentile(depth, 0.99);
+  c.depthMax = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
+  c.depthP99Pixels = percentile(depthPixels, 0.99);
+  if (c.kindSamples > 0) c.kindAgreement = static_cast<double>(kindSame) / static_cast<double>(c.kindSamples);
+  if (c.patchSamples > 0) c.patchAgreement = static_cast<double>(patchSame) / static_cast<double>(c.patchSamples);
+  c.normalMedianDegrees = percentile(angle, 0.5);
+  c.normalP99Degrees = percentile(angle, 0.99);
+  c.normalMaxDegrees = angle.empty() ? 0.0 : *std::max_element(angle.begin(), angle.end());
+  // The scene size is the reference's depth range, at least its nearest depth's tenth, so that
+  // a flat close-up does not make every error look huge.
+  c.sceneSize = tMax >= tMin ? std::max(tMax - tMin, 0.1 * tMin) : 0.0;
+  return c;
+}
+
+std::string FrameComparison::summary() const {
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "coverage mismatch %zu of %zu px (%.4f%%; silhouette band %zu px masked)\n"
+                "depth error      median %.3g  p99 %.3g  max %.3g Å  (p99 = %.3g of the scene size %.1f Å, %.3g px)\n"
+                "normal error     median %.3g°  p99 %.3g°  max %.3g°\n"
+                "patch kind       %.4f%% agree (%zu px)\n"
+                "patch id         %.4f%% agree (%zu px)",
+                coverageMismatch, pixels - silhouette, 100.0 * coverageFraction, silhouette, depthMedian, depthP99, depthMax,
+                sceneSize > 0 ? depthP99 / sceneSize : 0.0, sceneSize, depthP99Pixels, normalMedianDegrees, normalP99Degrees,
+                normalMaxDegrees, 100.0 * kindAgreement, kindSamples, 100.0 * patchAgreement, patchSamples);
+  return text;
+}
+
+std::string FrameComparison::json() const {
+  nlohmann::json j;
+  j["pixels"] = pixels;
+  j["silhouette_band"] = silhouette;
+  j["coverage"] = {{"mismatch", coverageMismatch}, {"fraction", coverageFraction}};
+  j["depth"] = {{"samples", depthSamples},  {"median", depthMedian}, {"p99", depthP99}, {"max", depthMax},
+                {"p99_relative", sceneSize > 0 ? depthP99 / sceneSize : 0.0}, {"p99_pixels", depthP99Pixels},
+                {"scene_size", sceneSize}, {"unit", "Å"}};
+  j["normal_degrees"] = {{"median", normalMedianDegrees}, {"p99", normalP99Degrees}, {"max", normalMaxDegrees}};
+  j["patch_kind"] = {{"samples", kindSamples}, {"agreement", kindAgreement}};
+  j["patch_id"] = {{"samples", patchSamples}, {"agreement", patchAgreement}};
+  return j.dump(1);
+}
+
+CompareThresholds CompareThresholds::preset(const std::string& name) {
+  CompareThresholds t;
+  if (name == "gl-vs-embree") {
+    t.maxCoverageFraction = 1e-3;
+    t.maxDepthP99Relative = 1e-3;
+    t.minKindAgreement = 0.999;
+  } else if (name == "exact") {
+    t.maxCoverageFraction = 0.0;
+    t.maxDepthP99Relative = 1e-6;
+    t.minKindAgreement = 1.0;
+    t.minPatchAgreement = 1.0;
+    t.maxNormalP99Degrees = 1e-3;
+  } else {
+    throw std::invalid_argument("unknown preset '" + name + "': use gl-vs-embree or exact");
+  }
+  return t;
+}
+
+std::vector<std::string> CompareThresholds::violations(const FrameComparison& c) const {
+  std::vector<std::string> v;
+  char line[256];
+  const double relative = c.sceneSize > 0 ? c.depthP99 / c.sceneSize : 0.0;
+  if (maxCoverageFraction && c.coverageFraction > *maxCoverageFraction)
+    std::snprintf(line, sizeof line, "coverage mismatch %.4g%% > %.4g%%", 100 * c.coverageFraction, 100 * *maxCoverageFraction), v.emplace_back(line);
+  if (maxDepthP99Relative && relative > *maxDepthP99Relative)
+    std::snprintf(line, sizeof line, "depth p99 %.3g of the scene > %.3g", relative, *maxDepthP99Relative), v.emplace_back(line);
+  if (minKindAgreement && c.kindAgreement < *minKindAgreement)
+    std::snprintf(line, sizeof line, "patch-kind agreement %.4f%% < %.4f%%", 100 * c.kindAgreement, 100 * *minKindAgreement), v.emplace_back(line);
+  if (minPatchAgreement && c.patchAgreement < *minPatchAgreement)
+    std::snprintf(line, sizeof line, "patch-id agreement %.4f%% < %.4f%%", 100 * c.patchAgreement, 100 * *minPatchAgreement), v.emplace_back(line);
+  if (maxNormalP99Degrees && c.normalP99Degrees > *maxNormalP99Degrees)
+    std::snprintf(line, sizeof line, "normal p99 %.3g° > %.3g°", c.normalP99Degrees, *maxNormalP99Degrees), v.emplace_back(line);
+  return v;
+}
+
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref) {
+  checkSameSize(test, ref);
+  std::vector<float> rgb(3 * ref.pixels(), 0.0f);
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
+      float* out = &rgb[3 * p];
+      const bool refHit = ref.kind[p] != 0, testHit = test.kind[p] != 0;
+      glm::vec3 c(0.15f);  // agreeing background
+      if (neighbourhood(ref, x, y).band) {
+        c = {0.2f, 0.3f, 0.8f};
+      } else if (refHit != testHit) {
+        c = {1.0f, 0.0f, 0.0f};
+      } else if (refHit) {
+        if (test.kind[p] != ref.kind[p]) {
+          c = {0.0f, 1.0f, 0.0f};
+        } else {
+          const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
+          const float s = static_cast<float>(std::clamp((std::log10(std::max(dt, 1e-12)) + 6.0) / 6.0, 0.0, 1.0));
+          c = dt < 1e-6 ? glm::vec3(0.5f) : glm::vec3(1.0f, 1.0f - s, s);
+        }
+      }
+      out[0] = c.x, out[1] = c.y, out[2] = c.z;
+    }
+  return rgb;
+}
+
+}  // namespace surftrace::trace

@@ -1,0 +1,58 @@
+// Pixel-by-pixel comparison of two renderings of the same view (ORACLES D.4): the metrics
+// `surftrace compare` reports and the GL tests assert.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "trace/render.hpp"
+
+namespace surftrace::trace {
+
+struct FrameComparison {
+  std::size_t pixels = 0;
+  std::size_t silhouette = 0;         // reference hit/miss changes within the 3×3 neighbourhood: masked
+  std::size_t coverageMismatch = 0;   // hit/miss differs, outside the silhouette band
+  double coverageFraction = 0.0;      // of the pixels outside the band
+  std::size_t depthSamples = 0;       // both hit, outside the band
+  double depthMedian = 0.0, depthP99 = 0.0, depthMax = 0.0;  // |t_test − t_ref|, Å
+  double depthP99Pixels = 0.0;        // p99 of the depth error in units of the pixel footprint at t_ref
+  std::size_t kindSamples = 0;        // both hit, reference kind constant over 3×3, not flagged
+  std::size_t patchSamples = 0;       // both hit, reference patch id constant over 3×3, not flagged
+  double kindAgreement = 1.0, patchAgreement = 1.0;
+  double normalMedianDegrees = 0.0, normalP99Degrees = 0.0, normalMaxDegrees = 0.0;
+  double sceneSize = 0.0;             // depth range of the reference's hits (Å), for relative depth
+
+  std::string summary() const;
+  std::string json() const;
+};
+
+// `footprint(t)` gives the pixel footprint at ray distance t (Camera::pixelFootprint); pass
+// nothing to skip the footprint-relative figure. Throws std::invalid_argument if the sizes differ.
+FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& reference,
+                              const Camera* camera = nullptr);
+
+// Pass/fail limits; an unset limit is not checked.
+struct CompareThresholds {
+  std::optional<double> maxCoverageFraction;     // coverage mismatch outside silhouettes
+  std::optional<double> maxDepthP99Relative;     // depth p99 / scene size
+  std::optional<double> minKindAgreement;
+  std::optional<double> minPatchAgreement;
+  std::optional<double> maxNormalP99Degrees;
+
+  // "gl-vs-embree": the agreement issue 5 requires of the GL path (coverage < 0.1%,
+  // depth p99 < 1e-3 of the scene, kind agreement > 99.9%); "exact": a re-render of a
+  // reference by the same engine (coverage 0, depth p99 < 1e-6 of the scene, kinds and ids
+  // identical). Throws std::invalid_argument naming the known presets.
+  static CompareThresholds preset(const std::string& name);
+  // Empty when every set limit holds; otherwise one line per violated limit.
+  std::vector<std::string> violations(const FrameComparison& c) const;
+};
+
+// A false-colour difference image (RGB, row 0 at the top): grey = agree, red = coverage
+// mismatch, blue = silhouette band (masked), yellow→magenta = depth error on a log scale
+// from 1e-6 Å to 1 Å, green = patch kind differs.
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& reference);
+
+}  // namespace surftrace::trace

@@ -1,0 +1,94 @@
+// Every reference/ recipe, re-rendered: Embree must reproduce its stored image (preset
+// exact) and the GL path must agree with it (preset gl-vs-embree), through the same
+// `surftrace render` and `surftrace compare` a user runs.
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string output;
+};
+
+// Runs the tool from the repository root, where recipes' relative paths point.
+Result run(const std::string& args) {
+  const std::string cmd = "cd '" + std::string(SURFTRACE_SOURCE_DIR) + "' && " + SURFTRACE_TOOL + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  std::array<char, 4096> buf;
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::vector<std::string> referenceCases() {
+  std::vector<std::string> cases;
+  for (const auto& e : fs::directory_iterator(fs::path(SURFTRACE_SOURCE_DIR) / "reference"))
+    if (fs::exists(e.path() / "recipe.args")) cases.push_back(e.path().filename().string());
+  std::sort(cases.begin(), cases.end());
+  return cases;
+}
+
+std::string recipe(const std::string& name) {
+  std::ifstream in(fs::path(SURFTRACE_SOURCE_DIR) / "reference" / name / "recipe.args");
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+class Reference : public testing::TestWithParam<std::string> {};
+
+TEST_P(Reference, EmbreeReproducesTheStoredImage) {
+  const std::string name = GetParam();
+  const std::string out = (fs::path(testing::TempDir()) / (name + "_embree.exr")).string();
+  const Result r = run("render " + recipe(name) + " --quiet --exr " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset exact");
+  EXPECT_EQ(c.status, 0) << "re-render differs from reference/" << name
+                         << " (regenerate deliberately with scripts/update-reference.sh " << name << "):\n"
+                         << c.output;
+}
+
+TEST_P(Reference, GlAgreesWithTheReference) {
+  const std::string name = GetParam();
+  const std::string out = (fs::path(testing::TempDir()) / (name + "_gl.exr")).string();
+  const Result r = run("render " + recipe(name) + " --engine gl --quiet --exr " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string diff = (fs::path(testing::TempDir()) / (name + "_gl_diff.png")).string();
+  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset gl-vs-embree --diff " + diff);
+  EXPECT_EQ(c.status, 0) << c.output << "\ndifference image: " << diff;
+  std::printf("%s, GL vs reference:\n%s", name.c_str(), c.output.c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, Reference, testing::ValuesIn(referenceCases()),
+                         [](const testing::TestParamInfo<std::string>& p) {
+                           std::string s = p.param;
+                           for (char& ch : s)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return s;
+                         });
+
+// A corrupted reference is caught: the comparison must be able to fail.
+TEST(Reference, ComparisonFailsOnADifferentImage) {
+  const Result c = run("compare reference/crambin-front/image.exr reference/1vis-front/image.exr --preset exact --ignore-camera");
+  EXPECT_EQ(c.status, 2) << c.output;
+  const Result cameras = run("compare reference/crambin-front/image.exr reference/1vis-front/image.exr --preset exact");
+  EXPECT_EQ(cameras.status, 1) << cameras.output;
+  EXPECT_NE(cameras.output.find("different cameras"), std::string::npos) << cameras.output;
+}
+
+}  // namespace
