@@ -79,6 +79,19 @@ Limits makeLimits(const TorusPatch& p, double slack) {
   return l;
 }
 
+// Whether p.derived was computed for p's current radii and angles (bitwise: NaN never matches).
+bool derivedValid(const TorusPatch& p) {
+  const double* k = p.derived.key;
+  return k[0] == p.bigRadius && k[1] == p.probeRadius && k[2] == p.thetaI && k[3] == p.thetaJ && k[4] == p.phiExtent;
+}
+
+// makeLimits(p, 0.0), from p.derived when it is valid (it holds exactly those values).
+Limits limitsOf(const TorusPatch& p, bool valid) {
+  if (!valid) return makeLimits(p, 0.0);
+  const TorusPatch::Derived& c = p.derived;
+  return Limits{c.thetaICos, c.thetaISin, c.thetaJCos, c.thetaJSin, 1.0, 0.0, c.endCos, c.endSin, p.phiExtent + 2.0 * 0.0};
+}
+
 // Distance from w to the half-line from the origin along the unit u.
 double toHalfLine(double ux, double uy, double wx, double wy) {
   return ux * wx + uy * wy >= 0.0 ? std::abs(cross2(ux, uy, wx, wy)) : std::hypot(wx, wy);
@@ -203,25 +216,37 @@ bool clipToCylinder(const glm::dvec3& o, const glm::dvec3& d, double radius2, do
 // r_v² = (R/cos θm − r)² + 4 (R/cos θm) r sin²(Δ/4), free of cancellation, and
 // sin²(Δ/4) = sin²(Δ/2) / (2 (1 + cos(Δ/2))) with sin(Δ/2) = |u_j − u_i|/2, cos(Δ/2) =
 // |u_i + u_j|/2.
-bool clipToVisibilitySphere(const Normalised& n, const Limits& l, const glm::dvec3& o, const glm::dvec3& d,
-                            double& lo, double& hi) {
+struct VisibilitySphere {
+  bool clip = false;  // false near θm = ±π/2, where the sphere degenerates (see below)
+  double height = 0.0, radius = 0.0;
+};
+
+VisibilitySphere makeVisibilitySphere(const Normalised& n, const Limits& l) {
+  VisibilitySphere v;
   const double sumX = l.thetaICos + l.thetaJCos, sumY = l.thetaISin + l.thetaJSin;
   const double sum = std::sqrt(sumX * sumX + sumY * sumY);
   const double cosMid = sumX / sum;
   // Near θm = ±π/2 the sphere grows into a half-space and its formulas lose their digits;
   // skipping the clip there only costs time.
-  if (!(cosMid > kMinVisibilityCos)) return true;
+  if (!(cosMid > kMinVisibilityCos)) return v;
   const double tanMid = sumY / sumX;
   const double difX = l.thetaJCos - l.thetaICos, difY = l.thetaJSin - l.thetaISin;
   const double sinHalf2 = 0.25 * (difX * difX + difY * difY), cosHalf = 0.5 * sum;
   const double sinQuarter2 = sinHalf2 / (2.0 * (1.0 + cosHalf));
   const double toProbe = n.R / cosMid;
-  const double radius =
-      std::sqrt((toProbe - n.r) * (toProbe - n.r) + 4.0 * toProbe * n.r * sinQuarter2) + kVisibilityPad;
-  const glm::dvec3 oc{o.x, o.y, o.z - n.R * tanMid};
+  v.clip = true;
+  v.height = n.R * tanMid;
+  v.radius = std::sqrt((toProbe - n.r) * (toProbe - n.r) + 4.0 * toProbe * n.r * sinQuarter2) + kVisibilityPad;
+  return v;
+}
+
+bool clipToVisibilitySphere(const VisibilitySphere& v, const glm::dvec3& o, const glm::dvec3& d, double& lo,
+                            double& hi) {
+  if (!v.clip) return true;
+  const glm::dvec3 oc{o.x, o.y, o.z - v.height};
   const double b = glm::dot(oc, d);
   const glm::dvec3 f = oc - b * d;
-  const double disc = radius * radius - glm::dot(f, f);
+  const double disc = v.radius * v.radius - glm::dot(f, f);
   if (!(disc >= 0.0)) return false;
   const double root = std::sqrt(disc);
   return narrow(-b - root, -b + root, lo, hi);
@@ -262,6 +287,46 @@ void cosRange(double a, double b, double& lo, double& hi) {
 
 }  // namespace
 
+void prepare(TorusPatch& p) {
+  TorusPatch::Derived& c = p.derived;
+  const double S = p.bigRadius + p.probeRadius;
+  c.invScale = 1.0 / S;
+  c.normBigRadius = p.bigRadius * c.invScale;
+  c.normProbeRadius = p.probeRadius * c.invScale;
+  const Limits l = makeLimits(p, 0.0);
+  c.thetaICos = l.thetaICos;
+  c.thetaISin = l.thetaISin;
+  c.thetaJCos = l.thetaJCos;
+  c.thetaJSin = l.thetaJSin;
+  c.endCos = l.endCos;
+  c.endSin = l.endSin;
+  const VisibilitySphere v = makeVisibilitySphere(Normalised{c.normBigRadius, c.normProbeRadius}, l);
+  c.visibilityClip = v.clip;
+  c.visibilityHeight = v.height;
+  c.visibilityRadius = v.radius;
+  c.key[0] = p.bigRadius;
+  c.key[1] = p.probeRadius;
+  c.key[2] = p.thetaI;
+  c.key[3] = p.thetaJ;
+  c.key[4] = p.phiExtent;
+}
+
+TorusPatch makeTorusPatch(const glm::dvec3& center, const glm::dvec3& axis, const glm::dvec3& e1, double bigRadius,
+                          double probeRadius, double thetaI, double thetaJ, double phiExtent) {
+  TorusPatch p;
+  p.center = center;
+  p.axis = axis;
+  p.e1 = e1;
+  p.e2 = glm::cross(axis, e1);  // ORACLES A.1: e1 × e2 = n, φ runs from e1 towards e2
+  p.bigRadius = bigRadius;
+  p.probeRadius = probeRadius;
+  p.thetaI = thetaI;
+  p.thetaJ = thetaJ;
+  p.phiExtent = phiExtent;
+  prepare(p);
+  return p;
+}
+
 TorusPatch torusPatch(const build::Tori& tori, std::size_t index, double probeRadius) {
   TorusPatch p;
   p.center = tori.center[index];
@@ -273,6 +338,7 @@ TorusPatch torusPatch(const build::Tori& tori, std::size_t index, double probeRa
   p.thetaI = tori.thetaI[index];
   p.thetaJ = tori.thetaJ[index];
   p.phiExtent = tori.phiExtent[index];
+  prepare(p);
   return p;
 }
 
@@ -339,8 +405,10 @@ std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tM
   const double dirLength = glm::length(ray.dir);
   if (!(dirLength > 0.0) || !std::isfinite(dirLength) || !(S > 0.0)) return std::nullopt;
   const glm::dvec3 u = ray.dir / dirLength;
-  const double invS = 1.0 / S;
-  const Normalised n{p.bigRadius * invS, p.probeRadius * invS};
+  const bool valid = derivedValid(p);
+  const double invS = valid ? p.derived.invScale : 1.0 / S;
+  const Normalised n = valid ? Normalised{p.derived.normBigRadius, p.derived.normProbeRadius}
+                             : Normalised{p.bigRadius * invS, p.probeRadius * invS};
 
   // B.1 step 4: shift the origin to the ray's closest approach to the centre (world distance
   // tShift from org), so the quartic's roots are O(1) and a camera at 1e4 S costs nothing.
@@ -369,8 +437,11 @@ std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tM
   // (θ limits) and, when Δφ <= π, the wedge of the φ limits. Clipping to them (padded) reuses
   // the limit directions of the clip test and leaves an empty interval for most rays that
   // pass the patch's box but miss the patch, which then never reach the quartic.
-  const Limits limits = makeLimits(p, 0.0);
-  if (!clipToVisibilitySphere(n, limits, o, d, lo, hi) || !clipToWedge(limits, o, d, lo, hi)) return std::nullopt;
+  const Limits limits = limitsOf(p, valid);
+  const VisibilitySphere visibility =
+      valid ? VisibilitySphere{p.derived.visibilityClip, p.derived.visibilityHeight, p.derived.visibilityRadius}
+            : makeVisibilitySphere(n, limits);
+  if (!clipToVisibilitySphere(visibility, o, d, lo, hi) || !clipToWedge(limits, o, d, lo, hi)) return std::nullopt;
   // B.2: monic quartic (|x|² − R² − r²)² + 4R²(z² − r²) along o + s d.
   const double R2 = n.R * n.R;
   const double K = glm::dot(o, o) - R2 - n.r * n.r;
@@ -426,7 +497,7 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack) {
   const Normalised n{p.bigRadius * invS, p.probeRadius * invS};
   const glm::dvec3 local = toLocal(p, x - p.center) * invS;
   const double rho = std::sqrt(local.x * local.x + local.y * local.y);
-  return clipLocal(n, makeLimits(p, slack), local, rho, slack).inside;
+  return clipLocal(n, slack == 0.0 ? limitsOf(p, derivedValid(p)) : makeLimits(p, slack), local, rho, slack).inside;
 }
 
 }  // namespace surftrace::trace

@@ -1,6 +1,7 @@
 // SES saddle (toroidal) patch: exact ray–torus intersection by quartic root isolation.
 #pragma once
 
+#include <limits>
 #include <optional>
 
 #include "build/patch_list.hpp"
@@ -23,7 +24,31 @@ struct TorusPatch {
   double thetaI = -0.5;
   double thetaJ = 0.5;
   double phiExtent = 6.283185307179586;
+
+  // Derived values that intersect() would otherwise recompute per ray (the sines and cosines
+  // of the trimming limits, the normalised radii, the visibility sphere), filled by prepare()
+  // from the fields above. `key` records the (R, rp, θi, θj, Δφ) they were computed for:
+  // intersect() and insidePatch() use them only while the key still matches those fields
+  // bit for bit, and otherwise recompute them on the fly (same expressions, same results), so
+  // a patch built or edited by hand without prepare() is merely slower.
+  struct Derived {
+    double key[5] = {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, 0.0, 0.0};
+    double invScale = 0.0, normBigRadius = 0.0, normProbeRadius = 0.0;
+    double thetaICos = 0.0, thetaISin = 0.0, thetaJCos = 0.0, thetaJSin = 0.0;
+    double endCos = 1.0, endSin = 0.0;
+    // Visibility sphere (normalised units): clipped only if `visibilityClip`; centre on the
+    // axis at visibilityHeight, radius visibilityRadius (padded).
+    bool visibilityClip = false;
+    double visibilityHeight = 0.0, visibilityRadius = 0.0;
+  } derived;
 };
+
+// Fill p.derived from the angle and radius fields (torusPatch() does this).
+void prepare(TorusPatch& p);
+
+// A patch from its frame and angles (e2 = axis × e1), prepared.
+TorusPatch makeTorusPatch(const glm::dvec3& center, const glm::dvec3& axis, const glm::dvec3& e1, double bigRadius,
+                          double probeRadius, double thetaI, double thetaJ, double phiExtent);
 
 TorusPatch torusPatch(const build::Tori& tori, std::size_t index, double probeRadius);
 

@@ -84,6 +84,7 @@ TorusPatch makePatch(const glm::dvec3& center, const glm::dvec3& axis, const glm
   p.thetaI = thetaI;
   p.thetaJ = thetaJ;
   p.phiExtent = phiExtent;
+  prepare(p);
   return p;
 }
 
@@ -603,6 +604,29 @@ TEST(TorusPatch, MatchesBruteForceOracle) {
 }
 
 // Scaling the direction scales t and nothing else.
+// The derived values prepare() caches are exactly those intersect() would compute: a patch
+// without them (built by hand, or edited after prepare()) gives bit-identical results.
+TEST(TorusPatch, PreparedMatchesUnprepared) {
+  for (std::uint64_t seed = 0; seed < 20000; ++seed) {
+    const Trial tr = randomTrial(seed + 5000000);
+    TorusPatch bare = tr.patch;
+    bare.derived = TorusPatch::Derived{};
+    TorusPatch edited = tr.patch;
+    edited.thetaJ = std::nextafter(edited.thetaJ, 0.0);  // stale cache must be ignored
+    TorusPatch reprepared = edited;
+    prepare(reprepared);
+    const auto a = intersect(tr.patch, tr.ray, tr.tMin, tr.tMax), b = intersect(bare, tr.ray, tr.tMin, tr.tMax);
+    const auto c = intersect(edited, tr.ray, tr.tMin, tr.tMax), e = intersect(reprepared, tr.ray, tr.tMin, tr.tMax);
+    for (const auto& [x, y] : {std::pair{&a, &b}, std::pair{&c, &e}}) {
+      ASSERT_EQ(x->has_value(), y->has_value()) << "seed " << seed;
+      if (!x->has_value()) continue;
+      EXPECT_EQ((*x)->t, (*y)->t) << "seed " << seed;
+      EXPECT_EQ((*x)->normal, (*y)->normal) << "seed " << seed;
+      EXPECT_EQ((*x)->flags, (*y)->flags) << "seed " << seed;
+    }
+  }
+}
+
 TEST(TorusPatch, DirectionLengthOnlyScalesT) {
   for (std::uint64_t seed : trialSeeds(500)) {
     Trial tr = randomTrial(seed + 3000000);
