@@ -11,26 +11,14 @@
 #include <nlohmann/json.hpp>
 
 #include "build/patch_list.hpp"
+#include "run_tool.hpp"
 #include "trace/camera.hpp"
 #include "trace/image_io.hpp"
 
 namespace {
 
-struct Result {
-  int status;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(SURFTRACE_TOOL) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using surftrace::tools::test::Result;
+Result run(const std::string& args) { return surftrace::tools::test::runTool(args); }
 
 std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
 

@@ -14,26 +14,15 @@
 
 #include <gtest/gtest.h>
 
+#include "run_tool.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string output;
-};
-
+using surftrace::tools::test::Result;
 // Runs the tool from the repository root, where recipes' relative paths point.
-Result run(const std::string& args) {
-  const std::string cmd = "cd '" + std::string(SURFTRACE_SOURCE_DIR) + "' && " + SURFTRACE_TOOL + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run(const std::string& args) { return surftrace::tools::test::runTool(args, SURFTRACE_SOURCE_DIR); }
 
 std::vector<std::string> referenceCases() {
   std::vector<std::string> cases;

@@ -22,9 +22,12 @@
 #include "build/molecule.hpp"
 #include "build/sas_geometry.hpp"
 #include "oracles/ray_march.hpp"
+#include "trace/random_geometry.hpp"
 
 namespace surftrace::trace {
 namespace {
+
+using namespace testing_random;
 
 using Real = long double;
 using Rng = std::mt19937_64;
@@ -43,16 +46,6 @@ std::uint64_t seedBase() {
   return s != nullptr ? std::strtoull(s, nullptr, 10) : 0;
 }
 
-double uniform(Rng& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double logUniform(Rng& rng, double lo, double hi) { return std::exp(uniform(rng, std::log(lo), std::log(hi))); }
-glm::dvec3 randomUnit(Rng& rng) {
-  std::normal_distribution<double> n;
-  for (;;) {
-    const glm::dvec3 v(n(rng), n(rng), n(rng));
-    const double l = glm::length(v);
-    if (l > 1e-6) return v / l;
-  }
-}
 
 // ---- long double vectors for the oracle ------------------------------------------------
 

@@ -1,5 +1,6 @@
 // Real-root isolation (ORACLES B.4) against polynomials built from known roots.
 #include "trace/polynomial.hpp"
+#include "trace/random_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,8 @@
 namespace surftrace::trace {
 namespace {
 
+using namespace testing_random;
+
 using Ld = long double;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -26,10 +29,6 @@ std::vector<std::uint64_t> trialSeeds(int count) {
   return seeds;
 }
 
-double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double logUniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(uniform(rng, std::log(lo), std::log(hi)));
-}
 
 // Coefficients (ascending) of lead·Π(t − r_k), expanded in long double.
 std::vector<Ld> expand(const std::vector<Ld>& roots, Ld lead) {

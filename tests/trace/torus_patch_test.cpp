@@ -18,9 +18,12 @@
 #include <gtest/gtest.h>
 
 #include "oracles/ray_march.hpp"
+#include "trace/random_geometry.hpp"
 
 namespace surftrace::trace {
 namespace {
+
+using namespace testing_random;
 
 using Ld = long double;
 constexpr double kPi = std::numbers::pi;
@@ -42,19 +45,6 @@ std::vector<std::uint64_t> trialSeeds(int count) {
   std::vector<std::uint64_t> seeds(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) seeds[static_cast<std::size_t>(i)] = static_cast<std::uint64_t>(i);
   return seeds;
-}
-
-double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-double logUniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(uniform(rng, std::log(lo), std::log(hi)));
-}
-glm::dvec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  for (;;) {
-    const glm::dvec3 v{g(rng), g(rng), g(rng)};
-    const double l = glm::length(v);
-    if (l > 1e-3) return v / l;
-  }
 }
 
 // ---- long-double vectors for the oracle ------------------------------------------------------

@@ -1,0 +1,30 @@
+// Runs the `surftrace` program under test and captures what it prints.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include <sys/wait.h>
+
+namespace surftrace::tools::test {
+
+struct Result {
+  int status;
+  std::string output;  // stdout and stderr together
+};
+
+// `cd` into `directory` first when it is not empty (recipes use paths relative to the repository).
+inline Result runTool(const std::string& args, const std::string& directory = {}) {
+  const std::string cd = directory.empty() ? "" : "cd '" + directory + "' && ";
+  const std::string cmd = cd + SURFTRACE_TOOL + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  std::array<char, 4096> buf;
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+}  // namespace surftrace::tools::test
