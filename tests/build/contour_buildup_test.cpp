@@ -5,6 +5,9 @@
 #include <numbers>
 #include <random>
 
+#include <algorithm>
+#include <glm/vector_relational.hpp>
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <tbb/global_control.h>
@@ -124,21 +127,134 @@ template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& 
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
+void expectSameBits(const PatchList& a, const PatchList& b) {
+  EXPECT_TRUE(sameBits(a.convex.center, b.convex.center));
+  EXPECT_TRUE(sameBits(a.convex.radius, b.convex.radius));
+  EXPECT_TRUE(sameBits(a.convex.atom, b.convex.atom));
+  EXPECT_TRUE(sameBits(a.convex.component, b.convex.component));
+  EXPECT_TRUE(sameBits(a.convex.area, b.convex.area));
+  EXPECT_TRUE(sameBits(a.convex.vectorArea, b.convex.vectorArea));
+  EXPECT_TRUE(sameBits(a.tori.center, b.tori.center));
+  EXPECT_TRUE(sameBits(a.tori.axis, b.tori.axis));
+  EXPECT_TRUE(sameBits(a.tori.e1, b.tori.e1));
+  EXPECT_TRUE(sameBits(a.tori.bigRadius, b.tori.bigRadius));
+  EXPECT_TRUE(sameBits(a.tori.thetaI, b.tori.thetaI));
+  EXPECT_TRUE(sameBits(a.tori.thetaJ, b.tori.thetaJ));
+  EXPECT_TRUE(sameBits(a.tori.phiExtent, b.tori.phiExtent));
+  EXPECT_TRUE(sameBits(a.tori.atomI, b.tori.atomI));
+  EXPECT_TRUE(sameBits(a.tori.atomJ, b.tori.atomJ));
+  EXPECT_TRUE(sameBits(a.tori.component, b.tori.component));
+  EXPECT_TRUE(sameBits(a.concave.probe, b.concave.probe));
+  EXPECT_TRUE(sameBits(a.concave.dirI, b.concave.dirI));
+  EXPECT_TRUE(sameBits(a.concave.dirJ, b.concave.dirJ));
+  EXPECT_TRUE(sameBits(a.concave.dirK, b.concave.dirK));
+  EXPECT_TRUE(sameBits(a.concave.atomI, b.concave.atomI));
+  EXPECT_TRUE(sameBits(a.concave.atomJ, b.concave.atomJ));
+  EXPECT_TRUE(sameBits(a.concave.atomK, b.concave.atomK));
+  EXPECT_TRUE(sameBits(a.concave.clipBegin, b.concave.clipBegin));
+  EXPECT_TRUE(sameBits(a.concave.clipCount, b.concave.clipCount));
+  EXPECT_TRUE(sameBits(a.concave.component, b.concave.component));
+  EXPECT_TRUE(sameBits(a.clipPlanes, b.clipPlanes));
+  EXPECT_EQ(a.componentCount, b.componentCount);
+}
+
 TEST(ContourBuildup, IdenticalForAnyThreadCount) {
-  std::vector<double> r;
-  const auto c = randomCluster(7, 600, r);
-  PatchList one, all;
-  {
-    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-    one = build(c, r, 1.4);
+  for (const double rp : {1.4, 0.6, 3.0}) {
+    std::vector<double> r;
+    const auto c = randomCluster(7, 600, r);
+    PatchList one, all;
+    {
+      tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+      one = build(c, r, rp);
+    }
+    all = build(c, r, rp);
+    expectSameBits(one, all);
+    SesBuilder builder;  // the stateful builder gives the same list
+    expectSameBits(builder.build(c, r, SesParams{rp}), all);
   }
-  all = build(c, r, 1.4);
-  EXPECT_TRUE(sameBits(one.convex.area, all.convex.area));
-  EXPECT_TRUE(sameBits(one.tori.e1, all.tori.e1));
-  EXPECT_TRUE(sameBits(one.tori.phiExtent, all.tori.phiExtent));
-  EXPECT_TRUE(sameBits(one.concave.probe, all.concave.probe));
-  EXPECT_TRUE(sameBits(one.concave.clipCount, all.concave.clipCount));
-  EXPECT_TRUE(sameBits(one.clipPlanes, all.clipPlanes));
+}
+
+// Atoms on a sphere of radius 8.5 Å, spread evenly (a Fibonacci lattice), as in ORACLES
+// E.8: with enough of them the shell seals a cavity that a 1.4 Å probe fits in.
+std::vector<glm::dvec3> shell(int atoms) {
+  std::vector<glm::dvec3> c;
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < atoms; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / atoms, ring = std::sqrt(1.0 - y * y), a = golden * i;
+    c.push_back(8.5 * glm::dvec3(ring * std::cos(a), y, ring * std::sin(a)));
+  }
+  return c;
+}
+
+// The oracle: can a probe at the shell's centre get out? A flood fill over the grid points
+// (spacing 0.1 Å) where a probe fits, from the centre to the edge of the box.
+bool probeEscapes(const std::vector<glm::dvec3>& c, double R) {
+  const double h = 0.1, lo = -14.0;
+  const int n = static_cast<int>(28.0 / h);
+  std::vector<char> seen(static_cast<std::size_t>(n) * n * n, 0);
+  auto index = [&](int x, int y, int z) { return (static_cast<std::size_t>(z) * n + y) * n + x; };
+  auto fits = [&](int x, int y, int z) {
+    const glm::dvec3 q(lo + h * x, lo + h * y, lo + h * z);
+    return std::all_of(c.begin(), c.end(), [&](const glm::dvec3& a) { return glm::distance(q, a) >= R; });
+  };
+  std::vector<glm::ivec3> stack = {glm::ivec3(n / 2)};
+  seen[index(n / 2, n / 2, n / 2)] = 1;
+  const glm::ivec3 steps[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  while (!stack.empty()) {
+    const glm::ivec3 at = stack.back();
+    stack.pop_back();
+    for (const glm::ivec3& step : steps) {
+      const glm::ivec3 to = at + step;
+      if (glm::any(glm::lessThanEqual(to, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(to, glm::ivec3(n - 1)))) return true;
+      char& s = seen[index(to.x, to.y, to.z)];
+      if (s) continue;
+      s = 1;
+      if (fits(to.x, to.y, to.z)) stack.push_back(to);
+    }
+  }
+  return false;
+}
+
+// A sealed shell has two SES components: the outer surface (0) and the cavity's (1); the
+// probes of the cavity's patches are inside the shell. Fewer atoms leave gaps the probe
+// gets through: one component. Both as the flood fill says.
+TEST(ContourBuildup, SealedCavityIsItsOwnComponent) {
+  const double r = 1.7, rp = 1.4;
+  for (const int atoms : {40, 50, 60, 80}) {
+    const auto c = shell(atoms);
+    const std::vector<double> radii(c.size(), r);
+    const PatchList p = build(c, radii, rp);
+    const bool sealed = !probeEscapes(c, r + rp);
+    ASSERT_EQ(p.componentCount, sealed ? 2u : 1u) << atoms << " atoms";
+    if (!sealed) continue;
+    for (std::size_t v = 0; v < p.concave.size(); ++v)
+      EXPECT_EQ(p.concave.component[v], glm::length(p.concave.probe[v]) < 8.5 ? 1u : 0u) << "concave " << v;
+    for (std::size_t t = 0; t < p.tori.size(); ++t) {
+      const double phi = 0.5 * p.tori.phiExtent[t];
+      const glm::dvec3 e2 = glm::cross(p.tori.axis[t], p.tori.e1[t]);
+      const glm::dvec3 probe = p.tori.center[t] + p.tori.bigRadius[t] * (std::cos(phi) * p.tori.e1[t] + std::sin(phi) * e2);
+      EXPECT_EQ(p.tori.component[t], glm::length(probe) < 8.5 ? 1u : 0u) << "torus " << t;
+    }
+  }
+  EXPECT_TRUE(probeEscapes(shell(40), 3.1));
+  EXPECT_FALSE(probeEscapes(shell(60), 3.1));
+}
+
+// Separate molecules are separate components; the one reaching furthest in +x is 0.
+TEST(ContourBuildup, SeparatePiecesAreSeparateComponents) {
+  const PatchList p = build({{0, 0, 0}, {1.5, 0, 0}, {30, 0, 0}, {31.5, 0.5, 0}, {-40, 0, 0}}, {1.7, 1.7, 1.7, 1.7, 1.2}, 1.4);
+  EXPECT_EQ(p.componentCount, 3u);
+  ASSERT_EQ(p.convex.size(), 5u);
+  EXPECT_EQ(p.convex.component[2], 0u);
+  EXPECT_EQ(p.convex.component[3], 0u);
+  EXPECT_EQ(p.convex.component[0], p.convex.component[1]);
+  EXPECT_NE(p.convex.component[0], 0u);
+  EXPECT_NE(p.convex.component[4], 0u);
+  EXPECT_NE(p.convex.component[4], p.convex.component[0]);
+  for (std::size_t t = 0; t < p.tori.size(); ++t)
+    EXPECT_EQ(p.tori.component[t], p.convex.component[p.tori.atomI[t] == 0 ? 0 : 2]);
+  EXPECT_EQ(build({{1, 2, 3}}, {1.7}, 1.4).componentCount, 1u);
+  EXPECT_EQ(build({}, {}, 1.4).componentCount, 0u);
 }
 
 // Area by Gauss–Bonnet against a dense Monte Carlo count on the unit sphere.

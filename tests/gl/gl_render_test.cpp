@@ -235,25 +235,6 @@ TEST_P(GlVsEmbree, PlainSphereTracingIsMeasured) {
   EXPECT_GT(c.agreement.depthSamples, c.agreement.pixels / 10);
 }
 
-// Larger images and molecules for the closing report, not for CI (seconds each):
-// gl_tests --gtest_also_run_disabled_tests --gtest_filter='Large*'
-const View kLargeViews[] = {
-    {"crambin_512", "structures/1crn.pdb", "0.5,0.5,-0.7", trace::Projection::Perspective, 512, 1.6},
-    {"ubiquitin_512", "structures/1ubq.pdb.gz", "front", trace::Projection::Perspective, 512, 1.6},
-    {"ubiquitin_512_ortho_closeup", "structures/1ubq.pdb.gz", "top", trace::Projection::Orthographic, 512, 4.0},
-};
-using GlVsEmbreeLarge = GlVsEmbree;
-TEST_P(GlVsEmbreeLarge, DISABLED_Report) {
-  for (int method = 0; method < 3; ++method) {
-    GlOptions gl;
-    gl.torus = method == 0 ? TorusMethod::Quartic : TorusMethod::SphereTracing;
-    gl.probeBallJumps = method != 2;
-    compareWithEmbree(GetParam(), gl);
-  }
-}
-INSTANTIATE_TEST_SUITE_P(Large, GlVsEmbreeLarge, testing::ValuesIn(kLargeViews),
-                         [](const testing::TestParamInfo<View>& param) { return std::string(param.param.name); });
-
 INSTANTIATE_TEST_SUITE_P(Views, GlVsEmbree, testing::ValuesIn(kViews),
                          [](const testing::TestParamInfo<View>& param) { return std::string(param.param.name); });
 

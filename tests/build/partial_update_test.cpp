@@ -1,0 +1,252 @@
+// SesBuilder::update against a full rebuild: every array equal, bit for bit.
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "build/contour_buildup.hpp"
+#include "build/molecule.hpp"
+
+namespace surftrace::build {
+namespace {
+
+constexpr double kRp = 1.4;
+
+Molecule model(const std::string& file, int number) {
+  ReadOptions options;
+  options.model = number;
+  return readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file, options);
+}
+
+// Reports the first differing element of each array that differs.
+template <class T>
+void expectSameArray(const std::vector<T>& got, const std::vector<T>& want, const char* name, const std::string& where) {
+  ASSERT_EQ(got.size(), want.size()) << name << " (" << where << ")";
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    if (std::memcmp(&got[i], &want[i], sizeof(T)) != 0) {
+      ADD_FAILURE() << name << "[" << i << "] of " << got.size() << " differs (" << where << ")";
+      return;
+    }
+  }
+}
+
+void expectSamePatches(const PatchList& got, const PatchList& want, const std::string& where) {
+  EXPECT_EQ(got.params.surface, want.params.surface);
+  EXPECT_EQ(got.params.probeRadius, want.params.probeRadius);
+  EXPECT_EQ(got.params.atomCount, want.params.atomCount);
+  EXPECT_EQ(got.componentCount, want.componentCount) << where;
+  expectSameArray(got.convex.center, want.convex.center, "convex.center", where);
+  expectSameArray(got.convex.radius, want.convex.radius, "convex.radius", where);
+  expectSameArray(got.convex.atom, want.convex.atom, "convex.atom", where);
+  expectSameArray(got.convex.component, want.convex.component, "convex.component", where);
+  expectSameArray(got.convex.area, want.convex.area, "convex.area", where);
+  expectSameArray(got.convex.vectorArea, want.convex.vectorArea, "convex.vectorArea", where);
+  expectSameArray(got.tori.center, want.tori.center, "tori.center", where);
+  expectSameArray(got.tori.axis, want.tori.axis, "tori.axis", where);
+  expectSameArray(got.tori.e1, want.tori.e1, "tori.e1", where);
+  expectSameArray(got.tori.bigRadius, want.tori.bigRadius, "tori.bigRadius", where);
+  expectSameArray(got.tori.thetaI, want.tori.thetaI, "tori.thetaI", where);
+  expectSameArray(got.tori.thetaJ, want.tori.thetaJ, "tori.thetaJ", where);
+  expectSameArray(got.tori.phiExtent, want.tori.phiExtent, "tori.phiExtent", where);
+  expectSameArray(got.tori.atomI, want.tori.atomI, "tori.atomI", where);
+  expectSameArray(got.tori.atomJ, want.tori.atomJ, "tori.atomJ", where);
+  expectSameArray(got.tori.component, want.tori.component, "tori.component", where);
+  expectSameArray(got.concave.probe, want.concave.probe, "concave.probe", where);
+  expectSameArray(got.concave.dirI, want.concave.dirI, "concave.dirI", where);
+  expectSameArray(got.concave.dirJ, want.concave.dirJ, "concave.dirJ", where);
+  expectSameArray(got.concave.dirK, want.concave.dirK, "concave.dirK", where);
+  expectSameArray(got.concave.atomI, want.concave.atomI, "concave.atomI", where);
+  expectSameArray(got.concave.atomJ, want.concave.atomJ, "concave.atomJ", where);
+  expectSameArray(got.concave.atomK, want.concave.atomK, "concave.atomK", where);
+  expectSameArray(got.concave.clipBegin, want.concave.clipBegin, "concave.clipBegin", where);
+  expectSameArray(got.concave.clipCount, want.concave.clipCount, "concave.clipCount", where);
+  expectSameArray(got.concave.component, want.concave.component, "concave.component", where);
+  expectSameArray(got.clipPlanes, want.clipPlanes, "clipPlanes", where);
+  EXPECT_EQ(got.mss.size(), want.mss.size());
+  EXPECT_EQ(got.cellPlanes.size(), want.cellPlanes.size());
+}
+
+// Moves `atoms` to their positions in `to` and checks the update against a rebuild.
+void moveAndCheck(SesBuilder& builder, std::vector<glm::dvec3>& current, const std::vector<double>& radii,
+                  const std::vector<std::uint32_t>& atoms, const std::vector<glm::dvec3>& to, const std::string& where) {
+  std::vector<glm::dvec3> where_;
+  for (const std::uint32_t a : atoms) {
+    current[a] = to[a];
+    where_.push_back(to[a]);
+  }
+  const PatchList& updated = builder.update(atoms, where_);
+  updated.validate();
+  expectSamePatches(updated, buildSes(current, radii, SesParams{kRp}), where);
+}
+
+// 1D3Z (ubiquitin, NMR, 1231 atoms with hydrogens): residues move, one after another,
+// from model 1 to their model 2..4 coordinates, as in a trajectory where a few residues
+// are flexible.
+TEST(PartialUpdate, NmrResiduesMoveBetweenModels) {
+  const Molecule first = model("ensembles/1d3z.pdb.gz", 1);
+  std::vector<glm::dvec3> current = first.centers;
+  SesBuilder builder;
+  builder.build(current, first.radii, SesParams{kRp});
+  for (const int next : {2, 3, 4}) {
+    const Molecule m = model("ensembles/1d3z.pdb.gz", next);
+    ASSERT_EQ(m.size(), first.size());
+    for (std::size_t i = 0; i < m.size(); ++i) ASSERT_EQ(m.atoms[i].name, first.atoms[i].name);
+    // The flexible C-terminal tail (72-76), a loop (7-10) and a buried core residue (26).
+    for (const std::vector<int>& residues : std::vector<std::vector<int>>{{72, 73, 74, 75, 76}, {7, 8, 9, 10}, {26}, {45}}) {
+      std::vector<std::uint32_t> atoms;
+      for (std::size_t i = 0; i < m.size(); ++i)
+        if (std::find(residues.begin(), residues.end(), m.atoms[i].residueNumber) != residues.end())
+          atoms.push_back(static_cast<std::uint32_t>(i));
+      ASSERT_FALSE(atoms.empty());
+      moveAndCheck(builder, current, first.radii, atoms, m.centers,
+                   "model " + std::to_string(next) + ", residue " + std::to_string(residues[0]));
+      const SesUpdateStats& stats = builder.lastUpdate();
+      EXPECT_FALSE(stats.full);
+      EXPECT_LT(stats.owners, m.size() / 2);
+      EXPECT_LT(stats.contours, m.size() / 2);
+    }
+  }
+  // Then the whole of model 5 at once (every atom moves: a full build).
+  const Molecule m5 = model("ensembles/1d3z.pdb.gz", 5);
+  current = m5.centers;
+  expectSamePatches(builder.update(current), buildSes(current, first.radii, SesParams{kRp}), "model 5");
+  EXPECT_TRUE(builder.lastUpdate().full);
+}
+
+// The elNemo normal-mode frames of gramicidin: every atom moves a little from frame to
+// frame; here random halves of a residue range follow the mode.
+TEST(PartialUpdate, NormalModeFramesInPieces) {
+  const Molecule first = model("ensembles/1grm_elNemo_mode7.pdb.gz", 1);
+  std::vector<glm::dvec3> current = first.centers;
+  SesBuilder builder;
+  builder.build(current, first.radii, SesParams{kRp});
+  std::mt19937_64 rng(5);
+  for (int frame = 2; frame <= 11; ++frame) {
+    const Molecule m = model("ensembles/1grm_elNemo_mode7.pdb.gz", frame);
+    ASSERT_EQ(m.size(), first.size());
+    std::vector<std::uint32_t> atoms;
+    for (std::size_t i = 0; i < m.size(); ++i)
+      if (rng() % 10 == 0) atoms.push_back(static_cast<std::uint32_t>(i));
+    moveAndCheck(builder, current, first.radii, atoms, m.centers, "frame " + std::to_string(frame));
+  }
+}
+
+// Random subsets of atoms take random small steps (0.01 to 0.5 Å), including steps that
+// bury or expose atoms and change which circles and vertices exist.
+TEST(PartialUpdate, RandomSmallMovesOfRandomSubsets) {
+  const Molecule m = model("ensembles/1d3z.pdb.gz", 1);
+  std::vector<glm::dvec3> current = m.centers;
+  SesBuilder builder;
+  builder.build(current, m.radii, SesParams{kRp});
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> step(0.01, 0.5);
+  std::normal_distribution<double> g;
+  for (int round = 0; round < 25; ++round) {
+    const std::size_t count = 1 + rng() % 40;
+    std::vector<std::uint32_t> atoms;
+    std::vector<glm::dvec3> to = current;
+    // Mostly a compact patch (a residue and its neighbours in sequence), sometimes anywhere.
+    const bool compact = round % 3 != 0;
+    const std::size_t start = rng() % m.size();
+    for (std::size_t k = 0; k < count; ++k) {
+      const auto a = static_cast<std::uint32_t>(compact ? (start + k) % m.size() : rng() % m.size());
+      atoms.push_back(a);
+      to[a] = current[a] + step(rng) * glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
+    }
+    std::sort(atoms.begin(), atoms.end());
+    atoms.erase(std::unique(atoms.begin(), atoms.end()), atoms.end());
+    moveAndCheck(builder, current, m.radii, atoms, to, "round " + std::to_string(round));
+  }
+}
+
+// An atom leaves for 1000 Å away (a free sphere there, its old neighbours exposed), then
+// comes back: the list equals the rebuilds, and finally the original list.
+TEST(PartialUpdate, AtomFarAwayAndBack) {
+  const Molecule m = model("ensembles/1d3z.pdb.gz", 1);
+  std::vector<glm::dvec3> current = m.centers;
+  SesBuilder builder;
+  const PatchList original = builder.build(current, m.radii, SesParams{kRp});
+  for (const std::uint32_t atom : {0u, 300u, 615u, 1230u}) {
+    std::vector<glm::dvec3> to = current;
+    const glm::dvec3 home = current[atom];
+    to[atom] = home + glm::dvec3(1000.0, -250.0, 30.0);
+    moveAndCheck(builder, current, m.radii, {atom}, to, "atom " + std::to_string(atom) + " away");
+    to[atom] = home;
+    moveAndCheck(builder, current, m.radii, {atom}, to, "atom " + std::to_string(atom) + " back");
+  }
+  expectSamePatches(builder.patches(), original, "all back home");
+}
+
+// Burial by containment changes with the move: a hydrogen moved onto its heavy atom is
+// buried (its neighbours' contours change), moved off again it is exposed.
+TEST(PartialUpdate, BurialChanges) {
+  const Molecule m = model("ensembles/1d3z.pdb.gz", 1);
+  std::vector<glm::dvec3> current = m.centers;
+  SesBuilder builder;
+  builder.build(current, m.radii, SesParams{kRp});
+  std::size_t h = 0;
+  while (m.atoms[h].element != "H") ++h;
+  std::size_t heavy = h;
+  while (m.atoms[heavy].element == "H") --heavy;  // the preceding heavy atom
+  std::vector<glm::dvec3> to = current;
+  const glm::dvec3 home = current[h];
+  to[h] = current[heavy] + glm::dvec3(0.05, 0.0, 0.0);
+  moveAndCheck(builder, current, m.radii, {static_cast<std::uint32_t>(h)}, to, "hydrogen inside");
+  to[h] = current[heavy];  // coincident centres
+  moveAndCheck(builder, current, m.radii, {static_cast<std::uint32_t>(h)}, to, "hydrogen coincident");
+  to[h] = home;
+  moveAndCheck(builder, current, m.radii, {static_cast<std::uint32_t>(h)}, to, "hydrogen home");
+}
+
+// The same updates with one thread give the same lists.
+TEST(PartialUpdate, SingleThreadGivesTheSameList) {
+  const Molecule m1 = model("ensembles/1d3z.pdb.gz", 1), m2 = model("ensembles/1d3z.pdb.gz", 2);
+  std::vector<std::uint32_t> atoms;
+  std::vector<glm::dvec3> where;
+  for (std::size_t i = 0; i < m1.size(); ++i) {
+    if (m1.atoms[i].residueNumber >= 60 && m1.atoms[i].residueNumber <= 64) {
+      atoms.push_back(static_cast<std::uint32_t>(i));
+      where.push_back(m2.centers[i]);
+    }
+  }
+  SesBuilder all;
+  all.build(m1.centers, m1.radii, SesParams{kRp});
+  const PatchList& fromAll = all.update(atoms, where);
+  tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+  SesBuilder one;
+  one.build(m1.centers, m1.radii, SesParams{kRp});
+  expectSamePatches(one.update(atoms, where), fromAll, "1 thread vs all");
+}
+
+TEST(PartialUpdate, Contract) {
+  SesBuilder builder;
+  const std::vector<glm::dvec3> c = {{0, 0, 0}, {3, 0, 0}};
+  const std::vector<double> r = {1.7, 1.7};
+  EXPECT_THROW(builder.update(c), std::logic_error);
+  builder.build(c, r, SesParams{kRp});
+  const std::vector<std::uint32_t> bad = {2};
+  const std::vector<glm::dvec3> one = {{1, 1, 1}};
+  EXPECT_THROW(builder.update(bad, one), std::invalid_argument);
+  const std::vector<std::uint32_t> first = {0};
+  const std::vector<glm::dvec3> nan = {{std::nan(""), 0, 0}};
+  EXPECT_THROW(builder.update(first, nan), std::invalid_argument);
+  EXPECT_THROW(builder.update(first, std::vector<glm::dvec3>{}), std::invalid_argument);
+  // Nothing moves: nothing changes.
+  const PatchList before = builder.patches();
+  builder.update(c);
+  EXPECT_EQ(builder.lastUpdate().moved, 0u);
+  expectSamePatches(builder.patches(), before, "no move");
+  // A repeated index takes its last position.
+  const std::vector<std::uint32_t> twice = {1, 1};
+  const std::vector<glm::dvec3> positions = {{9, 9, 9}, {2.5, 0.5, 0}};
+  builder.update(twice, positions);
+  expectSamePatches(builder.patches(), buildSes(std::vector<glm::dvec3>{{0, 0, 0}, {2.5, 0.5, 0}}, r, SesParams{kRp}),
+                    "repeated index");
+}
+
+}  // namespace
+}  // namespace surftrace::build
