@@ -21,6 +21,7 @@ struct SurfaceOptions {
   std::string surface = "ses";
   double probe = 1.4;
   int threads = 0;
+  bool dropCavities = false;
 };
 
 void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
@@ -33,6 +34,8 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
       ->default_val(1.4);
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber);
+  cmd.add_flag("--drop-cavities", o.dropCavities,
+               "Keep only the outer SES component: drop the inner surfaces of buried cavities a probe fits in");
   addMoleculeOptions(cmd, o.read);
 }
 
@@ -59,6 +62,7 @@ Built buildSurface(const SurfaceOptions& o) {
   b.patches = build::buildSes(b.molecule.centers, b.molecule.radii, build::SesParams{o.probe});
   b.patches.params.radiiSet = b.molecule.radiiSet;
   b.patches.params.inputCrc32 = b.molecule.inputCrc32;
+  if (o.dropCavities) b.patches = build::outerComponent(b.patches);
   b.buildSeconds = secondsSince(start);
   return b;
 }
@@ -93,6 +97,9 @@ void runArea(const AreaOptions& o) {
     j["sas"] = {{"total", a.sas}, {"per_atom", a.sasPerAtom}};
     j["ses"] = {{"total", a.sesTotal()}, {"convex", a.sesConvex},     {"toroidal", a.sesToroidal},
                 {"concave", a.sesConcave}, {"volume", a.sesVolume}, {"per_atom", a.sesPerAtom}};
+    nlohmann::json components = nlohmann::json::array();
+    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}});
+    j["ses"]["components"] = components;
     std::printf("%s\n", j.dump(1).c_str());
     return;
   }
@@ -112,6 +119,12 @@ void runArea(const AreaOptions& o) {
   std::printf("  toroidal      %14.4f Å²\n", a.sesToroidal);
   std::printf("  concave       %14.4f Å²  (after self-intersection clipping)\n", a.sesConcave);
   std::printf("SES volume      %14.4f Å³\n", a.sesVolume);
+  if (a.components.size() > 1) {
+    double cavityArea = 0.0, cavityVolume = 0.0;
+    for (std::size_t c = 1; c < a.components.size(); ++c) cavityArea += a.components[c].area, cavityVolume -= a.components[c].volume;
+    std::printf("components      %zu: outer surface %.4f Å², %zu cavities %.4f Å² enclosing %.4f Å³ (--drop-cavities drops them)\n",
+                a.components.size(), a.components[0].area, a.components.size() - 1, cavityArea, cavityVolume);
+  }
   std::printf("build           %.1f ms (+ %.1f ms reading)\n", b.buildSeconds * 1e3, b.readSeconds * 1e3);
 }
 

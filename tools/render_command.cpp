@@ -48,6 +48,7 @@ struct RenderCommandOptions {
   int glSteps = 30;
   std::string output, exr;
   int threads = 0;
+  bool dropCavities = false;
   bool quiet = false;
   std::string commandLine;
 };
@@ -152,6 +153,7 @@ void runRender(const RenderCommandOptions& o) {
     list = build::atomSpheres(molecule.centers, molecule.radii, o.surface == "sas" ? o.probe : 0.0,
                               o.surface == "sas" ? build::SurfaceKind::Sas : build::SurfaceKind::Vdw);
   }
+  if (o.dropCavities) list = build::outerComponent(list);
   buildSeconds = secondsSince(start);
 
   // Frame the atoms as the surface extends them (r + rp bounds the SES and the SAS).
@@ -261,6 +263,7 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       ->default_val(30);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--drop-cavities", o->dropCavities, "Leave out the inner SES components of buried cavities (invisible from outside)");
   cmd->add_flag("--quiet", o->quiet, "No progress bar");
   addMoleculeOptions(*cmd, o->read);
   cmd->callback([o] { runRender(*o); });

@@ -121,6 +121,11 @@ struct PatchList {
 PatchList atomSpheres(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate,
                       SurfaceKind kind);
 
+// The outer surface alone (component 0): buried cavities' inner SES components dropped,
+// clipping planes remapped. A convex patch exposed to the outside and to a cavity carries
+// label 0 and is kept whole (its area then includes the cavity side).
+PatchList outerComponent(const PatchList& patches);
+
 // Binary patch-list file (.stp). Layout, all little-endian:
 //   magic "SURFTRCE" | u32 version | u32 endian tag 0x01020304 | u64 body size |
 //   body (parameters, then a table of named arrays) | u32 CRC-32 of the body.

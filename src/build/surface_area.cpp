@@ -2,6 +2,7 @@
 // triangles are integrated here from their own parameters.
 #include "build/surface_area.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -66,10 +67,6 @@ std::vector<Cap>& concaveCaps(const PatchList& p, std::size_t c, std::vector<Cap
   return caps;
 }
 
-struct Accumulator {
-  double convex = 0, toroidal = 0, concave = 0, flux = 0;
-};
-
 }  // namespace
 
 double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double phiExtent) {
@@ -85,6 +82,12 @@ SurfaceAreas computeAreas(const PatchList& p) {
   SurfaceAreas s;
   s.sasPerAtom.assign(p.params.atomCount, 0.0);
   s.sesPerAtom.assign(p.params.atomCount, 0.0);
+  s.components.resize(std::max<std::size_t>(1, p.componentCount));
+  auto addToComponent = [&s](std::uint32_t label, double area, double flux) {
+    if (label >= s.components.size()) s.components.resize(label + 1);
+    s.components[label].area += area;
+    s.components[label].volume += flux / 3.0;
+  };
 
   for (std::size_t k = 0; k < p.convex.size(); ++k) {
     const double r = p.convex.radius[k], Rs = r + rp, a = p.convex.area[k];
@@ -94,14 +97,18 @@ SurfaceAreas computeAreas(const PatchList& p) {
     s.sasPerAtom[p.convex.atom[k]] += sas;
     s.sesPerAtom[p.convex.atom[k]] += a;
     // Convex sphere, σ = +1: ∫ x·n dA = ρ² c·W + ρ A.
-    s.sesVolume += r * r * glm::dot(p.convex.center[k], p.convex.vectorArea[k]) + r * a;
+    const double flux = r * r * glm::dot(p.convex.center[k], p.convex.vectorArea[k]) + r * a;
+    s.sesVolume += flux;
+    addToComponent(p.convex.component[k], a, flux);
   }
   for (std::size_t t = 0; t < p.tori.size(); ++t) {
     const double a = torusPatchArea(p.tori.bigRadius[t], rp, p.tori.thetaI[t], p.tori.thetaJ[t], p.tori.phiExtent[t]);
     s.sesToroidal += a;
     s.sesPerAtom[p.tori.atomI[t]] += 0.5 * a;
     s.sesPerAtom[p.tori.atomJ[t]] += 0.5 * a;
-    s.sesVolume += torusFlux(p, t);
+    const double flux = torusFlux(p, t);
+    s.sesVolume += flux;
+    addToComponent(p.tori.component[t], a, flux);
   }
   // Concave patches are many and independent: sum them in parallel, deterministically
   // (per-patch values first, then an ordered sum).
@@ -117,6 +124,7 @@ SurfaceAreas computeAreas(const PatchList& p) {
   for (std::size_t c = 0; c < p.concave.size(); ++c) {
     s.sesConcave += concaveArea[c];
     s.sesVolume += concaveFlux[c];
+    addToComponent(p.concave.component[c], concaveArea[c], concaveFlux[c]);
     for (const std::uint32_t atom : {p.concave.atomI[c], p.concave.atomJ[c], p.concave.atomK[c]})
       s.sesPerAtom[atom] += concaveArea[c] / 3.0;
   }

@@ -16,6 +16,13 @@ struct SurfaceAreas {
   double sesTotal() const { return sesConvex + sesToroidal + sesConcave; }
   std::vector<double> sasPerAtom;  // params.atomCount entries
   std::vector<double> sesPerAtom;  // convex + half of each torus + a third of each concave patch
+  // Per SES component (index = label; 0 is the outer surface). A cavity's normals point into
+  // the cavity, so its volume term is negative: the enclosed void subtracted from the body.
+  struct Component {
+    double area = 0.0;
+    double volume = 0.0;
+  };
+  std::vector<Component> components;
 };
 
 // Needs the atoms' radii (convex patches store vdW radius; the SAS radius is r + rp).

@@ -141,3 +141,16 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
   EXPECT_NE(other.status, 0);
   EXPECT_NE(other.output.find("different input"), std::string::npos) << other.output;
 }
+
+// `--drop-cavities` keeps the outer component: its area is the full run's component 0.
+TEST(Cli, DropCavitiesKeepsTheOuterSurface) {
+  const Result all = run("area --format json " + data("structures/1crn.pdb"));
+  const Result outer = run("area --format json --drop-cavities " + data("structures/1crn.pdb"));
+  ASSERT_EQ(all.status, 0) << all.output;
+  ASSERT_EQ(outer.status, 0) << outer.output;
+  const auto a = nlohmann::json::parse(all.output), b = nlohmann::json::parse(outer.output);
+  ASSERT_GE(a["ses"]["components"].size(), 2u);
+  ASSERT_EQ(b["ses"]["components"].size(), 1u);
+  EXPECT_NEAR(b["ses"]["total"].get<double>(), a["ses"]["components"][0]["area"].get<double>(), 1e-6);
+  EXPECT_LT(b["ses"]["total"].get<double>(), a["ses"]["total"].get<double>());
+}

@@ -11,6 +11,7 @@
 
 #include "build/contour_buildup.hpp"
 #include "build/molecule.hpp"
+#include "build/surface_area.hpp"
 #include "oracles/ses_oracle.hpp"
 #include "trace/render.hpp"
 
@@ -223,6 +224,41 @@ TEST(Render, IdenticalForAnyThreadCount) {
   EXPECT_EQ(a.patchId, b.patchId);
   EXPECT_EQ(a.atomId, b.atomId);
   EXPECT_EQ(a.flags, b.flags);
+}
+
+}  // namespace
+}  // namespace surftrace::trace
+
+namespace surftrace::trace {
+namespace {
+
+// Buried cavities are closed inner components: dropping them (build::outerComponent)
+// changes no pixel seen from outside, and their areas and volumes add up.
+TEST(Components, DroppingCavitiesChangesNothingSeenFromOutside) {
+  const Case& c = loadCase("structures/1crn.pdb");
+  ASSERT_GE(c.patches.componentCount, 2u) << "1CRN has a buried cavity a 1.4 Å probe fits in";
+  const build::PatchList outer = build::outerComponent(c.patches);
+  outer.validate();
+  EXPECT_LT(outer.patchCount(), c.patches.patchCount());
+  const build::SurfaceAreas all = build::computeAreas(c.patches), kept = build::computeAreas(outer);
+  double area = 0.0, volume = 0.0;
+  for (const auto& comp : all.components) area += comp.area, volume += comp.volume;
+  EXPECT_NEAR(area, all.sesTotal(), 1e-9 * all.sesTotal());
+  EXPECT_NEAR(volume, all.sesVolume, 1e-9 * all.sesVolume);
+  EXPECT_NEAR(kept.sesTotal(), all.components[0].area, 1e-9 * all.sesTotal());
+  EXPECT_NEAR(kept.sesVolume, all.components[0].volume, 1e-9 * all.sesVolume);
+  for (std::size_t k = 1; k < all.components.size(); ++k) EXPECT_LT(all.components[k].volume, 0.0) << "cavity " << k;
+
+  const PatchScene full(ScenePatches::fromPatchList(c.patches)), pruned(ScenePatches::fromPatchList(outer));
+  std::mt19937_64 rng(21);
+  for (int view = 0; view < 3; ++view) {
+    RenderOptions o;
+    o.camera = framed(c.molecule, randomDirection(rng), 96, Projection::Perspective);
+    const FrameBuffers a = render(full, o, {}), b = render(pruned, o, {});
+    EXPECT_EQ(a.depth, b.depth) << "view " << view;
+    EXPECT_EQ(a.kind, b.kind) << "view " << view;
+    EXPECT_EQ(a.atomId, b.atomId) << "view " << view;
+  }
 }
 
 }  // namespace
