@@ -24,38 +24,44 @@ float roundUp(double v) {
   return static_cast<double>(f) < v ? std::nextafter(f, kInfF) : f;
 }
 
-// Embree drops a primitive whose box is empty or not finite (accelset.h), which would
-// leave a hole; the intersectors promise finite boxes, and we round them outward.
-template <class Patch> void boundsFn(const RTCBoundsFunctionArguments* args) {
-  const auto* patches = static_cast<const Patch*>(args->geometryUserPtr);
-  const Bounds3d b = bounds(patches[args->primID]);
-  RTCBounds* o = args->bounds_o;
-  o->lower_x = roundDown(b.lower.x);
-  o->lower_y = roundDown(b.lower.y);
-  o->lower_z = roundDown(b.lower.z);
-  o->upper_x = roundUp(b.upper.x);
-  o->upper_y = roundUp(b.upper.y);
-  o->upper_z = roundUp(b.upper.z);
-}
-
-// The double-precision hits travel beside Embree's float ones: Embree only keeps a float
-// tfar, and re-intersecting the found patch afterwards is not the same computation (at a
-// seam between two patches the re-run can land on the other side of the trimming edge).
-// Each ray's id indexes `hits`.
-struct HitContext {
-  RTCIntersectContext embree;  // first member: Embree hands this pointer back to the callbacks
-  PatchHit* hits;
+// What each Embree geometry's callbacks see: its patches and the box padding.
+template <class Patch> struct GeometryData {
+  const Patch* patches = nullptr;
+  double pad = 0.0;
 };
 
-Ray rayOf(RTCRayN* ray, unsigned N, unsigned i) {
-  return Ray{{RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i)},
-             {RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i)}};
+// Embree drops a primitive whose box is empty or not finite (accelset.h), which would
+// leave a hole; the intersectors promise finite boxes. Embree traverses with the float
+// rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
+// than the distance between the two (PatchScene's constructor) and rounded outward.
+template <class Patch> void boundsFn(const RTCBoundsFunctionArguments* args) {
+  const auto* data = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr);
+  const Bounds3d b = bounds(data->patches[args->primID]);
+  RTCBounds* o = args->bounds_o;
+  o->lower_x = roundDown(b.lower.x - data->pad);
+  o->lower_y = roundDown(b.lower.y - data->pad);
+  o->lower_z = roundDown(b.lower.z - data->pad);
+  o->upper_x = roundUp(b.upper.x + data->pad);
+  o->upper_y = roundUp(b.upper.y + data->pad);
+  o->upper_z = roundUp(b.upper.z + data->pad);
 }
+
+// Double precision travels beside Embree's float rays: the callbacks intersect the double
+// ray (`rays`, indexed by the ray id), so a ray's answer does not depend on how its origin
+// rounds to float (at 1e4 Å from the origin a float step is 1e-3 Å), and they keep the
+// nearest hit in double (`hits`): Embree only keeps a float tfar, and re-intersecting the
+// found patch afterwards is not the same computation (at a seam the re-run can land on the
+// other side of the trimming edge).
+struct HitContext {
+  RTCIntersectContext embree;  // first member: Embree hands this pointer back to the callbacks
+  const Ray* rays = nullptr;
+  PatchHit* hits = nullptr;    // null for occlusion queries
+};
 
 // Embree calls these from C and from its TBB workers for packets of N = 1, 4, 8 or 16
 // rays, honouring valid[] (STYLE §3.7). The intersectors neither throw nor allocate.
 template <class Patch> void intersectFn(const RTCIntersectFunctionNArguments* args) {
-  const Patch& patch = static_cast<const Patch*>(args->geometryUserPtr)[args->primID];
+  const Patch& patch = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr)->patches[args->primID];
   const auto* context = reinterpret_cast<const HitContext*>(args->context);
   const unsigned N = args->N;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, N);
@@ -63,9 +69,10 @@ template <class Patch> void intersectFn(const RTCIntersectFunctionNArguments* ar
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] == 0) continue;
     float& tfar = RTCRayN_tfar(ray, N, i);
-    PatchHit& best = context->hits[RTCRayN_id(ray, N, i)];
+    const unsigned id = RTCRayN_id(ray, N, i);
+    PatchHit& best = context->hits[id];
     // The nearest hit so far, in double; Embree's tfar is only its float upper bound.
-    const auto h = intersect(patch, rayOf(ray, N, i), RTCRayN_tnear(ray, N, i), std::min(static_cast<double>(tfar), best.t));
+    const auto h = intersect(patch, context->rays[id], 0.0, std::min(static_cast<double>(tfar), best.t));
     if (!h) continue;
     best = *h;
     tfar = roundUp(h->t);  // rounded up, so that traversal culls no box that could still hold a nearer root
@@ -83,13 +90,49 @@ template <class Patch> void intersectFn(const RTCIntersectFunctionNArguments* ar
 // Embree 3 runs no filter functions for user geometry and marks an occluded ray by
 // tfar = −inf.
 template <class Patch> void occludedFn(const RTCOccludedFunctionNArguments* args) {
-  const Patch& patch = static_cast<const Patch*>(args->geometryUserPtr)[args->primID];
+  const Patch& patch = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr)->patches[args->primID];
+  const auto* context = reinterpret_cast<const HitContext*>(args->context);
   const unsigned N = args->N;
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] == 0) continue;
     float& tfar = RTCRayN_tfar(args->ray, N, i);
-    if (intersect(patch, rayOf(args->ray, N, i), RTCRayN_tnear(args->ray, N, i), tfar)) tfar = -kInfF;
+    if (intersect(patch, context->rays[RTCRayN_id(args->ray, N, i)], 0.0, tfar)) tfar = -kInfF;
   }
+}
+
+// Moves a ray's origin to where it enters the scene's box (in double) before it is rounded
+// to float for Embree, so the float ray stays within a few ulps of scene coordinates of the
+// double one whatever the camera distance (ORACLES B.1's origin shift, for the traversal).
+// Returns false when the ray misses the box within [tMin, tMax]; `t0` is the shift.
+bool enterBox(const Bounds3d& box, const Ray& ray, double tMin, double tMax, Ray& shifted, double& t0) {
+  double lo = tMin, hi = tMax;
+  for (int k = 0; k < 3; ++k) {
+    const double inv = 1.0 / ray.dir[k];
+    double a = (box.lower[k] - ray.org[k]) * inv, b = (box.upper[k] - ray.org[k]) * inv;
+    if (a > b) std::swap(a, b);
+    if (!(a <= b)) continue;  // dir[k] == 0 and org inside the slab gives NaN·0 cases: no limit
+    lo = std::max(lo, a);
+    hi = std::min(hi, b);
+  }
+  if (!(lo <= hi)) return false;
+  t0 = lo;
+  shifted = Ray{ray.org + t0 * ray.dir, ray.dir};
+  return true;
+}
+
+void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
+  r.org_x = static_cast<float>(ray.org.x);
+  r.org_y = static_cast<float>(ray.org.y);
+  r.org_z = static_cast<float>(ray.org.z);
+  r.dir_x = static_cast<float>(ray.dir.x);
+  r.dir_y = static_cast<float>(ray.dir.y);
+  r.dir_z = static_cast<float>(ray.dir.z);
+  r.tnear = 0.0f;
+  r.tfar = tFar >= static_cast<double>(std::numeric_limits<float>::max()) ? kInfF : roundUp(tFar);
+  r.time = 0.0f;
+  r.mask = ~0u;
+  r.id = id;
+  r.flags = 0;
 }
 
 }  // namespace
@@ -219,11 +262,18 @@ struct PatchScene::Embree {
     std::lock_guard lock(errorMutex);
     if (!error.empty()) throw std::runtime_error(std::string(what) + ": " + error);
   }
-  template <class Patch> void add(const std::vector<Patch>& patches, PatchKind kind) {
+  GeometryData<SpherePatch> sphereData;
+  GeometryData<TorusPatch> torusData;
+  GeometryData<ConcavePatch> concaveData;
+  Bounds3d box;  // the scene's patches, padded like each patch's box
+
+  template <class Patch>
+  void add(const std::vector<Patch>& patches, PatchKind kind, GeometryData<Patch>& data, double pad) {
     if (patches.empty()) return;
+    data = GeometryData<Patch>{patches.data(), pad};
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(patches.size()));
-    rtcSetGeometryUserData(g, const_cast<Patch*>(patches.data()));
+    rtcSetGeometryUserData(g, &data);
     rtcSetGeometryBoundsFunction(g, boundsFn<Patch>, nullptr);
     rtcSetGeometryIntersectFunction(g, intersectFn<Patch>);
     rtcSetGeometryOccludedFunction(g, occludedFn<Patch>);
@@ -244,9 +294,18 @@ PatchScene::PatchScene(ScenePatches patches) : patches_(std::move(patches)), emb
   rtcSetDeviceErrorFunction(embree_->device, &Embree::onError, embree_.get());
   embree_->scene = rtcNewScene(embree_->device);
   rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
-  embree_->add(patches_.spheres, PatchKind::Convex);
-  embree_->add(patches_.tori, PatchKind::Toroidal);
-  embree_->add(patches_.concave, PatchKind::Concave);
+  // A float ray shifted to the scene's box (enterBox) strays from its double original by at
+  // most √3·2⁻²⁴·(|origin| + t) <= 2·2⁻²⁴·(largest coordinate + diagonal); pad by 2⁻²⁰ of that.
+  const Bounds3d box = patches_.bounds();
+  double pad = 0.0;
+  if (!box.empty()) {
+    const double largest = std::max(glm::length(glm::abs(box.lower)), glm::length(glm::abs(box.upper)));
+    pad = 0x1.0p-20 * (largest + glm::length(box.upper - box.lower));
+    embree_->box = Bounds3d{box.lower - pad, box.upper + pad};
+  }
+  embree_->add(patches_.spheres, PatchKind::Convex, embree_->sphereData, pad);
+  embree_->add(patches_.tori, PatchKind::Toroidal, embree_->torusData, pad);
+  embree_->add(patches_.concave, PatchKind::Concave, embree_->concaveData, pad);
   rtcCommitScene(embree_->scene);
   embree_->check("building the Embree scene");
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -254,103 +313,79 @@ PatchScene::PatchScene(ScenePatches patches) : patches_(std::move(patches)), emb
 
 PatchScene::~PatchScene() = default;
 
-namespace {
-// GCC 12.2 at -O2/-O3 miscompiles six double→float→double round trips written side by side:
-// its SLP vectoriser converted org and dir.x and copied dir.y, dir.z through unrounded
-// (seen in the assembly; caught by PatchScene.MatchesAPlainLoopOverAllPatches as 7e-7 Å
-// depth differences). The empty asm makes each rounding opaque to the vectoriser; the
-// build also passes -fno-tree-slp-vectorize to GCC 12 (CMakeLists.txt).
-double toFloatPrecision(double v) {
-  float f = static_cast<float>(v);
-  asm("" : "+x"(f));
-  return static_cast<double>(f);
-}
-}  // namespace
-
-Ray PatchScene::embreeRay(const Ray& r) {
-  Ray out;
-  for (int k = 0; k < 3; ++k) {
-    out.org[k] = toFloatPrecision(r.org[k]);
-    out.dir[k] = toFloatPrecision(r.dir[k]);
-  }
-  return out;
-}
-
 void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const {
   alignas(64) int mask[16];
   alignas(64) RTCRayHit16 rh;
+  Ray shifted[16];
+  double shift[16];
+  PatchHit exact[16];
+  bool any = false;
   for (int i = 0; i < 16; ++i) {
-    mask[i] = valid[i] ? -1 : 0;
-    rh.ray.org_x[i] = static_cast<float>(rays[i].org.x);
-    rh.ray.org_y[i] = static_cast<float>(rays[i].org.y);
-    rh.ray.org_z[i] = static_cast<float>(rays[i].org.z);
-    rh.ray.dir_x[i] = static_cast<float>(rays[i].dir.x);
-    rh.ray.dir_y[i] = static_cast<float>(rays[i].dir.y);
-    rh.ray.dir_z[i] = static_cast<float>(rays[i].dir.z);
-    rh.ray.tnear[i] = static_cast<float>(tMin);
-    rh.ray.tfar[i] = kInfF;
-    rh.ray.time[i] = 0.0f;
-    rh.ray.mask[i] = ~0u;
-    rh.ray.id[i] = static_cast<unsigned>(i);
-    rh.ray.flags[i] = 0;
+    hits[i] = {};
+    const bool active = valid[i] && enterBox(embree_->box, rays[i], tMin, std::numeric_limits<double>::infinity(), shifted[i], shift[i]);
+    any = any || active;
+    mask[i] = active ? -1 : 0;
+    RTCRay r;
+    setFloatRay(r, active ? shifted[i] : rays[i], std::numeric_limits<double>::infinity(), static_cast<unsigned>(i));
+    rh.ray.org_x[i] = r.org_x;
+    rh.ray.org_y[i] = r.org_y;
+    rh.ray.org_z[i] = r.org_z;
+    rh.ray.dir_x[i] = r.dir_x;
+    rh.ray.dir_y[i] = r.dir_y;
+    rh.ray.dir_z[i] = r.dir_z;
+    rh.ray.tnear[i] = r.tnear;
+    rh.ray.tfar[i] = r.tfar;
+    rh.ray.time[i] = r.time;
+    rh.ray.mask[i] = r.mask;
+    rh.ray.id[i] = r.id;
+    rh.ray.flags[i] = r.flags;
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
-  PatchHit exact[16];
+  if (!any) return;
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  context.rays = shifted;
   context.hits = exact;
   rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
   for (int i = 0; i < 16; ++i) {
-    hits[i] = {};
-    if (!valid[i] || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    if (mask[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    exact[i].t += shift[i];
     hits[i] = SceneHit{embree_->kindOfGeometry[rh.hit.geomID[i]], rh.hit.primID[i], exact[i]};
   }
 }
 
 SceneHit PatchScene::intersect1(const Ray& ray, double tMin, double tMax) const {
+  Ray shifted;
+  double shift = 0.0;
+  if (!enterBox(embree_->box, ray, tMin, tMax, shifted, shift)) return {};
   RTCRayHit rh;
-  rh.ray.org_x = static_cast<float>(ray.org.x);
-  rh.ray.org_y = static_cast<float>(ray.org.y);
-  rh.ray.org_z = static_cast<float>(ray.org.z);
-  rh.ray.dir_x = static_cast<float>(ray.dir.x);
-  rh.ray.dir_y = static_cast<float>(ray.dir.y);
-  rh.ray.dir_z = static_cast<float>(ray.dir.z);
-  rh.ray.tnear = static_cast<float>(tMin);
-  rh.ray.tfar = tMax >= static_cast<double>(std::numeric_limits<float>::max()) ? kInfF : static_cast<float>(tMax);
-  rh.ray.time = 0.0f;
-  rh.ray.mask = ~0u;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  setFloatRay(rh.ray, shifted, tMax - shift, 0);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   PatchHit exact;
+  exact.t = tMax - shift;
   HitContext context;
   rtcInitIntersectContext(&context.embree);
+  context.rays = &shifted;
   context.hits = &exact;
   rtcIntersect1(embree_->scene, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
+  exact.t += shift;
   return SceneHit{embree_->kindOfGeometry[rh.hit.geomID], rh.hit.primID, exact};
 }
 
 bool PatchScene::occluded(const Ray& ray, double tMin, double tMax) const {
+  Ray shifted;
+  double shift = 0.0;
+  if (!enterBox(embree_->box, ray, tMin, tMax, shifted, shift)) return false;
   RTCRay r;
-  r.org_x = static_cast<float>(ray.org.x);
-  r.org_y = static_cast<float>(ray.org.y);
-  r.org_z = static_cast<float>(ray.org.z);
-  r.dir_x = static_cast<float>(ray.dir.x);
-  r.dir_y = static_cast<float>(ray.dir.y);
-  r.dir_z = static_cast<float>(ray.dir.z);
-  r.tnear = static_cast<float>(tMin);
-  r.tfar = tMax >= static_cast<double>(std::numeric_limits<float>::max()) ? kInfF : static_cast<float>(tMax);
-  r.time = 0.0f;
-  r.mask = ~0u;
-  r.id = 0;
-  r.flags = 0;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(embree_->scene, &context, &r);
+  setFloatRay(r, shifted, tMax - shift, 0);
+  HitContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.rays = &shifted;
+  rtcOccluded1(embree_->scene, &context.embree, &r);
   return r.tfar == -kInfF;
 }
 

@@ -72,15 +72,13 @@ class PatchScene {
   double buildSeconds() const { return buildSeconds_; }
 
   // Nearest hit of up to 16 rays traced as one coherent Embree packet (valid[i] != 0 marks
-  // the active lanes). Embree sees the rays rounded to float (embreeRay); the intersectors
-  // work in double on that same ray, and the nearest hit is kept in double beside
-  // Embree's float tfar, so hits are exact and ordered in double.
+  // the active lanes). Embree traverses with the rays rounded to float (after moving their
+  // origins to the scene's box), while the intersectors work on the double rays and the
+  // nearest hit is kept in double beside Embree's float tfar: hits are exact and ordered in
+  // double, and do not depend on how far the camera is from the coordinate origin.
   void intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const;
   SceneHit intersect1(const Ray& ray, double tMin, double tMax) const;
   bool occluded(const Ray& ray, double tMin, double tMax) const;
-
-  // The ray as Embree sees it (float-rounded origin and direction), in double.
-  static Ray embreeRay(const Ray& ray);
 
  private:
   struct Embree;

@@ -139,7 +139,7 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
                   sx = x + ((s - 1) % k + 0.5) / k;
                   sy = y + ((s - 1) / k + 0.5) / k;
                 }
-                rays[j] = PatchScene::embreeRay(view.ray(sx, sy));
+                rays[j] = view.ray(sx, sy);
               }
               SceneHit hits[16];
               scene.intersect16(rays, valid, 0.0, hits);

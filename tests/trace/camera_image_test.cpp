@@ -10,7 +10,6 @@
 
 #include "trace/camera.hpp"
 #include "trace/image_io.hpp"
-#include "trace/patch_scene.hpp"
 
 namespace surftrace::trace {
 namespace {
@@ -205,22 +204,3 @@ TEST(ImageIo, ForeignFileIsAClearError) {
 }  // namespace
 }  // namespace surftrace::trace
 
-namespace surftrace::trace {
-namespace {
-
-// Embree sees float rays; embreeRay must round every component (GCC 12 once dropped two).
-TEST(PatchScene, EmbreeRayRoundsEveryComponentToFloat) {
-  std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> u(-100.0, 100.0);
-  for (int i = 0; i < 1000; ++i) {
-    const Ray r{{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
-    const Ray e = PatchScene::embreeRay(r);
-    for (int k = 0; k < 3; ++k) {
-      EXPECT_EQ(e.org[k], static_cast<double>(static_cast<float>(r.org[k]))) << i << " " << k;
-      EXPECT_EQ(e.dir[k], static_cast<double>(static_cast<float>(r.dir[k]))) << i << " " << k;
-    }
-  }
-}
-
-}  // namespace
-}  // namespace surftrace::trace
