@@ -117,7 +117,9 @@ TEST_P(RenderOnSes, HitsLieOnTheSesAndMissesMiss) {
   }
   EXPECT_GT(hits, 500);
   EXPECT_GT(misses, 200);
-  RecordProperty("worst_distance_error", std::to_string(worst));
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", worst);
+  RecordProperty("worst_distance_error_angstrom", text);
 }
 
 INSTANTIATE_TEST_SUITE_P(Molecules, RenderOnSes, testing::Values("structures/1crn.pdb", "small/1grm_single.pdb"),
