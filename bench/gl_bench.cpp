@@ -24,13 +24,14 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 int main(int argc, char** argv) {
   using namespace surftrace;
   CLI::App app{"Median GL frame time of a patch list (.stp) or of a structure's SES"};
-  std::string input, method = "quartic", view = "front", projection = "perspective";
+  std::string input, method = "quartic", view = "front", projection = "perspective", primitive = "box";
   int size = 1024, frames = 10, steps = 30;
   double probe = 1.4;
   app.add_option("input", input, "patch list (.stp) or structure file (PDB, mmCIF, PQR, XYZR, XYZ)")->required();
   app.add_option("--size", size, "image width and height in pixels")->capture_default_str();
   app.add_option("--frames", frames, "timed frames")->capture_default_str();
   app.add_option("--method", method, "torus intersection: quartic | sphere-tracing")->capture_default_str();
+  app.add_option("--primitive", primitive, "torus/concave rasterisation primitive: box | cylinder (the paper's)")->capture_default_str();
   app.add_option("--steps", steps, "sphere-tracing steps")->capture_default_str();
   app.add_option("--probe", probe, "probe radius when building from a structure (Å)")->capture_default_str();
   app.add_option("--view", view, "front, back, left, right, top, bottom or x,y,z")->capture_default_str();
@@ -58,14 +59,15 @@ int main(int argc, char** argv) {
                                          trace::namedViewDirection(view));
     gl::GlOptions glOptions;
     glOptions.torus = gl::parseTorusMethod(method);
+    glOptions.primitive = gl::parsePrimitive(primitive);
     glOptions.maxSteps = steps;
     const gl::GlContext context;
     const gl::GlTimings t = gl::benchmarkGl(context, patches, options, {}, glOptions, frames);
     std::printf(
-        "{\"input\": \"%s\", \"renderer\": \"%s\", \"size\": %d, \"method\": \"%s\", \"spheres\": %zu, \"tori\": %zu, "
+        "{\"input\": \"%s\", \"renderer\": \"%s\", \"size\": %d, \"method\": \"%s\", \"primitive\": \"%s\", \"spheres\": %zu, \"tori\": %zu, "
         "\"concave\": %zu, \"build_s\": %.3f, \"frames\": %d, \"median_frame_s\": %.5f, \"median_draw_s\": %.5f, "
         "\"min_draw_s\": %.5f, \"fps\": %.2f}\n",
-        input.c_str(), t.renderer.c_str(), size, method.c_str(), patches.convex.size(), patches.tori.size(),
+        input.c_str(), t.renderer.c_str(), size, method.c_str(), primitive.c_str(), patches.convex.size(), patches.tori.size(),
         patches.concave.size(), buildSeconds, t.frames, t.medianFrameSeconds, t.medianDrawSeconds, t.minDrawSeconds,
         1.0 / t.medianFrameSeconds);
     return 0;

@@ -110,6 +110,15 @@ struct Vertex {
   std::uint32_t third;
   bool plus;
   glm::dvec3 p;
+  std::uint32_t poly = ~0u;  // a merged vertex of cospherical atoms: its polygon in Scratch::polys
+};
+
+// A merged SAS vertex of k >= 4 cospherical atoms (ORACLES E.6): one probe position and the
+// fan of concave triangles that tiles the convex cone of the contact directions.
+struct Polygon {
+  glm::dvec3 p;
+  std::vector<std::array<std::uint32_t, 3>> tri;  // sorted atoms of each fan triangle
+  std::vector<std::uint8_t> edges;                // per triangle: boundary edges IJ (1), JK (2), KI (4)
 };
 
 // One incidence of a vertex or free circle on one of atom x's circles.
@@ -153,6 +162,8 @@ struct VertexBuf {
   std::vector<glm::dvec3> probe, dirI, dirJ, dirK;
   std::vector<std::uint32_t> atomI, atomJ, atomK;
   std::vector<std::uint8_t> plus;
+  std::vector<std::uint8_t> edges;     // boundary edges of the triangle (7 unless merged)
+  std::vector<std::uint32_t> group;    // distance back to the first triangle of its merged vertex
   std::vector<std::uint32_t> freeOther;
   std::vector<std::uint32_t> concaveCount, freeCount;
   std::size_t size(int g) const { return g == 0 ? probe.size() : g == 1 ? freeOther.size() : concaveCount.size(); }
@@ -163,14 +174,17 @@ struct VertexBuf {
     for (auto* v : {&probe, &dirI, &dirJ, &dirK}) v->reserve(4 * atoms);
     for (auto* v : {&atomI, &atomJ, &atomK}) v->reserve(4 * atoms);
     plus.reserve(4 * atoms);
+    edges.reserve(4 * atoms);
+    group.reserve(4 * atoms);
     freeOther.reserve(atoms / 4 + 64);
     concaveCount.reserve(atoms);
     freeCount.reserve(atoms);
   }
   void clear() {
     for (auto* v : {&probe, &dirI, &dirJ, &dirK}) v->clear();
-    for (auto* v : {&atomI, &atomJ, &atomK, &freeOther, &concaveCount, &freeCount}) v->clear();
+    for (auto* v : {&atomI, &atomJ, &atomK, &freeOther, &concaveCount, &freeCount, &group}) v->clear();
     plus.clear();
+    edges.clear();
   }
 };
 
@@ -239,6 +253,8 @@ struct Scratch {
   std::vector<std::uint8_t> hasCircle;
   std::vector<Word> buriedMask, above;
   std::vector<Vertex> verts;
+  std::vector<Polygon> polys;
+  std::vector<std::uint32_t> tied;
   std::vector<Entry> entries;
   std::vector<Arc> arcs;
   std::vector<int> parent;
@@ -539,8 +555,17 @@ bool clearlyInsideBoth(const Neighbourhood& nb, std::size_t a, std::size_t b) {
   return bothInsideSse(nb, wx, wy, wz, nx, ny, nz);
 }
 
-// Which of p (bit 0) and q (bit 1) lie strictly inside a sphere of (m1 & m2) other than
-// skip1, skip2: |p − c|² < R², evaluated exactly as glm::dot(p − c, p − c) < R * R.
+// Cospherical atoms (ORACLES E.6): a probe position p lies on sphere m, a tie, when
+// |p − c_m|² = R_m² to a relative kTie, i.e. |p − c_m| = R_m to 1e-10 relative: the tolerance
+// of ORACLES A.2 and of the test oracle. A probe position is exact to ~1e-15 relative
+// (1e-12 Å even 1e4 Å from the origin, ORACLES E.14), far inside it; and atoms placed with
+// the 1e-3 Å resolution of PDB files meet a fourth sphere within 3e-10 Å only by symmetry.
+constexpr double kTie = 2e-10;
+
+// Which of p (bit 0) and q (bit 1) lie inside a sphere of (m1 & m2) other than skip1, skip2
+// beyond the tie tolerance, |p − c|² < R²(1 − kTie) (computed as glm::dot(p − c, p − c));
+// bits 2 and 3: which lie within the tolerance of such a sphere's surface or inside it,
+// |p − c|² < R²(1 + kTie). Stops once both are inside.
 int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::size_t words, std::size_t skip1,
                std::size_t skip2, const glm::dvec3& p, const glm::dvec3& q) {
   int inside = 0;
@@ -559,16 +584,145 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
       const __m128d dy = _mm_sub_pd(py, _mm_set1_pd(c.y));
       const __m128d dz = _mm_sub_pd(pz, _mm_set1_pd(c.z));
       const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-      inside |= _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(c.w)));
+      inside |= _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(c.w * (1.0 - kTie)))) |
+                (_mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(c.w * (1.0 + kTie)))) << 2);
 #else
       const glm::dvec3 c3(c);
       const glm::dvec3 u = p - c3, v = q - c3;
-      inside |= (glm::dot(u, u) < c.w ? 1 : 0) | (glm::dot(v, v) < c.w ? 2 : 0);
+      const double lo = c.w * (1.0 - kTie), hi = c.w * (1.0 + kTie);
+      const double du = glm::dot(u, u), dv = glm::dot(v, v);
+      inside |= (du < lo ? 1 : 0) | (dv < lo ? 2 : 0) | (du < hi ? 4 : 0) | (dv < hi ? 8 : 0);
 #endif
-      if (inside == 3) return 3;
+      if ((inside & 3) == 3) return inside;
     }
   }
   return inside;
+}
+
+// |p − c|² against R² of neighbourhood sphere b: −1 inside beyond the tie tolerance, 0 a tie,
+// 1 outside beyond it.
+int sideOf(const Neighbourhood& nb, std::size_t b, const glm::dvec3& p) {
+  const glm::dvec4& c = nb.sphere[b];
+  const glm::dvec3 u = p - glm::dvec3(c);
+  const double d2 = glm::dot(u, u);
+  return d2 < c.w * (1.0 - kTie) ? -1 : d2 < c.w * (1.0 + kTie) ? 0 : 1;
+}
+
+// The atoms whose spheres pass through p (x and every live neighbour that ties), ascending;
+// false if p lies strictly inside a neighbour sphere. A sphere through p meets x's sphere,
+// so it is a neighbour of x.
+bool tiesAt(const Neighbourhood& nb, std::uint32_t x, const glm::dvec3& p, std::vector<std::uint32_t>& tied) {
+  tied.clear();
+  tied.push_back(x);
+  for (std::size_t b = 0; b < nb.atom.size(); ++b) {
+    const int side = sideOf(nb, b, p);
+    if (side < 0) return false;
+    if (side == 0) tied.push_back(nb.atom[b]);
+  }
+  std::sort(tied.begin(), tied.end());
+  return true;
+}
+
+bool plusSideOf(const Atoms& a, std::uint32_t i, std::uint32_t j, std::uint32_t k, const glm::dvec3& p) {
+  const glm::dvec3 ci = a.c[i];
+  return glm::dot(p - ci, glm::cross(a.c[j] - ci, a.c[k] - ci)) > 0.0;
+}
+
+// The merged vertex of the cospherical atoms `atoms` (ascending, k >= 4) near p: the probe
+// position of their first triple (in lexicographic order) that has one, on p's side. A
+// pure function of the atoms (and the side), so every owner computes the same bits.
+std::optional<glm::dvec3> mergedProbe(const Atoms& a, std::span<const std::uint32_t> atoms, const glm::dvec3& p) {
+  const std::size_t k = atoms.size();
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = i + 1; j < k; ++j)
+      for (std::size_t l = j + 1; l < k; ++l) {
+        const std::uint32_t u = atoms[i], v = atoms[j], w = atoms[l];
+        const auto probes = probePositions(a.c[u], a.R[u], a.c[v], a.R[v], a.c[w], a.R[w]);
+        if (!probes) continue;
+        const glm::dvec3 dp = probes->plus - p, dm = probes->minus - p;
+        return glm::dot(dp, dp) <= glm::dot(dm, dm) ? probes->plus : probes->minus;
+      }
+  return std::nullopt;
+}
+
+// The concave polygon of a merged vertex: the probe sphere inside the convex cone of the
+// contact directions u_m = (c_m − p)/|c_m − p|, triangulated. Its faces are the faces of the
+// convex hull of {u_m} ∪ {0} that miss 0 (a pointed cone: one face, or several when the
+// directions are not coplanar; all hull faces of {u_m} when the cone is all of space, a
+// probe trapped at the centre of a cube). Each face is fanned from its lowest atom over its
+// extreme directions in order; an edge is a boundary edge (where the torus of the pair ends)
+// when no other triangle of the polygon has it. Directions lying within kFlat of a great
+// circle through 0 give no face: a probe that just fits through a ring (E.7b) bounds no area.
+void buildPolygon(const Atoms& a, std::span<const std::uint32_t> atoms, Polygon& poly) {
+  constexpr double kFlat = 1e-12;
+  const std::size_t k = atoms.size();
+  std::vector<glm::dvec3> u(k);
+  for (std::size_t m = 0; m < k; ++m) u[m] = glm::normalize(a.c[atoms[m]] - poly.p);
+  poly.tri.clear();
+  poly.edges.clear();
+  std::vector<std::size_t> face;
+  std::vector<std::pair<double, std::size_t>> ring;
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = i + 1; j < k; ++j)
+      for (std::size_t l = j + 1; l < k; ++l) {
+        glm::dvec3 nrm = glm::cross(u[j] - u[i], u[l] - u[i]);
+        const double len = glm::length(nrm);
+        if (!(len > 1e-9)) continue;
+        nrm /= len;
+        double off = glm::dot(nrm, u[i]);
+        if (off < 0.0) nrm = -nrm, off = -off;  // 0 on the inner side
+        if (!(off > kFlat)) continue;           // a plane through the probe: no face
+        face.clear();
+        bool hull = true;
+        for (std::size_t m = 0; m < k && hull; ++m) {
+          const double dm = glm::dot(nrm, u[m]) - off;
+          if (dm > 1e-9) hull = false;
+          else if (dm >= -1e-9) face.push_back(m);
+        }
+        if (!hull || face[0] != i || face[1] != j || face[2] != l) continue;  // each face once
+        // Extreme directions of the face in order about its normal (convex position).
+        const glm::dvec3 e1 = perpendicularTo(nrm), e2 = glm::cross(nrm, e1);
+        glm::dvec3 g(0.0);
+        for (const std::size_t m : face) g += u[m];
+        g /= static_cast<double>(face.size());
+        ring.clear();
+        for (const std::size_t m : face) ring.push_back({std::atan2(glm::dot(u[m] - g, e2), glm::dot(u[m] - g, e1)), m});
+        std::sort(ring.begin(), ring.end());
+        // Drop directions on the segment between their neighbours (not extreme).
+        for (bool dropped = true; dropped && ring.size() > 3;) {
+          dropped = false;
+          for (std::size_t r = 0; r < ring.size(); ++r) {
+            const glm::dvec3& p0 = u[ring[(r + ring.size() - 1) % ring.size()].second];
+            const glm::dvec3& p1 = u[ring[r].second];
+            const glm::dvec3& p2 = u[ring[(r + 1) % ring.size()].second];
+            if (glm::dot(glm::cross(p1 - p0, p2 - p1), nrm) <= 1e-12) {
+              ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(r));
+              dropped = true;
+              break;
+            }
+          }
+        }
+        // Fan from the lowest atom (the face's first direction in atom order).
+        std::size_t start = 0;
+        for (std::size_t r = 1; r < ring.size(); ++r)
+          if (ring[r].second < ring[start].second) start = r;
+        for (std::size_t r = 1; r + 1 < ring.size(); ++r) {
+          std::array<std::uint32_t, 3> t = {atoms[ring[start].second], atoms[ring[(start + r) % ring.size()].second],
+                                            atoms[ring[(start + r + 1) % ring.size()].second]};
+          std::sort(t.begin(), t.end());
+          poly.tri.push_back(t);
+        }
+      }
+  // Boundary edges: those of one triangle only.
+  auto count = [&](std::uint32_t p, std::uint32_t q) {
+    int c = 0;
+    for (const auto& t : poly.tri)
+      c += ((t[0] == p || t[1] == p || t[2] == p) && (t[0] == q || t[1] == q || t[2] == q)) ? 1 : 0;
+    return c;
+  };
+  for (const auto& t : poly.tri)
+    poly.edges.push_back(static_cast<std::uint8_t>((count(t[0], t[1]) == 1 ? 1 : 0) | (count(t[1], t[2]) == 1 ? 2 : 0) |
+                                                   (count(t[2], t[0]) == 1 ? 4 : 0)));
 }
 
 void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> row, Scratch& s, VertexBuf& out,
@@ -612,6 +766,7 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
   }
   // above[t]: the positions of the atoms after upper[t] in atom order (k > j).
   const std::size_t uppers = nb.upper.size();
+  s.polys.clear();
   s.above.assign((uppers + 1) * words, 0);
   for (std::size_t t = uppers; t-- > 0;) {
     std::copy_n(&s.above[(t + 1) * words], words, &s.above[t * words]);
@@ -691,8 +846,24 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         // Both probe positions against each sphere at once: bit 0 plus, bit 1 minus.
         const int inside = insideMask(nb, candA, candB, words, ai, bi, probes->plus, probes->minus);
         for (const bool plus : {true, false}) {
+          const glm::dvec3 p = plus ? probes->plus : probes->minus;
           if (inside & (plus ? 1 : 2)) continue;
-          s.verts.push_back({0.0, k, plus, plus ? probes->plus : probes->minus});
+          if (inside & (plus ? 4 : 8)) {
+            // Further spheres pass through p (cospherical atoms, ORACLES E.6): one merged
+            // vertex, emitted by the lowest of its atoms from the first triple that finds it.
+            if (!tiesAt(nb, x, p, s.tied) || s.tied.size() < 4) continue;
+            const auto merged = mergedProbe(a, s.tied, p);
+            if (!merged || !tiesAt(nb, x, *merged, s.tied) || s.tied.size() < 4 || s.tied[0] != x) continue;
+            bool seen = false;
+            for (const Polygon& poly : s.polys) seen = seen || std::memcmp(&poly.p, &*merged, sizeof(glm::dvec3)) == 0;
+            if (seen) continue;
+            s.polys.emplace_back();
+            s.polys.back().p = *merged;
+            buildPolygon(a, s.tied, s.polys.back());
+            s.verts.push_back({0.0, k, plus, *merged, static_cast<std::uint32_t>(s.polys.size() - 1)});
+            continue;
+          }
+          s.verts.push_back({0.0, k, plus, p});
         }
       }
     }
@@ -711,6 +882,24 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
       });
     }
     for (const Vertex& v : s.verts) {
+      if (v.poly != ~0u) {
+        const Polygon& poly = s.polys[v.poly];
+        for (std::size_t f = 0; f < poly.tri.size(); ++f) {
+          const auto& tri = poly.tri[f];
+          out.probe.push_back(poly.p);
+          out.dirI.push_back(glm::normalize(a.c[tri[0]] - poly.p));
+          out.dirJ.push_back(glm::normalize(a.c[tri[1]] - poly.p));
+          out.dirK.push_back(glm::normalize(a.c[tri[2]] - poly.p));
+          out.atomI.push_back(tri[0]);
+          out.atomJ.push_back(tri[1]);
+          out.atomK.push_back(tri[2]);
+          out.plus.push_back(plusSideOf(a, tri[0], tri[1], tri[2], poly.p) ? 1 : 0);
+          out.edges.push_back(poly.edges[f]);
+          out.group.push_back(static_cast<std::uint32_t>(f));
+          ++concaveCount;
+        }
+        continue;
+      }
       out.probe.push_back(v.p);
       out.dirI.push_back(glm::normalize(cx - v.p));
       out.dirJ.push_back(glm::normalize(a.c[j] - v.p));
@@ -719,6 +908,8 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
       out.atomJ.push_back(j);
       out.atomK.push_back(v.third);
       out.plus.push_back(v.plus ? 1 : 0);
+      out.edges.push_back(7);
+      out.group.push_back(0);
       ++concaveCount;
     }
   }
@@ -734,6 +925,8 @@ struct Incidence {
   std::span<const glm::dvec3> probe;
   std::span<const std::uint32_t> atomI, atomJ, atomK;
   std::span<const std::uint8_t> plus;
+  std::span<const std::uint8_t> edges;    // per concave patch: its boundary edges (merged vertices)
+  std::span<const std::uint32_t> group;   // per concave patch: distance back to its merged vertex's first
   std::span<const std::uint32_t> vertexBegin, vertex;  // per atom: concave indices
   std::span<const std::uint32_t> freeBegin, free;      // per atom: other atom of free circles
   std::span<const CapState> capState;
@@ -920,9 +1113,45 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
   // Each vertex {x, o1, o2} lies on circles (x, o1) and (x, o2).
   auto& entries = s.entries;
   entries.clear();
+  bool anyMerged = false;
   for (std::uint32_t k = inc.vertexBegin[x]; k < inc.vertexBegin[x + 1]; ++k) {
     const std::uint32_t v = inc.vertex[k];
     const std::uint32_t i = inc.atomI[v], j = inc.atomJ[v], l = inc.atomK[v];
+    if (inc.edges[v] != 7 || inc.group[v] != 0 || (v + 1 < inc.group.size() && inc.group[v + 1] == 1)) {
+      // A triangle of a merged vertex (ORACLES E.6): x's arcs end there on the circles of
+      // its two boundary edges; the sphere entered is the other boundary neighbour. Once
+      // per merged vertex, at its first triangle that has x.
+      anyMerged = true;
+      const std::uint32_t first = v - inc.group[v];
+      std::uint32_t end = first + 1;
+      while (end < inc.group.size() && inc.group[end] == end - first) ++end;
+      bool earlier = false;
+      for (std::uint32_t t = first; t < v && !earlier; ++t)
+        earlier = inc.atomI[t] == x || inc.atomJ[t] == x || inc.atomK[t] == x;
+      if (earlier) continue;
+      std::uint32_t nbr[2] = {~0u, ~0u};
+      int found = 0;
+      for (std::uint32_t t = first; t < end; ++t) {
+        const std::uint32_t tri[3] = {inc.atomI[t], inc.atomJ[t], inc.atomK[t]};
+        for (int e = 0; e < 3; ++e) {
+          if (!(inc.edges[t] & (1u << e))) continue;
+          const std::uint32_t p0 = tri[e], p1 = tri[(e + 1) % 3];
+          if (p0 != x && p1 != x) continue;
+          if (found < 2) nbr[found] = p0 == x ? p1 : p0;
+          ++found;
+        }
+      }
+      if (found != 2) continue;  // no boundary at x (a probe enclosed by the atoms)
+      auto sidePlus = [&](std::uint32_t o, std::uint32_t w) {
+        std::uint32_t t3[3] = {x, o, w};
+        std::sort(t3, t3 + 3);
+        const glm::dvec3 c0 = a.c[t3[0]];
+        return glm::dot(inc.probe[first] - c0, glm::cross(a.c[t3[1]] - c0, a.c[t3[2]] - c0)) > 0.0;
+      };
+      entries.push_back({nbr[0], nbr[1], first, sidePlus(nbr[0], nbr[1]), false, 0.0, 0.0, 0.0, k});
+      entries.push_back({nbr[1], nbr[0], first, sidePlus(nbr[1], nbr[0]), false, 0.0, 0.0, 0.0, k});
+      continue;
+    }
     const std::uint32_t o1 = x == i ? j : i;
     const std::uint32_t o2 = x == l ? j : l;
     const bool plus = inc.plus[v] != 0;
@@ -1063,6 +1292,24 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
     }
     if (e.vertex == ~0u) inc.freeFace[e.slot] = face;
     else inc.vertexFace[e.slot] = face;
+  }
+  if (anyMerged) {
+    // Every triangle of a merged vertex takes the face of the arcs that end there; none
+    // (~0u) where x has no arc there.
+    for (std::uint32_t k = inc.vertexBegin[x]; k < inc.vertexBegin[x + 1]; ++k) {
+      const std::uint32_t v = inc.vertex[k];
+      if (inc.edges[v] == 7 && inc.group[v] == 0 && !(v + 1 < inc.group.size() && inc.group[v + 1] == 1)) continue;
+      const std::uint32_t first = v - inc.group[v];
+      std::uint32_t face = ~0u;
+      for (std::size_t m = 0; m < arcs; ++m) {
+        const Arc& arc = s.arcs[m];
+        if (arc.from == first || arc.to == first) {
+          face = static_cast<std::uint32_t>(s.cycleFace[static_cast<std::size_t>(s.cycleOf[m])]);
+          break;
+        }
+      }
+      inc.vertexFace[k] = face;
+    }
   }
   if (x == inc.extremeAtom) *inc.extremeFace = faceContaining(s, cycles, glm::dvec3(1.0, 0.0, 0.0));
 
@@ -1227,6 +1474,8 @@ struct SesBuilder::State {
   // Vertex pass: the concave arrays of `out` in owner segments, and beside them.
   std::vector<std::uint32_t> concaveBegin;  // per owner, n + 1
   std::vector<std::uint8_t> vertexPlus;     // per concave patch: probe is p+ of its triple
+  std::vector<std::uint8_t> vertexEdges;    // per concave patch: boundary edges (merged vertices)
+  std::vector<std::uint32_t> vertexGroup;   // per concave patch: distance back to its merged vertex's first
   std::vector<std::uint32_t> freeBegin;     // per owner, n + 1
   std::vector<std::uint32_t> freeOther;     // free circles (owner, other > owner)
   // Contour pass: the convex and tori arrays of `out` in atom segments.
@@ -1268,7 +1517,7 @@ struct SesBuilder::State {
 
   Atoms atoms() const { return {centers, radii, R, buried, params.probeRadius}; }
   Incidence incidence() {
-    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertexPlus,  incVertexBegin,
+    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertexPlus, vertexEdges, vertexGroup, incVertexBegin,
             incVertex,         incFreeBegin,      incFree,           capState,          incVertexFace, incFreeFace,
             faceCount,         extremeAtom,       &extremeFace};
   }
@@ -1312,6 +1561,7 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
                Field{&VertexBuf::dirJ, &fv.dirJ, 0}, Field{&VertexBuf::dirK, &fv.dirK, 0},
                Field{&VertexBuf::atomI, &fv.atomI, 0}, Field{&VertexBuf::atomJ, &fv.atomJ, 0},
                Field{&VertexBuf::atomK, &fv.atomK, 0}, Field{&VertexBuf::plus, &fv.plus, 0},
+               Field{&VertexBuf::edges, &fv.edges, 0}, Field{&VertexBuf::group, &fv.group, 0},
                Field{&VertexBuf::freeOther, &fv.freeOther, 1}, Field{&VertexBuf::concaveCount, &fv.concaveCount, 2},
                Field{&VertexBuf::freeCount, &fv.freeCount, 2});
 }
@@ -1463,6 +1713,7 @@ void SesBuilder::State::labelComponents() {
   for (std::size_t x = 0; x < n; ++x) {
     if (faceCount[x] == 0) continue;
     for (std::uint32_t k = incVertexBegin[x]; k < incVertexBegin[x + 1]; ++k) {
+      if (incVertexFace[k] == ~0u) continue;  // a merged vertex with no arc of x
       const std::uint32_t f = faceBegin[x] + incVertexFace[k];
       std::uint32_t& v = vertexFace[incVertex[k]];
       if (v == ~0u) v = f;
@@ -1475,6 +1726,16 @@ void SesBuilder::State::labelComponents() {
         if (incFree[m] == x) unite(faceBegin[x] + incFreeFace[k], faceBegin[o] + incFreeFace[m]);
     }
   }
+  // The triangles of a merged vertex are one patch.
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    if (vertexGroup[v] == 0) continue;
+    std::uint32_t& first = vertexFace[v - vertexGroup[v]];
+    if (vertexFace[v] == ~0u) continue;
+    if (first == ~0u) first = vertexFace[v];
+    else unite(first, vertexFace[v]);
+  }
+  for (std::size_t v = 0; v < cv.size(); ++v)
+    if (vertexGroup[v] != 0) vertexFace[v] = vertexFace[v - vertexGroup[v]];
   std::vector<std::uint32_t>& label = tmp.faceLabel;
   label.assign(faces, ~0u);
   std::uint32_t components = 0;
@@ -1495,7 +1756,18 @@ void SesBuilder::State::labelComponents() {
   out.tori.component.resize(out.tori.size());
   for (std::size_t t = 0; t < out.tori.size(); ++t) out.tori.component[t] = labelOf(faceBegin[out.tori.atomI[t]] + torusFace[t]);
   cv.component.resize(cv.size());
-  for (std::size_t v = 0; v < cv.size(); ++v) cv.component[v] = vertexFace[v] == ~0u ? 0 : labelOf(vertexFace[v]);
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    if (vertexFace[v] != ~0u) {
+      cv.component[v] = labelOf(vertexFace[v]);
+    } else if (vertexGroup[v] != 0) {
+      cv.component[v] = cv.component[v - vertexGroup[v]];
+    } else {
+      // A merged vertex with no arc at all (a probe trapped where it touches all its atoms,
+      // the centre of a cube) is a component of its own; any other vertex without a face, 0.
+      const bool merged = vertexEdges[v] != 7 || (v + 1 < cv.size() && vertexGroup[v + 1] == 1);
+      cv.component[v] = merged ? components++ : 0;
+    }
+  }
   out.componentCount = components;
 }
 
@@ -1532,6 +1804,8 @@ void SesBuilder::State::fullBuild() {
   cv.atomJ.swap(fv.atomJ);
   cv.atomK.swap(fv.atomK);
   vertexPlus.swap(fv.plus);
+  vertexEdges.swap(fv.edges);
+  vertexGroup.swap(fv.group);
   freeOther.swap(fv.freeOther);
   prefix(fv.concaveCount, concaveBegin);
   prefix(fv.freeCount, freeBegin);
@@ -1657,12 +1931,16 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
     const bool unchanged =
         same(cv.probe, fv.probe) && same(cv.dirI, fv.dirI) && same(cv.dirJ, fv.dirJ) && same(cv.dirK, fv.dirK) &&
         same(cv.atomI, fv.atomI) && same(cv.atomJ, fv.atomJ) && same(cv.atomK, fv.atomK) && same(vertexPlus, fv.plus) &&
+        same(vertexEdges, fv.edges) && same(vertexGroup, fv.group) &&
         sameBits<std::uint32_t>(std::span<const std::uint32_t>(freeOther).subspan(g0, g1 - g0),
                                 std::span<const std::uint32_t>(fv.freeOther).subspan(h0, h1 - h0));
     if (unchanged) continue;
     list2.push_back(x);
-    for (std::size_t v = o0; v < o1; ++v) mark[cv.atomJ[v]] |= kContour, mark[cv.atomK[v]] |= kContour;
-    for (std::size_t v = f0; v < f1; ++v) mark[fv.atomJ[v]] |= kContour, mark[fv.atomK[v]] |= kContour;
+    // (The triangles of a merged vertex need not have their owner as atom I.)
+    for (std::size_t v = o0; v < o1; ++v)
+      mark[cv.atomI[v]] |= kContour, mark[cv.atomJ[v]] |= kContour, mark[cv.atomK[v]] |= kContour;
+    for (std::size_t v = f0; v < f1; ++v)
+      mark[fv.atomI[v]] |= kContour, mark[fv.atomJ[v]] |= kContour, mark[fv.atomK[v]] |= kContour;
     for (std::size_t f = g0; f < g1; ++f) mark[freeOther[f]] |= kContour;
     for (std::size_t f = h0; f < h1; ++f) mark[fv.freeOther[f]] |= kContour;
   }
@@ -1691,6 +1969,8 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
     splice(cv.atomJ, fv.atomJ, tu);
     splice(cv.atomK, fv.atomK, tu);
     splice(vertexPlus, fv.plus, t8);
+    splice(vertexEdges, fv.edges, t8);
+    splice(vertexGroup, fv.group, tu);
     concaveBegin.swap(newBegin);
     newStarts(freeBegin, list, freshFreeBegin, newBegin);
     const Splice spliceFree{freeBegin, newBegin, list, freshFreeBegin};

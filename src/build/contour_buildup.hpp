@@ -20,6 +20,10 @@ struct SesParams {
 // triangle per SAS vertex, with self-intersection planes for every pair of probe
 // positions closer than 2 rp. The list is identical (order and bits) for any number of
 // threads. `params.probeRadius` must be finite and > 0 (std::invalid_argument otherwise).
+// Four or more atoms whose extended spheres pass through one probe position (to 1e-10
+// relative; cospherical atoms, ORACLES E.6) make one merged vertex: a fan of concave
+// triangles sharing the probe that tiles the convex cone of all contact directions, emitted
+// by the lowest atom; the tori of the polygon's boundary pairs end there, other pairs not.
 // Fills patches.params.probeRadius, surface and atomCount; the caller sets the rest.
 //
 // Order: convex patches by atom; tori by their lower atom i, then by j, then along the

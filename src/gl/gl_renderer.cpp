@@ -117,12 +117,22 @@ const char* torusMethodName(TorusMethod method) {
   return method == TorusMethod::Quartic ? "quartic" : "sphere-tracing";
 }
 
+Primitive parsePrimitive(const std::string& name) {
+  if (name == "cylinder") return Primitive::Cylinder;
+  if (name == "box") return Primitive::Box;
+  throw std::invalid_argument("unknown primitive '" + name + "': use cylinder or box");
+}
+
+const char* primitiveName(Primitive primitive) { return primitive == Primitive::Cylinder ? "cylinder" : "box"; }
+
 struct GlRenderer::Impl {
   GLuint programs[kProgramCount] = {};
   GLuint vao = 0;
   GLuint storage[kStorageCount] = {};
   GLuint frameBuffer = 0;  // the uniform block
   GLuint clipBuffer = 0, clipTexture = 0;
+  GLuint countBuffer = 0;  // binding 7: (fragments, hits) per patch, GlOptions::countFragments
+  bool counted = false;
   std::size_t sphereCount = 0, torusCount = 0, concaveCount = 0;
   glm::dvec3 origin{0.0}, boundsCenter{0.0};
   double boundsRadius = 0.0;
@@ -138,6 +148,7 @@ struct GlRenderer::Impl {
     glDeleteBuffers(kStorageCount, storage);
     glDeleteBuffers(1, &frameBuffer);
     glDeleteBuffers(1, &clipBuffer);
+    glDeleteBuffers(1, &countBuffer);
     glDeleteTextures(1, &clipTexture);
     releaseTargets();
   }
@@ -191,6 +202,7 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
   glCreateBuffers(kStorageCount, m.storage);
   glCreateBuffers(1, &m.frameBuffer);
   glCreateBuffers(1, &m.clipBuffer);
+  glCreateBuffers(1, &m.countBuffer);
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &m.clipTexture);
   checkGlError("creating the GL renderer");
 }
@@ -252,7 +264,8 @@ void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> 
                         o.color == trace::ColorMode::Patch ? 0u : 1u);
   f.counts = glm::uvec4(static_cast<unsigned>(atomColors.size()), gl.torus == TorusMethod::Quartic ? 0u : 1u,
                         static_cast<unsigned>(gl.maxSteps), gl.probeBallJumps ? 0u : 1u);
-  f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), 0.0f, 0.0f, 0.0f);
+  f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
+                            gl.countFragments ? 1.0f : 0.0f, 0.0f);
   glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
   std::vector<glm::vec4> colors;
   colors.reserve(atomColors.size());
@@ -282,6 +295,11 @@ void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> 
   glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, m.frameBuffer);
   for (unsigned i = 0; i < kStorageCount; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, m.storage[i]);
   glBindTextureUnit(kClipPlaneUnit, m.clipTexture);
+  const std::size_t patchCount = m.sphereCount + m.torusCount + m.concaveCount;
+  const std::vector<glm::uvec2> zeros(gl.countFragments ? patchCount : 0, glm::uvec2(0u));
+  bufferData(m.countBuffer, zeros);
+  m.counted = gl.countFragments;
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCountBinding, m.countBuffer);
   const std::size_t counts[kProgramCount] = {m.sphereCount, m.torusCount, m.concaveCount};
   for (int k = 0; k < kProgramCount; ++k) {
     if (counts[k] == 0) continue;
@@ -293,6 +311,17 @@ void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   checkGlError("drawing the patches");
+}
+
+std::vector<glm::uvec2> GlRenderer::fragmentCounts() const {
+  const Impl& m = *impl_;
+  std::vector<glm::uvec2> counts;
+  if (!m.counted) return counts;
+  counts.resize(m.sphereCount + m.torusCount + m.concaveCount);
+  if (!counts.empty())
+    glGetNamedBufferSubData(m.countBuffer, 0, static_cast<GLsizeiptr>(counts.size() * sizeof(glm::uvec2)), counts.data());
+  checkGlError("reading the fragment counts");
+  return counts;
 }
 
 trace::FrameBuffers GlRenderer::readBack() const {

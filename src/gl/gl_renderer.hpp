@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "build/patch_list.hpp"
@@ -24,6 +25,14 @@ enum class TorusMethod {
 TorusMethod parseTorusMethod(const std::string& name);  // "quartic" | "sphere-tracing"; throws std::invalid_argument
 const char* torusMethodName(TorusMethod method);
 
+// The rasterisation primitive of tori and concave triangles (spheres always get a square).
+enum class Primitive {
+  Cylinder,  // the paper's: the trapezoid of the patch's bounding cylinder (Sect. 5.2, Fig. 6)
+  Box,       // the eye-facing faces of a tight bounding box
+};
+Primitive parsePrimitive(const std::string& name);  // "cylinder" | "box"; throws std::invalid_argument
+const char* primitiveName(Primitive primitive);
+
 struct GlOptions {
   TorusMethod torus = TorusMethod::Quartic;
   int maxSteps = 30;             // sphere tracing: steps per ray (Lindow et al. 2010: 30)
@@ -31,6 +40,15 @@ struct GlOptions {
   // Sphere tracing inside the probe tube: jump to the far side of the local probe ball
   // (true), or step by the distance as outside (false, the textbook march).
   bool probeBallJumps = true;
+  // Rasterisation primitive of tori and concave triangles. The cylinder falls back to the
+  // box where a cap reaches the eye plane (eye inside or beside the cylinder). The box is
+  // the default: on 1VIS it shades fewer fragments (the cylinder around a torus axis
+  // covers the whole ring, not the saddle's φ sector; a spherical triangle fills its
+  // tight box better than its cylinder) and renders faster.
+  Primitive primitive = Primitive::Box;
+  // Count, per patch, the fragments shaded and the hits (GlRenderer::fragmentCounts);
+  // statistics for tests and benchmarks, slower.
+  bool countFragments = false;
 };
 
 // Holds the compiled programs, the uploaded patches and the render targets of one context.
@@ -52,6 +70,10 @@ class GlRenderer {
   void draw(const trace::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {});
   // Reads the last frame back: the buffers of trace::render, rows top first; flags 0.
   trace::FrameBuffers readBack() const;
+
+  // Per global patch id (spheres, tori, concave triangles): (fragments shaded, hits) of the
+  // last draw with GlOptions::countFragments; empty otherwise.
+  std::vector<glm::uvec2> fragmentCounts() const;
 
   // The program of a kind, for layout queries in the tests.
   unsigned program(ProgramKind kind) const;

@@ -23,6 +23,7 @@ enum Binding : unsigned {
   kConcaveBinding = 4,      // GpuConcave concaves[]
   kConcaveAtomBinding = 5,  // uvec4 concaveAtoms[]: atoms i, j, k, unused
   kAtomColorBinding = 6,    // vec4 atomColors[]
+  kFragmentCountBinding = 7,  // uint fragmentCounts[2 n]: fragments shaded, hits (statistics only)
   kFrameBinding = 0,        // uniform block Frame
   kClipPlaneUnit = 0,       // samplerBuffer clipPlanes (RGBA32F: n, w)
 };
@@ -66,7 +67,7 @@ struct GpuFrame {
   glm::vec4 kindColor[3];    // convex, toroidal, concave
   glm::uvec4 idBase;         // global id of the first sphere (0), torus, concave; colour mode (0 = patch)
   glm::uvec4 counts;         // atom colours, torus method (0 quartic, 1 sphere tracing), max steps, plain march (1)
-  glm::vec4 traceParams;     // sphere-tracing stop distance (Å), unused ×3
+  glm::vec4 traceParams;     // sphere-tracing stop distance (Å), primitive (0 box, 1 cylinder), count fragments (1), unused
 };
 static_assert(sizeof(GpuFrame) == 13 * 16);
 static_assert(offsetof(GpuFrame, kindColor) == 112 && offsetof(GpuFrame, idBase) == 160 &&

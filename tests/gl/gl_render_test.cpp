@@ -1,5 +1,7 @@
 // The GL ray caster against the analytic camera rays and against the Embree reference, image by image.
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -237,6 +239,148 @@ TEST_P(GlVsEmbree, PlainSphereTracingIsMeasured) {
 
 INSTANTIATE_TEST_SUITE_P(Views, GlVsEmbree, testing::ValuesIn(kViews),
                          [](const testing::TestParamInfo<View>& param) { return std::string(param.param.name); });
+
+// ---------------------------------------------------------------------------------------
+// The rasterisation primitive of tori and concave triangles: the cylinder's trapezoid
+// (Sect. 5.2) against the box, patch by patch. Both run the same fragment shaders, so a
+// conservative primitive hits every patch in exactly the pixels the box does.
+
+struct PrimitiveStats {
+  std::uint64_t fragments[3] = {0, 0, 0};  // shaded, per kind
+  std::uint64_t hits[3] = {0, 0, 0};
+};
+
+struct PrimitiveRun {
+  trace::FrameBuffers frame;
+  std::vector<glm::uvec2> counts;
+  PrimitiveStats stats;
+};
+
+PrimitiveRun renderCounted(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& o,
+                           GlOptions gl) {
+  gl.countFragments = true;
+  GlRenderer renderer(context);
+  renderer.upload(patches, o.camera.lookAt);
+  renderer.draw(o, {}, gl);
+  PrimitiveRun run{renderer.readBack(), renderer.fragmentCounts(), {}};
+  const std::size_t first[3] = {0, patches.convex.center.size(), patches.convex.center.size() + patches.tori.center.size()};
+  for (std::size_t i = 0; i < run.counts.size(); ++i) {
+    const int kind = i < first[1] ? 0 : (i < first[2] ? 1 : 2);
+    run.stats.fragments[kind] += run.counts[i].x;
+    run.stats.hits[kind] += run.counts[i].y;
+  }
+  return run;
+}
+
+// Renders with both primitives and checks the cylinder patch by patch: the same hits
+// (conservative) and, for the final image, the same buffers. Returns (box, cylinder).
+std::pair<PrimitiveStats, PrimitiveStats> expectConservative(const build::PatchList& patches,
+                                                             const trace::RenderOptions& o, const char* name,
+                                                             TorusMethod method = TorusMethod::Quartic) {
+  const GlContext context;
+  GlOptions gl;
+  gl.torus = method;
+  gl.primitive = Primitive::Box;
+  const PrimitiveRun box = renderCounted(context, patches, o, gl);
+  gl.primitive = Primitive::Cylinder;
+  const PrimitiveRun cyl = renderCounted(context, patches, o, gl);
+  EXPECT_EQ(box.counts.size(), cyl.counts.size());
+  int lost = 0, gained = 0;
+  for (std::size_t i = 0; i < box.counts.size() && i < cyl.counts.size(); ++i) {
+    if (cyl.counts[i].y < box.counts[i].y) {
+      if (++lost <= 10)
+        ADD_FAILURE() << name << ": patch " << i << " hit in " << box.counts[i].y << " pixels by the box, "
+                      << cyl.counts[i].y << " by the cylinder";
+    }
+    if (cyl.counts[i].y > box.counts[i].y) ++gained;
+  }
+  EXPECT_EQ(lost, 0) << name;
+  if (gained > 0) std::printf("%s: %d patches hit in more pixels through the cylinder than the box\n", name, gained);
+  std::size_t differing = 0;
+  for (std::size_t p = 0; p < box.frame.kind.size(); ++p)
+    if (box.frame.kind[p] != cyl.frame.kind[p] || box.frame.patchId[p] != cyl.frame.patchId[p] ||
+        box.frame.depth[p] != cyl.frame.depth[p])
+      ++differing;
+  EXPECT_EQ(differing, 0u) << name;
+  const char* kinds[3] = {"sphere", "torus", "concave"};
+  for (int k = 0; k < 3; ++k)
+    std::printf("%s %s: fragments box %llu, cylinder %llu (%.3f); hits %llu\n", name, kinds[k],
+                static_cast<unsigned long long>(box.stats.fragments[k]),
+                static_cast<unsigned long long>(cyl.stats.fragments[k]),
+                box.stats.fragments[k] ? double(cyl.stats.fragments[k]) / double(box.stats.fragments[k]) : 0.0,
+                static_cast<unsigned long long>(cyl.stats.hits[k]));
+  return {box.stats, cyl.stats};
+}
+
+TEST(GlPrimitive, NamesRoundTrip) {
+  EXPECT_EQ(parsePrimitive("cylinder"), Primitive::Cylinder);
+  EXPECT_EQ(parsePrimitive("box"), Primitive::Box);
+  EXPECT_STREQ(primitiveName(Primitive::Box), "box");
+  EXPECT_THROW(parsePrimitive("cone"), std::invalid_argument);
+  EXPECT_EQ(GlOptions{}.primitive, Primitive::Box);
+}
+
+class GlPrimitiveViews : public testing::TestWithParam<View> {};
+
+// Every reference view: the cylinder hits what the box hits, patch by patch (its
+// tightness is measured, not required: see GlOptions::primitive).
+TEST_P(GlPrimitiveViews, CylinderIsConservative) {
+  const View& v = GetParam();
+  const Scene s = loadScene(v.file);
+  const auto [box, cyl] = expectConservative(s.patches, viewOptions(s, v), v.name);
+  EXPECT_GT(cyl.hits[1] + cyl.hits[2], 0u);
+  // Spheres keep their squares.
+  EXPECT_EQ(cyl.fragments[0], box.fragments[0]);
+}
+
+INSTANTIATE_TEST_SUITE_P(Views, GlPrimitiveViews, testing::ValuesIn(kViews),
+                         [](const testing::TestParamInfo<View>& param) { return std::string(param.param.name); });
+
+// The eye at patch centres, inside their cylinders (and boxes), and just outside them,
+// looking in several directions, perspective and orthographic: the fallbacks.
+TEST(GlPrimitive, EyeInsideAndBesideCylinders) {
+  const Scene s = loadScene("small/1grm_single.pdb");
+  const build::PatchList& P = s.patches;
+  ASSERT_FALSE(P.tori.center.empty());
+  ASSERT_FALSE(P.concave.probe.empty());
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> eyes;  // eye, look-at
+  glm::dvec3 mid(0.0);
+  for (const glm::dvec3& c : P.convex.center) mid += c / double(P.convex.center.size());
+  for (std::size_t i = 0; i < P.tori.center.size(); i += P.tori.center.size() / 3 + 1) {
+    const glm::dvec3 c = P.tori.center[i], a = P.tori.axis[i];
+    eyes.push_back({c, c + a});                                 // along the axis from the centre
+    eyes.push_back({c + 0.3 * a, mid});                         // inside, towards the molecule
+    eyes.push_back({c + (P.tori.bigRadius[i] + kRp) * 1.01 * P.tori.e1[i], c});  // just outside
+  }
+  for (std::size_t i = 0; i < P.concave.probe.size(); i += P.concave.probe.size() / 3 + 1) {
+    const glm::dvec3 p = P.concave.probe[i], m = glm::normalize(P.concave.dirI[i] + P.concave.dirJ[i] + P.concave.dirK[i]);
+    eyes.push_back({p + 0.5 * kRp * m, p + 2.0 * kRp * m});  // inside, towards the patch
+    eyes.push_back({p, mid});                                // the probe centre
+    eyes.push_back({p - 0.5 * kRp * m, p});                  // behind the cylinder, on its axis
+  }
+  int n = 0;
+  for (const auto& [eye, at] : eyes) {
+    for (trace::Projection projection : {trace::Projection::Perspective, trace::Projection::Orthographic}) {
+      trace::RenderOptions o;
+      o.camera.projection = projection;
+      o.camera.width = o.camera.height = 64;
+      o.camera.eye = eye;
+      o.camera.lookAt = at;
+      o.camera.up = std::abs(glm::normalize(at - eye).y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+      o.camera.fovY = 90.0;
+      o.camera.orthoHeight = 12.0;
+      const std::string name = "eye " + std::to_string(n++) + (projection == trace::Projection::Perspective ? " persp" : " ortho");
+      expectConservative(P, o, name.c_str());
+    }
+  }
+}
+
+// Sphere tracing runs the same primitives.
+TEST(GlPrimitive, SphereTracingIsConservativeToo) {
+  const View& v = kViews[1];
+  const Scene s = loadScene(v.file);
+  expectConservative(s.patches, viewOptions(s, v), "crambin_closeup sphere-tracing", TorusMethod::SphereTracing);
+}
 
 }  // namespace
 }  // namespace surftrace::gl
