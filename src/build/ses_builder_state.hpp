@@ -1,0 +1,101 @@
+// SES builder state: what SesBuilder keeps between build() and update() (private to src/build).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <tbb/enumerable_thread_specific.h>
+
+#include "build/contour_buildup.hpp"
+#include "build/neighbour_grid.hpp"
+#include "build/patch_list.hpp"
+#include "build/ses_assembly.hpp"
+#include "build/ses_contours.hpp"
+#include "build/ses_types.hpp"
+
+namespace surftrace::build {
+
+// The passes over atoms and probes are in contour_buildup.cpp (vertexPassOf, contourPassOf,
+// fullBuild, partialUpdate), ses_planes.cpp (planesOf) and ses_components.cpp
+// (buildIncidence, findExtremeAtom, labelComponents).
+struct SesBuilder::State {
+  SesParams params;
+  std::vector<glm::dvec3> centers;
+  std::vector<double> radii, R;
+  std::vector<char> buried;
+  std::vector<detail::CapState> capState;
+  NeighbourGrid grid;
+  NeighbourGrid probeGrid;
+  std::vector<double> probeRadii;
+  tbb::enumerable_thread_specific<detail::Scratch> tls;
+
+
+  // Vertex pass: the concave arrays of `out` in owner segments, and beside them.
+  std::vector<std::uint32_t> concaveBegin;  // per owner, n + 1
+  std::vector<std::uint8_t> vertexPlus;     // per concave patch: probe is p+ of its triple
+  std::vector<std::uint8_t> vertexEdges;    // per concave patch: boundary edges (merged vertices)
+  std::vector<std::uint32_t> vertexGroup;   // per concave patch: distance back to its merged vertex's first
+  std::vector<std::uint32_t> freeBegin;     // per owner, n + 1
+  std::vector<std::uint32_t> freeOther;     // free circles (owner, other > owner)
+  // Contour pass: the convex and tori arrays of `out` in atom segments.
+  std::vector<std::uint32_t> convexBegin, toriBegin;
+  // Who touches what: per atom, its concave patches and the other atoms of its free circles.
+  std::vector<std::uint32_t> incVertexBegin, incVertex, incFreeBegin, incFree;
+  // Faces of each atom's exposed region (contourPass), for the components: per atom the
+  // count, per incidence the face it bounds, per torus its face on atom i; and the face of
+  // the atom reaching furthest in +x (on the outer surface).
+  std::vector<std::uint32_t> faceCount, incVertexFace, incFreeFace, torusFace;
+  std::uint32_t extremeAtom = 0, extremeFace = 0;
+
+  PatchList out;
+  SesUpdateStats stats;
+  bool built = false;
+
+  // Pieces and fresh arrays of the passes (reused).
+  std::vector<detail::Piece<detail::VertexBuf>> vertexPieces;
+  std::vector<detail::Piece<detail::ContourBuf>> contourPieces;
+  std::vector<detail::Piece<detail::PlaneBuf>> planePieces;
+  std::array<std::vector<std::size_t>, 3> offsets;
+  detail::VertexBuf fv;   // fresh vertex-pass output of the atoms listed
+  detail::ContourBuf fc;  // fresh contour-pass output
+  // Fresh planes of the probes listed: partners, counts, starts, planes.
+  std::vector<std::uint32_t> fpPartner, fpCount, fpBegin;
+  std::vector<Plane> fpPlanes;
+  std::vector<std::uint32_t> list, list2, freshBegin, freshFreeBegin, newBegin, tmpIndex;
+  std::vector<std::uint8_t> mark;
+  // detail::Scratch of partialUpdate, kept so that a trajectory does not allocate per frame.
+  struct UpdateTmp {
+    std::vector<glm::dvec3> v3, removed;
+    std::vector<double> f64;
+    std::vector<std::uint32_t> u32, oldConcaveBegin, oldClipBegin, oldClipCount, clipCount, clipBegin;
+    std::vector<std::uint8_t> u8, dirty;
+    std::vector<Plane> planes;
+    std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexNode;
+    std::vector<std::uint32_t> oldIncVertexBegin, oldIncVertexFace, oldIncFreeBegin, oldIncFreeFace;
+  } tmp;
+
+  detail::Atoms atoms() const { return {centers, radii, R, buried, params.probeRadius}; }
+  detail::Incidence incidence() {
+    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertexPlus, vertexEdges, vertexGroup, incVertexBegin,
+            incVertex,         incFreeBegin,      incFree,           capState,          incVertexFace, incFreeFace,
+            faceCount,         extremeAtom,       &extremeFace};
+  }
+  void findExtremeAtom();
+  // Whether atom i's extended sphere lies inside another's: only atoms closer than the
+  // difference of the radii can contain it, a small search (a superset, then the exact test).
+  bool buriedByContainment(std::uint32_t i, std::vector<std::uint32_t>& near) const;
+
+  void fullBuild();
+  void partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters);
+  void vertexPassOf(std::span<const std::uint32_t> owners);
+  void contourPassOf(std::span<const std::uint32_t> atoms);
+  void planesOf(std::span<const std::uint32_t> probes);
+  void buildIncidence();
+  void labelComponents();
+};
+
+}  // namespace surftrace::build

@@ -1,0 +1,156 @@
+// SES components: who touches which vertex and free circle, and the labelling of connected surfaces.
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "build/ses_assembly.hpp"
+#include "build/ses_builder_state.hpp"
+
+namespace surftrace::build {
+
+using namespace detail;
+
+// Per atom, the concave patches and free circles it belongs to (a counting sort, so each
+// list is in patch order).
+void SesBuilder::State::buildIncidence() {
+  const std::size_t n = centers.size();
+  const auto& cv = out.concave;
+  const std::size_t v = cv.size();
+  incVertexBegin.assign(n + 2, 0);
+  for (std::size_t k = 0; k < v; ++k) {
+    ++incVertexBegin[cv.atomI[k] + 2];
+    ++incVertexBegin[cv.atomJ[k] + 2];
+    ++incVertexBegin[cv.atomK[k] + 2];
+  }
+  for (std::size_t i = 0; i < n; ++i) incVertexBegin[i + 2] += incVertexBegin[i + 1];
+  incVertex.resize(incVertexBegin[n + 1]);
+  // incVertexBegin[i + 1] is atom i's cursor; afterwards it is atom i's end = i + 1's start.
+  for (std::size_t k = 0; k < v; ++k) {
+    const auto id = static_cast<std::uint32_t>(k);
+    incVertex[incVertexBegin[cv.atomI[k] + 1]++] = id;
+    incVertex[incVertexBegin[cv.atomJ[k] + 1]++] = id;
+    incVertex[incVertexBegin[cv.atomK[k] + 1]++] = id;
+  }
+  incVertexBegin.pop_back();
+  incFreeBegin.assign(n + 2, 0);
+  for (std::size_t x = 0; x < n; ++x) {
+    for (std::uint32_t f = freeBegin[x]; f < freeBegin[x + 1]; ++f) {
+      ++incFreeBegin[x + 2];
+      ++incFreeBegin[freeOther[f] + 2];
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) incFreeBegin[i + 2] += incFreeBegin[i + 1];
+  incFree.resize(incFreeBegin[n + 1]);
+  for (std::size_t x = 0; x < n; ++x) {
+    for (std::uint32_t f = freeBegin[x]; f < freeBegin[x + 1]; ++f) {
+      const std::uint32_t o = freeOther[f];
+      incFree[incFreeBegin[x + 1]++] = o;
+      incFree[incFreeBegin[o + 1]++] = static_cast<std::uint32_t>(x);
+    }
+  }
+  incFreeBegin.pop_back();
+}
+
+// The atom whose extended sphere reaches furthest in +x: the SAS point there is exposed,
+// so the SES patch of that atom facing +x is on the outer surface.
+void SesBuilder::State::findExtremeAtom() {
+  double best = -std::numeric_limits<double>::infinity();
+  extremeAtom = 0;
+  for (std::size_t i = 0; i < centers.size(); ++i) {
+    if (buried[i]) continue;
+    const double reach = centers[i].x + R[i];
+    if (reach > best) best = reach, extremeAtom = static_cast<std::uint32_t>(i);
+  }
+  extremeFace = 0;
+}
+
+// SES components: the faces of all atoms (nodes), joined where they share a vertex (its
+// three atoms' faces) or a free circle (its two atoms' faces); tori and concave patches
+// take their faces' component. The outer component, 0, is the extreme atom's face facing
+// +x; the others are numbered in order of their first patch (convex, tori, concave). An
+// atom exposed to two components (a one-atom wall around a cavity) has one convex patch;
+// it takes the lower number.
+void SesBuilder::State::labelComponents() {
+  const std::size_t n = centers.size();
+  auto& cv = out.concave;
+  std::vector<std::uint32_t>& faceBegin = tmp.faceBegin;
+  prefix(std::span<const std::uint32_t>(faceCount.data(), n), faceBegin);
+  const std::size_t faces = n == 0 ? 0 : faceBegin[n];
+  std::vector<std::uint32_t>& parent = tmp.faceParent;
+  parent.resize(faces);
+  for (std::size_t f = 0; f < faces; ++f) parent[f] = static_cast<std::uint32_t>(f);
+  auto find = [&](std::uint32_t f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  auto unite = [&](std::uint32_t f, std::uint32_t g) {
+    f = find(f);
+    g = find(g);
+    if (f != g) parent[std::max(f, g)] = std::min(f, g);
+  };
+  std::vector<std::uint32_t>& vertexFace = tmp.vertexNode;
+  vertexFace.assign(cv.size(), ~0u);
+  for (std::size_t x = 0; x < n; ++x) {
+    if (faceCount[x] == 0) continue;
+    for (std::uint32_t k = incVertexBegin[x]; k < incVertexBegin[x + 1]; ++k) {
+      if (incVertexFace[k] == ~0u) continue;  // a merged vertex with no arc of x
+      const std::uint32_t f = faceBegin[x] + incVertexFace[k];
+      std::uint32_t& v = vertexFace[incVertex[k]];
+      if (v == ~0u) v = f;
+      else unite(v, f);
+    }
+    for (std::uint32_t k = incFreeBegin[x]; k < incFreeBegin[x + 1]; ++k) {
+      const std::uint32_t o = incFree[k];
+      if (o < x || faceCount[o] == 0) continue;
+      for (std::uint32_t m = incFreeBegin[o]; m < incFreeBegin[o + 1]; ++m)
+        if (incFree[m] == x) unite(faceBegin[x] + incFreeFace[k], faceBegin[o] + incFreeFace[m]);
+    }
+  }
+  // The triangles of a merged vertex are one patch.
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    if (vertexGroup[v] == 0) continue;
+    std::uint32_t& first = vertexFace[v - vertexGroup[v]];
+    if (vertexFace[v] == ~0u) continue;
+    if (first == ~0u) first = vertexFace[v];
+    else unite(first, vertexFace[v]);
+  }
+  for (std::size_t v = 0; v < cv.size(); ++v)
+    if (vertexGroup[v] != 0) vertexFace[v] = vertexFace[v - vertexGroup[v]];
+  std::vector<std::uint32_t>& label = tmp.faceLabel;
+  label.assign(faces, ~0u);
+  std::uint32_t components = 0;
+  auto labelOf = [&](std::uint32_t f) {
+    std::uint32_t& l = label[find(f)];
+    if (l == ~0u) l = components++;
+    return l;
+  };
+  if (n > 0 && extremeAtom < n && faceCount[extremeAtom] > 0)
+    labelOf(faceBegin[extremeAtom] + std::min(extremeFace, faceCount[extremeAtom] - 1));
+  out.convex.component.resize(out.convex.size());
+  for (std::size_t k = 0; k < out.convex.size(); ++k) {
+    const std::uint32_t x = out.convex.atom[k];
+    std::uint32_t lowest = ~0u;
+    for (std::uint32_t f = faceBegin[x]; f < faceBegin[x + 1]; ++f) lowest = std::min(lowest, labelOf(f));
+    out.convex.component[k] = lowest == ~0u ? 0 : lowest;
+  }
+  out.tori.component.resize(out.tori.size());
+  for (std::size_t t = 0; t < out.tori.size(); ++t) out.tori.component[t] = labelOf(faceBegin[out.tori.atomI[t]] + torusFace[t]);
+  cv.component.resize(cv.size());
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    if (vertexFace[v] != ~0u) {
+      cv.component[v] = labelOf(vertexFace[v]);
+    } else if (vertexGroup[v] != 0) {
+      cv.component[v] = cv.component[v - vertexGroup[v]];
+    } else {
+      // A merged vertex with no arc at all (a probe trapped where it touches all its atoms,
+      // the centre of a cube) is a component of its own; any other vertex without a face, 0.
+      const bool merged = vertexEdges[v] != 7 || (v + 1 < cv.size() && vertexGroup[v + 1] == 1);
+      cv.component[v] = merged ? components++ : 0;
+    }
+  }
+  out.componentCount = components;
+}
+
+}  // namespace surftrace::build
