@@ -380,51 +380,35 @@ PatchList atomSpheres(std::span<const glm::dvec3> centers, std::span<const doubl
 }
 
 PatchList outerComponent(const PatchList& in) {
-  PatchList out;
-  out.params = in.params;
+  auto keepOuter = [](const std::vector<std::uint32_t>& component) {
+    std::vector<bool> keep(component.size());
+    for (std::size_t k = 0; k < component.size(); ++k) keep[k] = component[k] == 0;
+    return keep;
+  };
+  const std::vector<bool> keepConvex = keepOuter(in.convex.component), keepTori = keepOuter(in.tori.component),
+                          keepConcave = keepOuter(in.concave.component);
+  PatchList out = in;
+  // Kept concave patches' clipping planes, packed in order, with their begin indices moved.
+  out.clipPlanes.clear();
+  for (std::size_t k = 0; k < in.concave.size(); ++k) {
+    if (!keepConcave[k]) continue;
+    out.concave.clipBegin[k] = static_cast<std::uint32_t>(out.clipPlanes.size());
+    out.clipPlanes.insert(out.clipPlanes.end(), in.clipPlanes.begin() + in.concave.clipBegin[k],
+                          in.clipPlanes.begin() + in.concave.clipBegin[k] + in.concave.clipCount[k]);
+  }
+  // Every array of a kind loses the same entries: the visitor reaches fields added later too.
+  forEachArray(out, [&](const char* group, const char*, auto& v) {
+    const std::vector<bool>* keep = std::strcmp(group, "convex") == 0    ? &keepConvex
+                                    : std::strcmp(group, "tori") == 0    ? &keepTori
+                                    : std::strcmp(group, "concave") == 0 ? &keepConcave
+                                                                          : nullptr;
+    if (!keep) return;
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if ((*keep)[k]) v[kept++] = v[k];
+    v.resize(kept);
+  });
   out.componentCount = in.componentCount > 0 ? 1u : 0u;
-  const ConvexSpheres& c = in.convex;
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    if (c.component[k] != 0) continue;
-    out.convex.center.push_back(c.center[k]);
-    out.convex.radius.push_back(c.radius[k]);
-    out.convex.atom.push_back(c.atom[k]);
-    out.convex.component.push_back(0);
-    out.convex.area.push_back(c.area[k]);
-    out.convex.vectorArea.push_back(c.vectorArea[k]);
-  }
-  const Tori& t = in.tori;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    if (t.component[k] != 0) continue;
-    out.tori.center.push_back(t.center[k]);
-    out.tori.axis.push_back(t.axis[k]);
-    out.tori.e1.push_back(t.e1[k]);
-    out.tori.bigRadius.push_back(t.bigRadius[k]);
-    out.tori.thetaI.push_back(t.thetaI[k]);
-    out.tori.thetaJ.push_back(t.thetaJ[k]);
-    out.tori.phiExtent.push_back(t.phiExtent[k]);
-    out.tori.atomI.push_back(t.atomI[k]);
-    out.tori.atomJ.push_back(t.atomJ[k]);
-    out.tori.component.push_back(0);
-  }
-  const ConcaveTriangles& v = in.concave;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    if (v.component[k] != 0) continue;
-    out.concave.probe.push_back(v.probe[k]);
-    out.concave.dirI.push_back(v.dirI[k]);
-    out.concave.dirJ.push_back(v.dirJ[k]);
-    out.concave.dirK.push_back(v.dirK[k]);
-    out.concave.atomI.push_back(v.atomI[k]);
-    out.concave.atomJ.push_back(v.atomJ[k]);
-    out.concave.atomK.push_back(v.atomK[k]);
-    out.concave.clipBegin.push_back(static_cast<std::uint32_t>(out.clipPlanes.size()));
-    out.concave.clipCount.push_back(v.clipCount[k]);
-    out.concave.component.push_back(0);
-    out.clipPlanes.insert(out.clipPlanes.end(), in.clipPlanes.begin() + v.clipBegin[k],
-                          in.clipPlanes.begin() + v.clipBegin[k] + v.clipCount[k]);
-  }
-  out.mss = in.mss;
-  out.cellPlanes = in.cellPlanes;
   return out;
 }
 

@@ -23,13 +23,14 @@
 #include "build/sas_geometry.hpp"
 #include "oracles/ray_march.hpp"
 #include "trace/random_geometry.hpp"
+#include "trace/sphere_oracle.hpp"
 
 namespace surftrace::trace {
 namespace {
 
 using namespace testing_random;
+using namespace sphere_oracle;
 
-using Real = long double;
 using Rng = std::mt19937_64;
 using build::Plane;
 
@@ -46,21 +47,6 @@ std::uint64_t seedBase() {
   return s != nullptr ? std::strtoull(s, nullptr, 10) : 0;
 }
 
-
-// ---- long double vectors for the oracle ------------------------------------------------
-
-struct Vec3L {
-  Real x, y, z;
-};
-Vec3L toL(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
-Vec3L subL(const glm::dvec3& a, const glm::dvec3& b) {
-  return {static_cast<Real>(a.x) - b.x, static_cast<Real>(a.y) - b.y, static_cast<Real>(a.z) - b.z};
-}
-Real dotL(const Vec3L& a, const Vec3L& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3L crossL(const Vec3L& a, const Vec3L& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-Vec3L scaleL(const Vec3L& a, Real s) { return {a.x * s, a.y * s, a.z * s}; }
 
 // ---- fixtures -----------------------------------------------------------------------------
 
@@ -150,45 +136,10 @@ struct OracleClip {
   }
 };
 
-// |x − p|² − rp² along the ray, in long double with the origin shifted to the probe.
-struct SphereImplicit {
-  Vec3L op, d;
-  Real rr;
-  SphereImplicit(const Fixture& f, const Ray& r)
-      : op(subL(r.org, f.probe)), d(toL(r.dir)), rr(static_cast<Real>(f.rp) * f.rp) {}
-  Vec3L local(Real t) const { return {op.x + t * d.x, op.y + t * d.y, op.z + t * d.z}; }
-  Real operator()(Real t) const {
-    const Vec3L v = local(t);
-    return dotL(v, v) - rr;
-  }
-};
-
-// The march covers only where the ray is within rp of the probe: no root lies outside.
 std::vector<Real> sphereRoots(const Fixture& f, const Ray& r, double tMin, double tMax) {
-  const SphereImplicit s(f, r);
-  const Real dd = dotL(s.d, s.d);
-  const Real tc = -dotL(s.op, s.d) / dd;
-  const Real hw = static_cast<Real>(f.rp) * (1 + 1e-6L) / std::sqrt(dd);
-  const Real lo = std::max<Real>(tMin, tc - hw), hi = std::min<Real>(tMax, tc + hw);
-  if (!(lo < hi)) return {};
-  return oracles::marchRoots(s, lo, hi, kMarchSteps);
+  return sphere_oracle::sphereRoots(f.probe, f.rp, r, tMin, tMax, kMarchSteps);
 }
-
-// |n·d̂| of the ray against the probe sphere, from its perpendicular distance (ORACLES B.4).
-Real grazingCosine(const Fixture& f, const Ray& r) {
-  const SphereImplicit s(f, r);
-  const Real b = dotL(s.op, s.d) / std::sqrt(dotL(s.d, s.d));
-  return std::sqrt(std::abs(s.rr - (dotL(s.op, s.op) - b * b)) / s.rr);
-}
-
-bool finite(const Bounds3d& b) {
-  return std::isfinite(b.lower.x) && std::isfinite(b.lower.y) && std::isfinite(b.lower.z) &&
-         std::isfinite(b.upper.x) && std::isfinite(b.upper.y) && std::isfinite(b.upper.z);
-}
-bool containsL(const Bounds3d& b, const glm::dvec3& p, const Vec3L& local) {
-  const Real x = p.x + local.x, y = p.y + local.y, z = p.z + local.z;
-  return x >= b.lower.x && y >= b.lower.y && z >= b.lower.z && x <= b.upper.x && y <= b.upper.y && z <= b.upper.z;
-}
+Real grazingCosine(const Fixture& f, const Ray& r) { return sphereGrazingCosine(f.probe, f.rp, r); }
 
 // ---- one trial against the oracle ------------------------------------------------------
 
@@ -211,7 +162,7 @@ void checkRay(const Fixture& f, const Ray& ray, double tMin, double tMax, const 
   const Bounds3d box = bounds(p);
   ASSERT_TRUE(finite(box) && !box.empty()) << where;
   const OracleClip clip(f);
-  const SphereImplicit s(f, ray);
+  const SphereImplicit s(f.probe, f.rp, ray);
   const std::vector<Real> roots = sphereRoots(f, ray, tMin, tMax);
   bool found = false;  // (tMin may be negative, so no sentinel t)
   Real want = 0, wantMargin = 0, minAbsMargin = std::numeric_limits<Real>::infinity();

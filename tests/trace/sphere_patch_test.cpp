@@ -16,13 +16,14 @@
 
 #include "oracles/ray_march.hpp"
 #include "trace/random_geometry.hpp"
+#include "trace/sphere_oracle.hpp"
 
 namespace surftrace::trace {
 namespace {
 
 using namespace testing_random;
+using namespace sphere_oracle;
 
-using Real = long double;
 using Rng = std::mt19937_64;
 
 constexpr int kTrials = 4000;
@@ -39,15 +40,6 @@ std::uint64_t seedBase() {
 }
 
 
-struct Vec3L {
-  Real x, y, z;
-};
-Vec3L toL(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
-Real dotL(const Vec3L& a, const Vec3L& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-// a − b, each rounded once in long double: exact enough to serve as the reference.
-Vec3L subL(const glm::dvec3& a, const glm::dvec3& b) {
-  return {static_cast<Real>(a.x) - b.x, static_cast<Real>(a.y) - b.y, static_cast<Real>(a.z) - b.z};
-}
 
 struct Trial {
   SpherePatch sphere;
@@ -82,52 +74,10 @@ Trial randomTrial(Rng& rng) {
   return tr;
 }
 
-// |x − c|² − ρ² along the ray, in long double with the origin shifted to the centre.
-struct SphereImplicit {
-  Vec3L oc, d;
-  Real rr;
-  SphereImplicit(const SpherePatch& s, const Ray& r)
-      : oc(subL(r.org, s.center)),
-        d(toL(r.dir)),
-        rr(static_cast<Real>(s.radius) * s.radius) {}
-  Vec3L local(Real t) const { return {oc.x + t * d.x, oc.y + t * d.y, oc.z + t * d.z}; }
-  Real operator()(Real t) const {
-    const Vec3L v = local(t);
-    return dotL(v, v) - rr;
-  }
-};
-
-// Every root of the sphere on [tMin, tMax]. The march covers only the window where the ray
-// is within ρ of the centre (|t·|d| − t_c·|d|| <= ρ), since no root can lie outside it.
 std::vector<Real> oracleRoots(const SpherePatch& s, const Ray& r, double tMin, double tMax) {
-  const SphereImplicit f(s, r);
-  const Real dd = dotL(f.d, f.d);
-  const Real tc = -dotL(f.oc, f.d) / dd;
-  const Real hw = static_cast<Real>(s.radius) * (1 + 1e-6L) / std::sqrt(dd);
-  const Real lo = std::max<Real>(tMin, tc - hw), hi = std::min<Real>(tMax, tc + hw);
-  if (!(lo < hi)) return {};
-  return oracles::marchRoots(f, lo, hi, kMarchSteps);
+  return sphereRoots(s.center, s.radius, r, tMin, tMax, kMarchSteps);
 }
-
-// |n·d̂| of the ray against the sphere, as the perpendicular distance gives it: the
-// hit/miss answer of a ray below kGrazingCosine flips within rounding (ORACLES B.4).
-Real grazingCosine(const SpherePatch& s, const Ray& r) {
-  const SphereImplicit f(s, r);
-  const Real dd = dotL(f.d, f.d), b = dotL(f.oc, f.d) / std::sqrt(dd);
-  const Real perp2 = dotL(f.oc, f.oc) - b * b;
-  const Real rr = f.rr;
-  return std::sqrt(std::abs(rr - perp2) / rr);
-}
-
-bool finite(const Bounds3d& b) {
-  return std::isfinite(b.lower.x) && std::isfinite(b.lower.y) && std::isfinite(b.lower.z) &&
-         std::isfinite(b.upper.x) && std::isfinite(b.upper.y) && std::isfinite(b.upper.z);
-}
-
-bool containsL(const Bounds3d& b, const glm::dvec3& c, const Vec3L& local) {
-  const Real x = c.x + local.x, y = c.y + local.y, z = c.z + local.z;
-  return x >= b.lower.x && y >= b.lower.y && z >= b.lower.z && x <= b.upper.x && y <= b.upper.y && z <= b.upper.z;
-}
+Real grazingCosine(const SpherePatch& s, const Ray& r) { return sphereGrazingCosine(s.center, s.radius, r); }
 
 TEST(SpherePatch, MatchesBruteForceOracle) {
   const std::uint64_t base = seedBase();
@@ -141,7 +91,7 @@ TEST(SpherePatch, MatchesBruteForceOracle) {
     ASSERT_TRUE(finite(box) && !box.empty()) << "trial " << i << " seed " << base + i;
 
     const std::vector<Real> roots = oracleRoots(s, tr.ray, tr.tMin, tr.tMax);
-    const SphereImplicit f(s, tr.ray);
+    const SphereImplicit f(s.center, s.radius, tr.ray);
     for (Real t : roots) EXPECT_TRUE(containsL(box, s.center, f.local(t))) << "trial " << i << " seed " << base + i;
 
     const std::optional<PatchHit> got = intersect(s, tr.ray, tr.tMin, tr.tMax);
