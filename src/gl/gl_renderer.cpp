@@ -327,8 +327,7 @@ std::vector<glm::uvec2> GlRenderer::fragmentCounts() const {
 trace::FrameBuffers GlRenderer::readBack() const {
   const Impl& m = *impl_;
   trace::FrameBuffers fb;
-  fb.width = m.width;
-  fb.height = m.height;
+  fb.reset(m.width, m.height);
   const std::size_t n = fb.pixels(), w = static_cast<std::size_t>(m.width), h = static_cast<std::size_t>(m.height);
   std::vector<float> color(4 * n), depth(2 * n), normal(4 * n);
   std::vector<GLuint> ids(4 * n);
@@ -340,14 +339,6 @@ trace::FrameBuffers GlRenderer::readBack() const {
                     ids.data());
   checkGlError("reading the frame back");
 
-  fb.rgba.resize(4 * n);
-  fb.depth.resize(n);
-  fb.viewZ.resize(n);
-  fb.normal.resize(3 * n);
-  fb.kind.resize(n);
-  fb.patchId.resize(n);
-  fb.atomId.resize(n);
-  fb.flags.assign(n, 0u);
   const float inf = std::numeric_limits<float>::infinity();
   for (std::size_t y = 0; y < h; ++y) {
     // GL's row 0 is the bottom of the image, FrameBuffers' row 0 the top.

@@ -82,8 +82,7 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
     throw std::runtime_error(path + ": no channel '" + name + "'; is this a surftrace EXR?");
   };
   FrameBuffers f;
-  f.width = spec.width;
-  f.height = spec.height;
+  f.reset(spec.width, spec.height);
   const std::size_t n = f.pixels();
   // Read each channel on its own in its own type, so that integer ids are not normalised.
   auto readFloat = [&](const char* name, std::vector<float>& dst, int stride, int offset) {
@@ -98,14 +97,6 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
     if (!in->read_image(0, 0, c, c + 1, oiio::TypeDesc::UINT32, dst.data()))
       throw std::runtime_error(path + ": " + in->geterror());
   };
-  f.rgba.resize(4 * n);
-  f.depth.resize(n);
-  f.viewZ.resize(n);
-  f.normal.resize(3 * n);
-  f.kind.resize(n);
-  f.patchId.resize(n);
-  f.atomId.resize(n);
-  f.flags.resize(n);
   for (int c = 0; c < 4; ++c) readFloat(kFloatChannels[c], f.rgba, 4, c);
   readFloat("depth.t", f.depth, 1, 0);
   readFloat("depth.z", f.viewZ, 1, 0);

@@ -92,6 +92,21 @@ class Shader {
 
 }  // namespace
 
+void FrameBuffers::reset(int newWidth, int newHeight) {
+  width = newWidth;
+  height = newHeight;
+  const std::size_t n = pixels();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  rgba.assign(4 * n, 0.0f);
+  depth.assign(n, kInf);
+  viewZ.assign(n, kInf);
+  normal.assign(3 * n, 0.0f);
+  kind.assign(n, 0u);
+  patchId.assign(n, ~0u);
+  atomId.assign(n, ~0u);
+  flags.assign(n, 0u);
+}
+
 FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
   o.camera.validate();
   if (o.samplesPerPixel < 1 || o.samplesPerPixel > 1024)
@@ -100,18 +115,8 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   const auto start = std::chrono::steady_clock::now();
   const Camera& cam = o.camera;
   FrameBuffers fb;
-  fb.width = cam.width;
-  fb.height = cam.height;
+  fb.reset(cam.width, cam.height);
   const std::size_t n = fb.pixels();
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  fb.rgba.assign(4 * n, 0.0f);
-  fb.depth.assign(n, kInf);
-  fb.viewZ.assign(n, kInf);
-  fb.normal.assign(3 * n, 0.0f);
-  fb.kind.assign(n, 0u);
-  fb.patchId.assign(n, ~0u);
-  fb.atomId.assign(n, ~0u);
-  fb.flags.assign(n, 0u);
 
   const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.samplesPerPixel))));
   const int extraSamples = k > 1 ? k * k : 0;  // centre ray always; a k×k grid on top when spp > 1

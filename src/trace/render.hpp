@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -44,6 +45,8 @@ struct FrameBuffers {
   std::size_t rays = 0;               // camera rays traced (shadow and AO rays not counted)
 
   std::size_t pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  // Sizes every buffer for width × height and fills it with the miss state.
+  void reset(int newWidth, int newHeight);
 };
 
 // `atomColors` (one per atom) is used by every scheme but Patch. Identical output for any
