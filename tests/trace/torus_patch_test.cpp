@@ -62,20 +62,11 @@ glm::dvec3 toD(LVec v) { return {static_cast<double>(v.x), static_cast<double>(v
 
 // ---- patches and rays ------------------------------------------------------------------------
 
+// Orthonormalises the frame from the hints; the library fills and prepares the rest.
 TorusPatch makePatch(const glm::dvec3& center, const glm::dvec3& axis, const glm::dvec3& e1Hint, double R, double rp,
                      double thetaI, double thetaJ, double phiExtent) {
-  TorusPatch p;
-  p.center = center;
-  p.axis = glm::normalize(axis);
-  p.e1 = glm::normalize(e1Hint - glm::dot(e1Hint, p.axis) * p.axis);
-  p.e2 = glm::cross(p.axis, p.e1);
-  p.bigRadius = R;
-  p.probeRadius = rp;
-  p.thetaI = thetaI;
-  p.thetaJ = thetaJ;
-  p.phiExtent = phiExtent;
-  prepare(p);
-  return p;
+  const glm::dvec3 n = glm::normalize(axis);
+  return makeTorusPatch(center, n, glm::normalize(e1Hint - glm::dot(e1Hint, n) * n), R, rp, thetaI, thetaJ, phiExtent);
 }
 
 double scaleOf(const TorusPatch& p) { return p.bigRadius + p.probeRadius; }
