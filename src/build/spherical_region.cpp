@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -22,22 +23,14 @@ int findRoot(std::vector<int>& parent, int x) {
   return x;
 }
 
-// Which of the (at most two) crossing points of circles a and b a point u is: the sign of
-// det(axis_lo, axis_hi, u) with the caps in index order, the same from either circle.
-int crossingSide(const std::vector<Cap>& caps, int a, int b, const glm::dvec3& u) {
-  const int lo = std::min(a, b), hi = std::max(a, b);
-  const double det = glm::dot(glm::cross(caps[static_cast<std::size_t>(lo)].axis, caps[static_cast<std::size_t>(hi)].axis), u);
-  return det >= 0.0 ? 1 : 0;
-}
+// An arc shorter than this (in φ) is where three or more circles cross at one point, up
+// to rounding: it bounds nothing, and its corners would only add a spurious turn.
+constexpr double kTinyArc = 1e-12;
 
-// Exterior angle of the region's boundary at u, between circles a and b: the angle between
-// their axes projected into the tangent plane at u (ORACLES D.2).
-double exteriorAngle(const glm::dvec3& axisA, const glm::dvec3& axisB, const glm::dvec3& u) {
-  const glm::dvec3 ma = axisA - glm::dot(axisA, u) * u;
-  const glm::dvec3 mb = axisB - glm::dot(axisB, u) * u;
-  const double la = glm::length(ma), lb = glm::length(mb);
-  if (la == 0.0 || lb == 0.0) return 0.0;
-  return std::acos(std::clamp(glm::dot(ma, mb) / (la * lb), -1.0, 1.0));
+// The signed turning angle at u from direction tIn to tOut (both tangent at u),
+// counter-clockwise about u positive.
+double turningAngle(const glm::dvec3& tIn, const glm::dvec3& tOut, const glm::dvec3& u) {
+  return std::atan2(glm::dot(glm::cross(tIn, tOut), u), glm::dot(tIn, tOut));
 }
 
 }  // namespace
@@ -60,8 +53,7 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
   glm::dvec3 vectorArea(0.0);
   int fullCircles = 0;
   double maxCapArea = 0.0;
-  s.starts.clear();
-  s.ends.clear();
+  s.arcs.clear();
 
   const int n = static_cast<int>(caps.size());
   for (int a = 0; a < n; ++a) {
@@ -110,39 +102,42 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
     // start of that lap.
     const auto& first = s.intervals.front();
     double reach = first.end;
-    int reachCap = first.cap;
-    for (const auto& iv : s.intervals)
-      if (iv.end - kTwoPi > reach) reach = iv.end - kTwoPi, reachCap = iv.cap;
-    auto emitGap = [&](double g0, int leftCap, double g1, int enteredCap) {
-      if (!(g1 > g0)) return;
+    for (const auto& iv : s.intervals) reach = std::max(reach, iv.end - kTwoPi);
+    auto emitGap = [&](double g0, double g1) {
+      if (!(g1 - g0 > kTinyArc)) return;
       addArc(g0, g1);
-      const glm::dvec3 u0 = pointAt(g0), u1 = pointAt(g1);
-      turning -= exteriorAngle(ca.axis, caps[static_cast<std::size_t>(enteredCap)].axis, u1);
-      s.starts.push_back({a, leftCap, crossingSide(caps, a, leftCap, u0)});
-      s.ends.push_back({a, enteredCap, crossingSide(caps, a, enteredCap, u1)});
+      s.arcs.push_back({pointAt(g0), pointAt(g1), a});
     };
     for (std::size_t k = 1; k < s.intervals.size(); ++k) {
       const auto& iv = s.intervals[k];
-      if (iv.begin > reach) emitGap(reach, reachCap, iv.begin, iv.cap);
-      if (iv.end > reach) reach = iv.end, reachCap = iv.cap;
+      if (iv.begin > reach) emitGap(reach, iv.begin);
+      reach = std::max(reach, iv.end);
     }
-    if (reach < first.begin + kTwoPi) emitGap(reach, reachCap, first.begin + kTwoPi, first.cap);
+    if (reach < first.begin + kTwoPi) emitGap(reach, first.begin + kTwoPi);
   }
 
-  // Boundary cycles: the arc of circle a that ends entering cap b continues on circle b,
-  // leaving cap a, at the same crossing point.
-  const std::size_t arcs = s.starts.size();
+  // Boundary cycles: each arc (run with increasing φ, the region on its right) continues
+  // with the arc that starts where it ends. Matched by position, not by which caps cross
+  // there: where three circles meet at one point, rounding decides which cap an arc
+  // "enters", and the arc of the third circle there has no length (dropped above). The
+  // corner's turn is measured between the two arcs that actually meet, signed.
+  const std::size_t arcs = s.arcs.size();
   s.parent.resize(arcs);
   for (std::size_t k = 0; k < arcs; ++k) s.parent[k] = static_cast<int>(k);
   for (std::size_t e = 0; e < arcs; ++e) {
-    const auto& end = s.ends[e];
-    for (std::size_t st = 0; st < arcs; ++st) {
-      const auto& start = s.starts[st];
-      if (start.capA == end.capB && start.capB == end.capA && start.side == end.side) {
-        s.parent[static_cast<std::size_t>(findRoot(s.parent, static_cast<int>(e)))] = findRoot(s.parent, static_cast<int>(st));
-        break;
-      }
+    const auto& in = s.arcs[e];
+    std::size_t next = 0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < arcs; ++k) {
+      const glm::dvec3 gap = s.arcs[k].begin - in.end;
+      const double d2 = glm::dot(gap, gap);
+      if (d2 < nearest) nearest = d2, next = k;
     }
+    const auto& out = s.arcs[next];
+    const glm::dvec3& axisIn = caps[static_cast<std::size_t>(in.cap)].axis;
+    const glm::dvec3& axisOut = caps[static_cast<std::size_t>(out.cap)].axis;
+    turning += turningAngle(glm::cross(axisIn, in.end), glm::cross(axisOut, in.end), in.end);
+    s.parent[static_cast<std::size_t>(findRoot(s.parent, static_cast<int>(e)))] = findRoot(s.parent, static_cast<int>(next));
   }
   int cycles = fullCircles;
   for (std::size_t k = 0; k < arcs; ++k) cycles += findRoot(s.parent, static_cast<int>(k)) == static_cast<int>(k);

@@ -20,11 +20,10 @@ struct Cap {
 // Scratch buffers, reused between calls so the per-atom hot path does not allocate.
 struct SphericalRegionScratch {
   struct Interval { double begin, end; int cap; };
-  struct ArcEnd { int capA, capB, side; };
+  struct Arc { glm::dvec3 begin, end; int cap; };
   std::vector<Cap> caps;
   std::vector<Interval> intervals;
-  std::vector<double> events;
-  std::vector<ArcEnd> starts, ends;
+  std::vector<Arc> arcs;
   std::vector<int> parent;
 };
 
