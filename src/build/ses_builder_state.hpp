@@ -63,7 +63,7 @@ struct SesBuilder::State {
   detail::VertexBuf fv;   // fresh vertex-pass output of the atoms listed
   detail::ContourBuf fc;  // fresh contour-pass output
   // Fresh planes of the probes listed: partners, counts, starts, planes.
-  std::vector<std::uint32_t> fpPartner, fpCount, fpBegin;
+  std::vector<std::uint32_t> fpCount, fpBegin;
   std::vector<Plane> fpPlanes;
   std::vector<std::uint32_t> list, list2, freshBegin, freshFreeBegin, newBegin, tmpIndex;
   std::vector<std::uint8_t> mark;

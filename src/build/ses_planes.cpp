@@ -3,9 +3,8 @@
 #include <span>
 
 #include <glm/geometric.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
+#include "build/clip_planes.hpp"
 #include "build/ses_assembly.hpp"
 #include "build/ses_builder_state.hpp"
 
@@ -16,40 +15,37 @@ using namespace detail;
 // Self-intersections (ORACLES A.5): every pair of probe positions closer than 2 rp cuts
 // both probe spheres along their bisector plane. The probe positions sit in a neighbour
 // grid of their own (probeGrid: radius rp each, no probe), whose neighbour relation is
-// exactly |p − q| < 2 rp. No cap on the number of planes per patch. Fills fp with the
-// planes of the probes listed (ascending).
+// exactly |p − q| < 2 rp. No cap on the number of planes per patch; a plane is stored with
+// a concave patch unless it provably clips nothing of it (the cap it removes from the
+// probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
+// keeps 1 plane in 5: the rest only cost memory here and a test per hit in every renderer.
+// Fills fpPlanes and fpCount with the planes of the probes listed (ascending).
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
-  const auto& probe = out.concave.probe;
+  const auto& cv = out.concave;
+  const double twoRp = 2.0 * params.probeRadius;
   runChunks(tls, probes.size(), planePieces, [](Scratch& s) -> PlaneBuf& { return s.planeOut; },
             [&](std::size_t k, Scratch& s, PlaneBuf& buf) {
               const std::uint32_t a = probes[k];
               s.row.clear();
               probeGrid.neighbours(a, s.row);
+              const glm::dvec3 pa = cv.probe[a];
+              const TriangleCone cone({cv.dirI[a], cv.dirJ[a], cv.dirK[a]});
               std::uint32_t count = 0;
               for (const std::uint32_t b : s.row) {
-                const glm::dvec3 v = probe[b] - probe[a];
+                const glm::dvec3 pb = cv.probe[b];
+                const glm::dvec3 v = pb - pa;
                 if (!(glm::dot(v, v) > 0.0)) continue;  // coincident probes (cospherical atoms): no plane
-                buf.partner.push_back(b);
+                const double len = glm::length(v);
+                const glm::dvec3 nrm = v / len;
+                if (!cone.capMeets(nrm, len / twoRp)) continue;
+                const glm::dvec3 mid = 0.5 * (pa + pb);
+                buf.plane.emplace_back(nrm, -glm::dot(nrm, mid));
                 ++count;
               }
               buf.count.push_back(count);
             });
-  gatherPieces(planePieces, offsets, Field{&PlaneBuf::partner, &fpPartner, 0}, Field{&PlaneBuf::count, &fpCount, 2});
+  gatherPieces(planePieces, offsets, Field{&PlaneBuf::plane, &fpPlanes, 0}, Field{&PlaneBuf::count, &fpCount, 2});
   prefix(fpCount, fpBegin);
-  fpPlanes.resize(fpPartner.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes.size(), kBlock), [&](const auto& range) {
-    for (std::size_t k = range.begin(); k != range.end(); ++k) {
-      const glm::dvec3& pa = probe[probes[k]];
-      for (std::uint32_t i = fpBegin[k]; i < fpBegin[k + 1]; ++i) {
-        const glm::dvec3& pb = probe[fpPartner[i]];
-        const glm::dvec3 v = pb - pa;
-        const double len = glm::length(v);
-        const glm::dvec3 nrm = v / len;
-        const glm::dvec3 mid = 0.5 * (pa + pb);
-        fpPlanes[i] = Plane(nrm, -glm::dot(nrm, mid));
-      }
-    }
-  });
 }
 
 }  // namespace surftrace::build

@@ -170,19 +170,18 @@ struct ContourBuf {
   }
 };
 
-// Clipping planes: the partner of each plane, found with the probe grid (group 0), and
-// per-probe counts (group 2; group 1 is unused). The planes themselves are computed
-// afterwards straight into their final place.
+// Clipping planes: the planes of each probe (group 0) and per-probe counts (group 2;
+// group 1 is unused).
 struct PlaneBuf {
-  std::vector<std::uint32_t> partner;
+  std::vector<glm::dvec4> plane;
   std::vector<std::uint32_t> count;
-  std::size_t size(int g) const { return g == 0 ? partner.size() : g == 1 ? 0 : count.size(); }
-  void reserve(std::size_t probes) {  // about 10 planes per probe at rp = 1.4
-    partner.reserve(32 * probes);
+  std::size_t size(int g) const { return g == 0 ? plane.size() : g == 1 ? 0 : count.size(); }
+  void reserve(std::size_t probes) {  // about 2 planes per probe that cut the patch at rp = 1.4
+    plane.reserve(4 * probes);
     count.reserve(probes);
   }
   void clear() {
-    partner.clear();
+    plane.clear();
     count.clear();
   }
 };
