@@ -27,6 +27,14 @@ add_library(surftrace_gemmi INTERFACE)
 target_include_directories(surftrace_gemmi SYSTEM INTERFACE ${GEMMI_INCLUDE_DIR} ${PEGTL_INCLUDE_DIR})
 target_link_libraries(surftrace_gemmi INTERFACE ZLIB::ZLIB)
 
+# GMP (libgmp-dev) for the exact fallback of the SES predicates; it ships no CMake config.
+find_path(GMPXX_INCLUDE_DIR gmpxx.h REQUIRED)
+find_library(GMPXX_LIBRARY gmpxx REQUIRED)
+find_library(GMP_LIBRARY gmp REQUIRED)
+add_library(surftrace_gmp INTERFACE)
+target_include_directories(surftrace_gmp SYSTEM INTERFACE ${GMPXX_INCLUDE_DIR})
+target_link_libraries(surftrace_gmp INTERFACE ${GMPXX_LIBRARY} ${GMP_LIBRARY})
+
 if(SURFTRACE_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(CGAL QUIET)   # GPL: test oracles only, never linked into a library or tool

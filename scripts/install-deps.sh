@@ -9,7 +9,7 @@ packages=(
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  gemmi-dev tao-pegtl-dev zlib1g-dev
+  gemmi-dev tao-pegtl-dev zlib1g-dev libgmp-dev libboost-dev
   libcgal-dev
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   nlohmann-json3-dev libcli11-dev

@@ -5,11 +5,14 @@
 // computes the very same bits: their contours agree exactly, with no shared mutable table.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+
+#include "build/exact_predicates.hpp"
 
 namespace surftrace::build {
 
@@ -55,11 +58,36 @@ inline std::optional<SasCircle> sasCircle(const glm::dvec3& cx, double Rx, const
 struct ProbePair {
   glm::dvec3 plus, minus;  // c_a + q ± h m, m = unit normal of the centre plane
   double h;                // height above the centre plane (> 0)
+  double error;            // bound on the distance of either from the exact position
 };
+
+// A bound on how far the rounded probe positions of probePositions lie from the exact ones:
+// the rounding of each step (u = 2⁻⁵³) carried through a first-order error analysis and
+// inflated eightfold. κ = a·a b·b / det amplifies the solve for q, and h² near 0 (a probe
+// that just fits) the square root; tests check it against 50-digit arithmetic on
+// near-collinear and just-fitting triples (exact_predicates_test).
+inline double probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, double aa, double bb, double det,
+                         double qq, double h2) {
+  constexpr double u = 0x1p-53;
+  const double kappa = aa * bb / det;
+  const double la = std::sqrt(aa), lb = std::sqrt(bb);
+  const double scale = aa + bb + Ra * Ra + Rb * Rb + Rc * Rc;
+  const double q = std::sqrt(qq);
+  const double eq = 16.0 * u * kappa * scale * (1.0 / la + 1.0 / lb);  // the solve for q
+  const double eh2 = 2.0 * q * eq + 4.0 * u * (Ra * Ra + qq);
+  const double h = std::sqrt(std::max(h2, 0.0));
+  const double eh = h > 0.0 ? std::min(eh2 / h, std::sqrt(eh2)) : std::sqrt(eh2);
+  const double em = 8.0 * u * std::sqrt(kappa) * h;  // the direction m
+  const double coords = std::max({std::abs(ca.x), std::abs(ca.y), std::abs(ca.z)});
+  return 8.0 * (4.0 * u * (coords + q + h) + eq + eh + em);
+}
 
 // Collinear centres (no isolated vertex) and triples whose spheres share no point give
 // nothing; a tangential triple (h = 0) gives nothing as well: its "vertex" is a single
-// point where two circles touch, which bounds no patch.
+// point where two circles touch, which bounds no patch. A positive double h² within its
+// error bound of 0 is confirmed in rational arithmetic (a rounding-positive h² of a
+// tangential or separate triple gives nothing). Centres with sin² of their angle below
+// 1e-24 count as collinear: no double could place a probe from them.
 inline std::optional<ProbePair> probePositions(const glm::dvec3& ca, double Ra, const glm::dvec3& cb, double Rb,
                                                const glm::dvec3& cc, double Rc) {
   const glm::dvec3 a = cb - ca, b = cc - ca;
@@ -72,11 +100,17 @@ inline std::optional<ProbePair> probePositions(const glm::dvec3& ca, double Ra, 
   const double alpha = (ra * bb - rb * ab) / det;
   const double beta = (rb * aa - ra * ab) / det;
   const glm::dvec3 q = alpha * a + beta * b;
-  const double h2 = Ra * Ra - glm::dot(q, q);
+  const double qq = glm::dot(q, q);
+  const double h2 = Ra * Ra - qq;
+  const double error = probeError(ca, Ra, Rb, Rc, aa, bb, det, qq, h2);
+  // A positive h² that rounding made 0 or negative leaves p+ = p−: no double can tell the
+  // two positions apart, so that triple counts as tangential as well.
   if (!(h2 > 0.0)) return std::nullopt;
+  const double eh2 = 2.0 * std::sqrt(qq) * error + 4.0 * 0x1p-53 * (Ra * Ra + qq);  // bound on h2's error
+  if (h2 <= eh2 && exactProbeHeightSign({ca, cb, cc, Ra, Rb, Rc}) <= 0) return std::nullopt;
   const double h = std::sqrt(h2);
   const glm::dvec3 m = cross / std::sqrt(det);
-  return ProbePair{ca + q + h * m, ca + q - h * m, h};
+  return ProbePair{ca + q + h * m, ca + q - h * m, h, error};
 }
 
 // On the circle of (x < y), moving with increasing φ, does the probe position `plus` of the

@@ -201,14 +201,16 @@ bool clearlyInsideBoth(const Neighbourhood& nb, std::size_t a, std::size_t b) {
 
 
 // Which of p (bit 0) and q (bit 1) lie inside a sphere of (m1 & m2) other than skip1, skip2
-// beyond the tie tolerance, |p − c|² < R²(1 − kTie) (computed as glm::dot(p − c, p − c));
+// beyond the tie tolerance, |p − c|² < lo = R²(1 − kTie) (computed as glm::dot(p − c, p − c));
 // bits 2 and 3: which lie within the tolerance of such a sphere's surface or inside it,
-// |p − c|² < R²(1 + kTie). Stops once both are inside.
+// |p − c|² < hi = R²(1 + kTie). The comparisons are of the exact probe positions: a double
+// |p − c|² within `slack` of lo or hi is decided by exactProbeSide. Stops once both are inside.
 int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::size_t words, std::size_t skip1,
-               std::size_t skip2, const glm::dvec3& p, const glm::dvec3& q) {
+               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack) {
   int inside = 0;
 #if defined(__SSE2__)
   const __m128d px = _mm_set_pd(q.x, p.x), py = _mm_set_pd(q.y, p.y), pz = _mm_set_pd(q.z, p.z);
+  const __m128d vslack = _mm_set1_pd(slack);
 #endif
   for (std::size_t w = 0; w < words; ++w) {
     Word bits = m1[w] & m2[w];
@@ -217,20 +219,37 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
       bits &= bits - 1;
       if (b == skip1 || b == skip2) continue;
       const glm::dvec4& c = nb.sphere[b];
+      const double lo = c.w * (1.0 - kTie), hi = c.w * (1.0 + kTie);
+      int sureLo, maybeLo, sureHi, maybeHi;  // bit 0 for p, bit 1 for q
 #if defined(__SSE2__)
       const __m128d dx = _mm_sub_pd(px, _mm_set1_pd(c.x));
       const __m128d dy = _mm_sub_pd(py, _mm_set1_pd(c.y));
       const __m128d dz = _mm_sub_pd(pz, _mm_set1_pd(c.z));
       const __m128d d2 = _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
-      inside |= _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(c.w * (1.0 - kTie)))) |
-                (_mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(c.w * (1.0 + kTie)))) << 2);
+      const __m128d vlo = _mm_set1_pd(lo), vhi = _mm_set1_pd(hi);
+      sureLo = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_sub_pd(vlo, vslack)));
+      maybeLo = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_add_pd(vlo, vslack)));
+      sureHi = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_sub_pd(vhi, vslack)));
+      maybeHi = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_add_pd(vhi, vslack)));
 #else
       const glm::dvec3 c3(c);
       const glm::dvec3 u = p - c3, v = q - c3;
-      const double lo = c.w * (1.0 - kTie), hi = c.w * (1.0 + kTie);
       const double du = glm::dot(u, u), dv = glm::dot(v, v);
-      inside |= (du < lo ? 1 : 0) | (dv < lo ? 2 : 0) | (du < hi ? 4 : 0) | (dv < hi ? 8 : 0);
+      sureLo = (du < lo - slack ? 1 : 0) | (dv < lo - slack ? 2 : 0);
+      maybeLo = (du < lo + slack ? 1 : 0) | (dv < lo + slack ? 2 : 0);
+      sureHi = (du < hi - slack ? 1 : 0) | (dv < hi - slack ? 2 : 0);
+      maybeHi = (du < hi + slack ? 1 : 0) | (dv < hi + slack ? 2 : 0);
 #endif
+      // Within the error bound of a threshold: the exact sign (rare: a probe position within
+      // ~1e-12 Å of R(1 ± 1e-10)).
+      for (int l = 0; l < 2; ++l) {
+        const bool plus = l == 0;
+        if ((maybeLo & ~sureLo) >> l & 1)
+          sureLo |= exactProbeSide(triple, plus, glm::dvec3(c), lo) < 0 ? 1 << l : 0;
+        if ((maybeHi & ~sureHi) >> l & 1)
+          sureHi |= exactProbeSide(triple, plus, glm::dvec3(c), hi) < 0 ? 1 << l : 0;
+      }
+      inside |= sureLo | (sureHi << 2);
       if ((inside & 3) == 3) return inside;
     }
   }

@@ -5,6 +5,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "build/exact_predicates.hpp"
 #include "build/ses_types.hpp"
 
 namespace surftrace::build::detail {
@@ -23,9 +24,11 @@ bool clearlyInsideBoth(const Neighbourhood& nb, std::size_t a, std::size_t b);
 // the 1e-3 Å resolution of PDB files meet a fourth sphere within 3e-10 Å only by symmetry.
 constexpr double kTie = 2e-10;
 
-// Which of p and q lie inside (bits 0, 1) or within the tie tolerance of (bits 2, 3) a
-// sphere of (m1 & m2) other than skip1, skip2.
+// Which of the probe positions p (plus) and q (minus) of `triple` lie inside (bits 0, 1) or
+// within the tie tolerance of (bits 2, 3) a sphere of (m1 & m2) other than skip1, skip2.
+// Decided for the exact positions: where the double |p − c|² lies within `slack` of a
+// threshold, by exactProbeSide.
 int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::size_t words, std::size_t skip1,
-               std::size_t skip2, const glm::dvec3& p, const glm::dvec3& q);
+               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack);
 
 }  // namespace surftrace::build::detail

@@ -50,7 +50,9 @@ struct Neighbourhood {
   std::vector<std::uint32_t> upper;  // positions of the atoms > x, in increasing atom order
   std::vector<glm::dvec4> sphere;  // centre, R²: the vertex tests read these
   std::vector<float> ux, uy, uz, cosr;
+  double maxRadius = 0.0;  // largest R of the spheres
   void clear() {
+    maxRadius = 0.0;
     atom.clear();
     sphere.clear();
     ux.clear();

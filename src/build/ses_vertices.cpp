@@ -82,11 +82,13 @@ CapState gatherNeighbourhood(const Atoms& a, std::uint32_t x, std::span<const st
   nb.uz.resize(count);
   nb.cosr.resize(count);
   nb.upper.clear();
+  nb.maxRadius = 0.0;
   for (const auto& o : order) {
     const std::uint32_t l = bucketStart[o.bucket]++;
     const std::uint32_t j = o.atom;
     nb.atom[l] = j;
     nb.sphere[l] = glm::dvec4(a.c[j], a.R[j] * a.R[j]);
+    nb.maxRadius = std::max(nb.maxRadius, a.R[j]);
     nb.ux[l] = o.ux;
     nb.uy[l] = o.uy;
     nb.uz[l] = o.uz;
@@ -350,7 +352,12 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         const auto probes = probePositions(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]);
         if (!probes) continue;
         // Both probe positions against each sphere at once: bit 0 plus, bit 1 minus.
-        const int inside = insideMask(nb, candA, candB, words, ai, bi, probes->plus, probes->minus);
+        // How far a rounded |p − c|² may be from the exact one: the positions' error bound
+        // carried through the largest sphere, plus the rounding of the sum of squares.
+        const double e = probes->error, reach = nb.maxRadius + e;
+        const double slack = 2.0 * reach * e + 0x1p-50 * reach * reach;
+        const int inside = insideMask(nb, candA, candB, words, ai, bi, {cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]},
+                                      probes->plus, probes->minus, slack);
         for (const bool plus : {true, false}) {
           const glm::dvec3 p = plus ? probes->plus : probes->minus;
           if (inside & (plus ? 1 : 2)) continue;
