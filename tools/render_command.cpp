@@ -45,6 +45,7 @@ struct RenderCommandOptions {
   double aoDistance = 8.0;
   std::string engine = "embree";
   std::string glTorus = "quartic";
+  std::string glPrimitive = "box";
   int glSteps = 30;
   std::string output, exr;
   int threads = 0;
@@ -174,10 +175,12 @@ void runRender(const RenderCommandOptions& o) {
     gl::GlOptions glOptions;
     glOptions.torus = gl::parseTorusMethod(o.glTorus);
     glOptions.maxSteps = o.glSteps;
+    glOptions.primitive = gl::parsePrimitive(o.glPrimitive);
     const gl::GlContext context;
     frame = gl::renderGl(context, list, ro, colors, glOptions);
     meta["surftrace:renderer"] = "surftrace 0.1.0 gl: " + context.description();
     meta["surftrace:gl_torus_method"] = gl::torusMethodName(glOptions.torus);
+    meta["surftrace:gl_primitive"] = gl::primitiveName(glOptions.primitive);
   } else {
     const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list));
     sceneSeconds = scene.buildSeconds();
@@ -258,6 +261,12 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--gl-torus", o->glTorus, "GL saddle intersection: quartic (analytic) or sphere-tracing")
       ->check(CLI::IsMember({"quartic", "sphere-tracing"}))
       ->default_val("quartic");
+  cmd->add_option("--gl-primitive", o->glPrimitive,
+                  "GL rasterisation primitive of tori and concave triangles: box (eye-facing faces of a tight "
+                  "bounding box, fewer fragments) or cylinder (Lindow et al. 2010, Fig. 6: the trapezoid of the "
+                  "patch's bounding cylinder)")
+      ->check(CLI::IsMember({"box", "cylinder"}))
+      ->default_val("box");
   cmd->add_option("--gl-steps", o->glSteps, "GL sphere-tracing steps per ray (Lindow et al. 2010 use 30)")
       ->check(CLI::Range(1, 10000))
       ->default_val(30);
