@@ -18,7 +18,7 @@ using namespace detail;
 // exactly |p − q| < 2 rp. No cap on the number of planes per patch; a plane is stored with
 // a concave patch unless it provably clips nothing of it (the cap it removes from the
 // probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
-// keeps 1 plane in 5: the rest only cost memory here and a test per hit in every renderer.
+// keeps 1 plane in 20: the rest only cost memory here and a test per hit in every renderer.
 // Fills fpPlanes and fpCount with the planes of the probes listed (ascending).
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
   const auto& cv = out.concave;

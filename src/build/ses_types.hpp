@@ -178,8 +178,8 @@ struct PlaneBuf {
   std::vector<glm::dvec4> plane;
   std::vector<std::uint32_t> count;
   std::size_t size(int g) const { return g == 0 ? plane.size() : g == 1 ? 0 : count.size(); }
-  void reserve(std::size_t probes) {  // about 2 planes per probe that cut the patch at rp = 1.4
-    plane.reserve(4 * probes);
+  void reserve(std::size_t probes) {  // about 0.5 planes per probe cut their patch at rp = 1.4
+    plane.reserve(2 * probes);
     count.reserve(probes);
   }
   void clear() {
