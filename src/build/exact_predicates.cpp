@@ -10,6 +10,8 @@
 
 #include <gmpxx.h>
 
+#include "build/error.hpp"
+
 namespace surftrace::build {
 namespace {
 
@@ -58,6 +60,8 @@ int exactProbeHeightSign(const ProbeTriple& t) {
 
 int exactProbeSide(const ProbeTriple& t, bool plus, const glm::dvec3& c, double threshold) {
   const Exact e = setUp(t);
+  // Collinear centres have no probe position (and GMP would abort on the division).
+  SURFTRACE_ASSERT(sgn(e.det) > 0);
   const QVec qq = scale(e.qv, 1 / e.det);
   const mpq_class H = (e.Ra2 - dot(qq, qq)) / e.det;
   const QVec u = sub(add(e.ca, qq), q(c));
