@@ -72,9 +72,8 @@ bool isBuriedByContainment(std::uint32_t i, std::span<const std::uint32_t> row, 
     const glm::dvec3 v = c[j] - c[i];
     const double reach = (R[j] - R[i]) + 1e-9;
     if (glm::dot(v, v) > reach * reach * (1.0 + 1e-12)) continue;
-    const double d = glm::distance(c[i], c[j]);
-    if (d + R[i] < R[j]) return true;
-    if (d + R[i] == R[j] && !(d == 0.0 && j > i)) return true;
+    // Inside, touching allowed (decided exactly); of identical spheres the lowest survives.
+    if (sphereInside(c[i], R[i], c[j], R[j]) && !(j > i && c[i] == c[j] && R[i] == R[j])) return true;
   }
   return false;
 }
@@ -88,6 +87,17 @@ bool SesBuilder::State::buriedByContainment(std::uint32_t i, std::vector<std::ui
   grid.atomsNear(centers[i], 1e-6 - radii[i], near);
   std::erase(near, i);
   return isBuriedByContainment(i, near, centers, R);
+}
+
+// The grid lists atoms i, j as neighbours when d < r_i + r_j + 2 rp in double; every pair
+// whose extended spheres cut exactly (spheresCut, on the rounded R = r + rp) must be among
+// them. A reach longer by 2^-40 of rp + r_max covers the few roundings on either side (each
+// at most 2^-53 relative) many times over, and adds no pair of any real molecule.
+void SesBuilder::State::buildGrid() {
+  double rMax = 0.0;
+  for (const double r : radii) rMax = std::max(rMax, r);
+  const double rp = params.probeRadius;
+  grid.build(centers, radii, rp + 0x1p-40 * (rp + rMax));
 }
 
 // The vertex pass for `owners` (ascending) into fv (owner counts in fv.concaveCount,
@@ -153,7 +163,7 @@ void SesBuilder::State::fullBuild() {
   buried.assign(n, 0);
   capState.assign(n, CapState::None);
 
-  grid.build(centers, radii, rp);
+  buildGrid();
   // Burial by containment first: every pass after reads it for all neighbours.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
     auto& near = tls.local().row;
@@ -257,7 +267,7 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
     for (const std::uint32_t j : rowBuf) mark[j] |= kNear;
   }
   for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
-  grid.build(centers, radii, params.probeRadius);
+  buildGrid();
   for (const std::uint32_t m : moved) {
     rowBuf.clear();
     grid.neighbours(m, rowBuf);

@@ -75,4 +75,50 @@ int exactProbeSide(const ProbeTriple& t, bool plus, const glm::dvec3& c, double 
   return cmpSquares > 0 ? sa : cmpSquares < 0 ? sb : 0;
 }
 
+std::optional<PreciseProbes> preciseProbePositions(const ProbeTriple& t) {
+  const Exact e = setUp(t);
+  if (sgn(e.det) == 0) return std::nullopt;
+  const QVec qq = scale(e.qv, 1 / e.det);
+  const mpq_class H = (e.Ra2 - dot(qq, qq)) / e.det;
+  if (sgn(H) <= 0) return std::nullopt;
+  // 256 bits: the rounding of the square root and the products is ~2^-250 relative, far
+  // below the last bit of a double, so each coordinate is the exact one truncated to double.
+  constexpr mp_bitcnt_t kBits = 256;
+  const mpf_class h2(H, kBits);
+  const mpf_class root(sqrt(h2), kBits);
+  const auto coord = [&](const mpq_class& base, const mpq_class& n, int sign) {
+    const mpf_class offset(root * mpf_class(n, kBits), kBits);
+    mpf_class v(base, kBits);
+    if (sign > 0) v += offset;
+    else v -= offset;
+    return v.get_d();
+  };
+  const QVec p = add(e.ca, qq);
+  PreciseProbes out;
+  out.plus = {coord(p.x, e.n.x, 1), coord(p.y, e.n.y, 1), coord(p.z, e.n.z, 1)};
+  out.minus = {coord(p.x, e.n.x, -1), coord(p.y, e.n.y, -1), coord(p.z, e.n.z, -1)};
+  const mpf_class det(e.det, kBits);
+  out.h = mpf_class(root * sqrt(det), kBits).get_d();
+  return out;
+}
+
+int exactDistanceSign(const glm::dvec3& ca, const glm::dvec3& cb, double Ra, double Rb, int sign) {
+  const QVec v = sub(q(cb), q(ca));
+  const mpq_class s = sign > 0 ? mpq_class(mpq_class(Ra) + mpq_class(Rb)) : mpq_class(mpq_class(Ra) - mpq_class(Rb));
+  return sgn(dot(v, v) - s * s);
+}
+
+int exactCircleSphereSign(const glm::dvec3& cx, double Rx, const glm::dvec3& cy, double Ry, const glm::dvec3& ck,
+                          double Rk) {
+  const QVec x = q(cx), vy = sub(q(cy), x), vk = sub(x, q(ck));
+  const mpq_class d2 = dot(vy, vy), Rx2 = mpq_class(Rx) * mpq_class(Rx);
+  const mpq_class Ry2 = mpq_class(Ry) * mpq_class(Ry), Rk2 = mpq_class(Rk) * mpq_class(Rk);
+  return sgn(d2 * (dot(vk, vk) + Rx2 - Rk2) + (d2 + Rx2 - Ry2) * dot(vy, vk));
+}
+
+int exactDotSign(const glm::dvec3& o, const glm::dvec3& a, const glm::dvec3& b) {
+  const QVec qo = q(o);
+  return sgn(dot(sub(q(a), qo), sub(q(b), qo)));
+}
+
 }  // namespace surftrace::build

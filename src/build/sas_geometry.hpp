@@ -9,6 +9,7 @@
 #include <cmath>
 #include <optional>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -35,13 +36,73 @@ inline glm::dvec3 perpendicularTo(const glm::dvec3& n) {
   return glm::normalize(glm::cross(n, helper));
 }
 
+// The unit roundoff of double precision.
+inline constexpr double kUnitRoundoff = 0x1p-53;
+
+// Sign of |cb − ca|² − (Ra + sign·Rb)² (sign = ±1) for the real numbers the doubles denote:
+// the double value when it clears its error bound (each of the squares is within 6u of its
+// exact value), the rational one otherwise (a near-tangency: ORACLES E.3, E.4).
+inline int distanceSign(const glm::dvec3& ca, const glm::dvec3& cb, double Ra, double Rb, int sign) {
+  const glm::dvec3 v = cb - ca;
+  const double d2 = glm::dot(v, v);
+  const double s = sign > 0 ? Ra + Rb : Ra - Rb;
+  const double m = std::abs(Ra) + std::abs(Rb);
+  const double diff = d2 - s * s, bound = 16.0 * kUnitRoundoff * (d2 + m * m);
+  if (diff > bound) return 1;
+  if (diff < -bound) return -1;
+  return exactDistanceSign(ca, cb, Ra, Rb, sign);
+}
+
+// Whether two spheres cut in a circle: |Rx − Ry| < d < Rx + Ry, exactly. Spheres that touch
+// share a point, which bounds no patch.
+inline bool spheresCut(const glm::dvec3& cx, double Rx, const glm::dvec3& cy, double Ry) {
+  return distanceSign(cx, cy, Rx, Ry, 1) < 0 && distanceSign(cx, cy, Rx, Ry, -1) > 0;
+}
+
+// Whether the sphere (ci, Ri) lies inside (cj, Rj), touching allowed: d ≤ Rj − Ri, exactly.
+inline bool sphereInside(const glm::dvec3& ci, double Ri, const glm::dvec3& cj, double Rj) {
+  return Rj >= Ri && distanceSign(ci, cj, Rj, Ri, -1) <= 0;
+}
+
+// For a circle (x, y) that no point of crosses sphere k: the sign of the mean of
+// |p − ck|² − Rk² over its points p, which is the side of sphere k the whole circle lies on
+// (< 0 inside, > 0 outside; a circle touching the sphere at one point still has its other
+// points strictly on one side, so only a circle lying on the sphere gives 0). Double with
+// an error bound, exact when unsure (exactCircleSphereSign has the formula).
+inline int circleSphereSign(const glm::dvec3& cx, double Rx, const glm::dvec3& cy, double Ry, const glm::dvec3& ck,
+                            double Rk) {
+  const glm::dvec3 vy = cy - cx, vk = cx - ck;
+  const double d2 = glm::dot(vy, vy), kk = glm::dot(vk, vk), yk = glm::dot(vy, vk);
+  const double Rx2 = Rx * Rx, Ry2 = Ry * Ry, Rk2 = Rk * Rk;
+  const double value = d2 * (kk + Rx2 - Rk2) + (d2 + Rx2 - Ry2) * yk;
+  // |yk| <= (d2 + kk) / 2; every product of the formula is rounded a few times.
+  const double bound = 32.0 * kUnitRoundoff * (d2 * (kk + Rx2 + Rk2) + (d2 + Rx2 + Ry2) * 0.5 * (d2 + kk));
+  if (value > bound) return 1;
+  if (value < -bound) return -1;
+  return exactCircleSphereSign(cx, Rx, cy, Ry, ck, Rk);
+}
+
+// Whether sphere k buries the circle (x, y) when no point of the circle crosses it: the
+// circle lies inside (circleSphereSign < 0), touching at one point at most. A circle lying
+// on sphere k (only possible with the three centres on one line: a pencil of spheres through
+// one circle) is covered near each of its points by the two spheres of the pencil whose
+// centres are outermost on the line, so it is buried unless k's centre lies strictly
+// between x's and y's; then (x, y) are the outer pair and the circle is theirs.
+inline bool circleBuriedBy(const glm::dvec3& cx, double Rx, const glm::dvec3& cy, double Ry, const glm::dvec3& ck,
+                           double Rk) {
+  const int side = circleSphereSign(cx, Rx, cy, Ry, ck, Rk);
+  if (side != 0) return side < 0;
+  return exactDotSign(ck, cx, cy) >= 0;
+}
+
 // The SAS circle of x < y, or nothing when the extended spheres do not cut each other
-// (apart, or one inside the other). Radius by Connolly's cancellation-safe product form.
+// (apart, touching, or one inside the other: decided exactly by spheresCut). Radius by
+// Connolly's cancellation-safe product form.
 inline std::optional<SasCircle> sasCircle(const glm::dvec3& cx, double Rx, const glm::dvec3& cy, double Ry) {
+  if (!spheresCut(cx, Rx, cy, Ry)) return std::nullopt;
   const glm::dvec3 v = cy - cx;
   const double d2 = glm::dot(v, v);
   const double d = std::sqrt(d2);
-  if (!(d < Rx + Ry) || !(d > std::abs(Rx - Ry))) return std::nullopt;
   SasCircle c;
   c.distance = d;
   c.axis = v / d;
@@ -68,7 +129,7 @@ struct ProbePair {
 // near-collinear and just-fitting triples (exact_predicates_test).
 inline double probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, double aa, double bb, double det,
                          double qq, double h2) {
-  constexpr double u = 0x1p-53;
+  constexpr double u = kUnitRoundoff;
   const double kappa = aa * bb / det;
   const double la = std::sqrt(aa), lb = std::sqrt(bb);
   const double scale = aa + bb + Ra * Ra + Rb * Rb + Rc * Rc;
@@ -82,19 +143,45 @@ inline double probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, 
   return 8.0 * (4.0 * u * (coords + q + h) + eq + eh + em);
 }
 
-// Collinear centres (no isolated vertex) and triples whose spheres share no point give
-// nothing; a tangential triple (h = 0) gives nothing as well: its "vertex" is a single
-// point where two circles touch, which bounds no patch. A positive double h² within its
-// error bound of 0 is confirmed in rational arithmetic (a rounding-positive h² of a
-// tangential or separate triple gives nothing). Centres with sin² of their angle below
-// 1e-24 count as collinear: no double could place a probe from them.
+// The probe positions from preciseProbePositions, for triples the double computation cannot
+// place well. Two positions that round to the same double are one tangential position to
+// every later test (they would be two vertices at one point), so they give nothing.
+inline std::optional<ProbePair> preciseProbePair(const glm::dvec3& ca, double Ra, const glm::dvec3& cb, double Rb,
+                                                 const glm::dvec3& cc, double Rc) {
+  const auto p = preciseProbePositions({ca, cb, cc, Ra, Rb, Rc});
+  if (!p || p->plus == p->minus) return std::nullopt;
+  // Each coordinate is within one ulp (<= 2u |x|) of the exact one.
+  const glm::dvec3 m = glm::max(glm::abs(p->plus), glm::abs(p->minus));
+  return ProbePair{p->plus, p->minus, p->h, 4.0 * kUnitRoundoff * std::max({m.x, m.y, m.z}) + 0x1p-1000};
+}
+
+// Centres with sin² of their angle below this take the precise path without trying double:
+// κ = 1 / sin² would make the double solve meaningless, and probeError's first-order
+// analysis is checked only down to sin = 1e-7 (exact_predicates_test).
+inline constexpr double kNearlyCollinear = 1e-14;
+// The double path is taken only when probeError bounds its error by this many Å per Å of Ra
+// (beyond the rounding of the coordinates themselves, which no computation avoids). The
+// bound is pessimistic (errors measured against 50 digits stay below 1/18 of it), so the
+// positions returned are within ~1e-10 Å of the exact ones, below the 1e-9 Å of the SES
+// oracle. Ordinary triples pass; on 1AON the precise path takes a few dozen triples whose
+// probe barely fits (h ~ 1e-3 Å), where h = √h² amplifies the rounding of h².
+inline constexpr double kMaxProbeError = 1e-9;
+
+// The probe positions of a sorted triple, or nothing when the three extended spheres share
+// no point (h² < 0), one point (h² = 0, a tangential "vertex", which bounds no patch), or
+// their centres are collinear (no isolated vertex). All three are decided for the real
+// numbers the doubles denote: the double h² when it clears its error bound, rational
+// arithmetic otherwise. Well-conditioned triples (the bulk) are placed in double; nearly
+// collinear centres and probes that just fit (|h²| within its error bound) are placed by
+// preciseProbePositions, so every position returned is within `error` of the exact one and
+// that error is small.
 inline std::optional<ProbePair> probePositions(const glm::dvec3& ca, double Ra, const glm::dvec3& cb, double Rb,
                                                const glm::dvec3& cc, double Rc) {
   const glm::dvec3 a = cb - ca, b = cc - ca;
   const glm::dvec3 cross = glm::cross(a, b);
   const double aa = glm::dot(a, a), bb = glm::dot(b, b), ab = glm::dot(a, b);
   const double det = glm::dot(cross, cross);  // = aa·bb − ab², without the cancellation
-  if (!(det > 1e-24 * aa * bb)) return std::nullopt;
+  if (!(det > kNearlyCollinear * aa * bb)) return preciseProbePair(ca, Ra, cb, Rb, cc, Rc);
   const double ra = 0.5 * (aa + Ra * Ra - Rb * Rb);
   const double rb = 0.5 * (bb + Ra * Ra - Rc * Rc);
   const double alpha = (ra * bb - rb * ab) / det;
@@ -103,11 +190,11 @@ inline std::optional<ProbePair> probePositions(const glm::dvec3& ca, double Ra, 
   const double qq = glm::dot(q, q);
   const double h2 = Ra * Ra - qq;
   const double error = probeError(ca, Ra, Rb, Rc, aa, bb, det, qq, h2);
-  // A positive h² that rounding made 0 or negative leaves p+ = p−: no double can tell the
-  // two positions apart, so that triple counts as tangential as well.
-  if (!(h2 > 0.0)) return std::nullopt;
-  const double eh2 = 2.0 * std::sqrt(qq) * error + 4.0 * 0x1p-53 * (Ra * Ra + qq);  // bound on h2's error
-  if (h2 <= eh2 && exactProbeHeightSign({ca, cb, cc, Ra, Rb, Rc}) <= 0) return std::nullopt;
+  const double eh2 = 2.0 * std::sqrt(qq) * error + 4.0 * kUnitRoundoff * (Ra * Ra + qq);  // bound on h2's error
+  if (h2 < -eh2) return std::nullopt;  // clearly no common point: the usual rejection
+  const double coords = std::max({std::abs(ca.x), std::abs(ca.y), std::abs(ca.z)});
+  if (!(h2 > eh2) || !(error <= kMaxProbeError * Ra + 64.0 * kUnitRoundoff * coords))
+    return preciseProbePair(ca, Ra, cb, Rb, cc, Rc);
   const double h = std::sqrt(h2);
   const glm::dvec3 m = cross / std::sqrt(det);
   return ProbePair{ca + q + h * m, ca + q - h * m, h, error};

@@ -28,7 +28,7 @@ struct SesBuilder::State {
   std::vector<double> radii, R;
   std::vector<char> buried;
   std::vector<detail::CapState> capState;
-  NeighbourGrid grid;
+  NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   NeighbourGrid probeGrid;
   std::vector<double> probeRadii;
   tbb::enumerable_thread_specific<detail::Scratch> tls;
@@ -88,6 +88,7 @@ struct SesBuilder::State {
   // Whether atom i's extended sphere lies inside another's: only atoms closer than the
   // difference of the radii can contain it, a small search (a superset, then the exact test).
   bool buriedByContainment(std::uint32_t i, std::vector<std::uint32_t>& near) const;
+  void buildGrid();
 
   void fullBuild();
   void partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters);

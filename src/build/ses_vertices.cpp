@@ -20,18 +20,6 @@
 namespace surftrace::build::detail {
 namespace {
 
-// The neighbour relation of NeighbourGrid, evaluated exactly as the grid does, so that a
-// pair is a neighbour here iff the grid lists it.
-bool gridNeighbours(const Atoms& a, std::uint32_t i, std::uint32_t j) {
-  const glm::dvec3& ci = a.c[i];
-  const glm::dvec3& cj = a.c[j];
-  const double dx = ci.x - cj.x;
-  const double dy = ci.y - cj.y;
-  const double dz = ci.z - cj.z;
-  const double sum = (a.r[i] + a.r[j]) + 2.0 * a.rp;
-  return dx * dx + dy * dy + dz * dz < sum * sum;
-}
-
 std::optional<ProbePair> sortedProbes(const Atoms& a, std::uint32_t x, std::uint32_t y, std::uint32_t z) {
   std::uint32_t t[3] = {x, y, z};
   if (t[0] > t[1]) std::swap(t[0], t[1]);
@@ -60,9 +48,13 @@ CapState gatherNeighbourhood(const Atoms& a, std::uint32_t x, std::span<const st
     const double d = std::sqrt(glm::dot(v, v));  // glm::distance(cx, c_j)
     const double inv = 1.0 / d;
     double cosr = (d * d + RxRx - a.R[j] * a.R[j]) * (0.5 * inv) * invRx;
-    // The convex patch's fate hangs on cos ≤ −1 (covered) and cos < 1 (a cap at all); near
-    // those, the cap's cosine exactly as the contour has always computed it.
-    if (!(std::abs(std::abs(cosr) - 1.0) > 1e-9)) cosr = ((d * d + Rx * Rx - a.R[j] * a.R[j]) / (2.0 * d)) / Rx;
+    // The convex patch's fate hangs on cos ≤ −1 (covered) and cos < 1 (a cap at all), that
+    // is on whether the spheres cut or one contains the other; near ±1 that is decided
+    // exactly, and the cosine put on the side it decides.
+    if (!(std::abs(std::abs(cosr) - 1.0) > 1e-9)) {
+      if (spheresCut(cx, Rx, a.c[j], a.R[j])) cosr = std::clamp(cosr, std::nextafter(-1.0, 0.0), std::nextafter(1.0, 0.0));
+      else cosr = sphereInside(cx, Rx, a.c[j], a.R[j]) ? std::min(cosr, -1.0) : std::max(cosr, 1.0);
+    }
     covered = covered || cosr <= -1.0;
     some = some || cosr < 1.0;
     const auto bucket = static_cast<std::uint32_t>(cosr >= kCapBucketBound[0]) +
@@ -295,20 +287,18 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         const std::size_t b = w * kWordBits + static_cast<std::size_t>(std::countr_zero(undecided));
         undecided &= undecided - 1;
         const std::uint32_t k = nb.atom[b];
-        const SasCircle* circle = circleOf(ai);
-        if (!circle) break;
-        if (!gridNeighbours(a, j, k)) {
+        if (!circleOf(ai)) break;
+        if (!spheresCut(a.c[j], a.R[j], a.c[k], a.R[k])) {
+          // Sphere k misses sphere j (or touches it), so it misses the circle, which lies on
+          // j; it cannot contain j either, or j would be buried.
           clearBit(cand, b);
         } else if (sortedProbes(a, x, j, k)) {
           setBit(cross, b);
-        } else {
-          // No crossing: the circle is wholly inside or wholly outside sphere k.
-          const glm::dvec3 onCircle = circle->center + circle->radius * circle->e1;
-          const glm::dvec3 v = onCircle - a.c[k];
-          if (glm::dot(v, v) < a.R[k] * a.R[k]) {
-            buried = true;
-            break;
-          }
+        } else if (circleBuriedBy(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k])) {
+          // No crossing: the circle lies wholly inside sphere k (touching it at one point
+          // at most), or wholly outside.
+          buried = true;
+          break;
         }
       }
     }

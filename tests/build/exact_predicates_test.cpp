@@ -7,44 +7,19 @@
 #include <optional>
 #include <random>
 
-#include <boost/multiprecision/cpp_bin_float.hpp>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "build/exact_predicates.hpp"
 #include "build/sas_geometry.hpp"
+#include "big_geometry.hpp"
 
 namespace surftrace::build {
 namespace {
 
-using Big = boost::multiprecision::cpp_bin_float_50;
+using namespace testing_big;
 
-struct BigVec {
-  Big x, y, z;
-};
-BigVec big(const glm::dvec3& v) { return {Big(v.x), Big(v.y), Big(v.z)}; }
-BigVec operator-(const BigVec& a, const BigVec& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-BigVec operator+(const BigVec& a, const BigVec& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-BigVec operator*(const Big& s, const BigVec& a) { return {s * a.x, s * a.y, s * a.z}; }
-Big dot(const BigVec& a, const BigVec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-BigVec cross(const BigVec& a, const BigVec& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-
-// The probe positions of ORACLES A.2 in 50 digits; h² alongside.
-struct BigProbes {
-  BigVec plus, minus;
-  Big h2;
-};
-BigProbes bigProbes(const ProbeTriple& t) {
-  const BigVec ca = big(t.ca), a = big(t.cb) - ca, b = big(t.cc) - ca;
-  const Big aa = dot(a, a), bb = dot(b, b), ab = dot(a, b), det = aa * bb - ab * ab;
-  const Big Ra2 = Big(t.Ra) * Big(t.Ra);
-  const Big ra = (aa + Ra2 - Big(t.Rb) * Big(t.Rb)) / 2, rb = (bb + Ra2 - Big(t.Rc) * Big(t.Rc)) / 2;
-  const BigVec q = ((ra * bb - rb * ab) / det) * a + ((rb * aa - ra * ab) / det) * b;
-  const Big h2 = Ra2 - dot(q, q);
-  const BigVec n = cross(a, b);
-  const BigVec hm = (sqrt(h2 > 0 ? h2 : Big(0)) / sqrt(dot(n, n))) * n;
-  return {ca + q + hm, ca + q - hm, h2};
-}
+BigProbes bigProbes(const ProbeTriple& t) { return testing_big::bigProbes(t.ca, t.Ra, t.cb, t.Rb, t.cc, t.Rc); }
 
 glm::dvec3 randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> g;
@@ -60,7 +35,7 @@ ProbeTriple randomTriple(std::mt19937_64& rng, int kind) {
   const glm::dvec3 origin = randomUnit(rng) * std::pow(10.0, 4.0 * uni(rng));
   const glm::dvec3 e = randomUnit(rng), f = glm::normalize(glm::cross(e, randomUnit(rng)));
   double angle = 0.3 + 2.5 * uni(rng);
-  if (kind == 1) angle = std::pow(10.0, -2.0 - 5.0 * uni(rng));  // b almost along a
+  if (kind == 1) angle = std::pow(10.0, -2.0 - 10.0 * uni(rng));  // b almost along a
   const double la = 1.5 + 3.0 * uni(rng), lb = 1.5 + 3.0 * uni(rng);
   const glm::dvec3 ca = origin;
   const glm::dvec3 cb = origin + la * e;
@@ -80,17 +55,13 @@ ProbeTriple randomTriple(std::mt19937_64& rng, int kind) {
   return t;
 }
 
-double distance(const glm::dvec3& p, const BigVec& q) {
-  const BigVec d = big(p) - q;
-  return static_cast<double>(sqrt(dot(d, d)));
-}
-
-// The double probe positions lie within their error bound of the exact ones, and their
-// existence (sign of h²) is the exact one.
+// The probe positions lie within their error bound of the exact ones, that bound is small
+// (kMaxProbeError; ill-conditioned triples take the precise path), and their existence
+// (sign of h²) is the exact one.
 TEST(ExactPredicates, ProbeErrorBoundHoldsOnHardTriples) {
   std::mt19937_64 rng(424242);
-  double worstRatio[3] = {0, 0, 0};
-  int present = 0, signChecks = 0, roundedAway = 0;
+  double worstRatio[3] = {0, 0, 0}, worstError[3] = {0, 0, 0};
+  int present = 0, signChecks = 0, oneDouble = 0;
   for (int trial = 0; trial < 30000; ++trial) {
     const int kind = trial % 3;
     const ProbeTriple t = randomTriple(rng, kind);
@@ -101,22 +72,27 @@ TEST(ExactPredicates, ProbeErrorBoundHoldsOnHardTriples) {
       ++signChecks;
       ASSERT_EQ(exactSign, ref.h2 > 0 ? 1 : ref.h2 < 0 ? -1 : 0) << "trial " << trial;
     }
-    // Probe positions only when h² > 0 exactly; none for h² > 0 only when rounding made it
-    // 0 or negative (then p+ = p− in double: tangential).
+    const double coords = std::max({std::abs(t.ca.x), std::abs(t.ca.y), std::abs(t.ca.z)}) + 2.0 * t.Ra;
+    // Probe positions exactly when h² > 0, except two positions closer than the spacing of
+    // doubles there, which are one tangential position.
     if (!p) {
-      if (exactSign > 0) ++roundedAway;
-      ASSERT_TRUE(exactSign <= 0 || ref.h2 < 1e-12) << "trial " << trial << " h2 " << static_cast<double>(ref.h2);
+      const bool apartInDouble = distance(toDouble(ref.plus), ref.minus) > 8.0 * kUnitRoundoff * coords;
+      ASSERT_TRUE(exactSign <= 0 || !apartInDouble) << "trial " << trial << " h2 " << static_cast<double>(ref.h2);
+      oneDouble += exactSign > 0 ? 1 : 0;
       continue;
     }
     ASSERT_GT(exactSign, 0) << "trial " << trial << " h2 " << static_cast<double>(ref.h2);
     ++present;
     const double e = std::max(distance(p->plus, ref.plus), distance(p->minus, ref.minus));
     ASSERT_LE(e, p->error) << "trial " << trial << " kind " << kind;
+    ASSERT_LE(p->error, kMaxProbeError * t.Ra + 64.0 * kUnitRoundoff * coords) << "trial " << trial << " kind " << kind;
     worstRatio[kind] = std::max(worstRatio[kind], e / p->error);
+    worstError[kind] = std::max(worstError[kind], e);
   }
-  std::printf("probe error / bound, worst: ordinary %.3g, near-collinear %.3g, just fitting %.3g (%d triples, %d signs, "
-              "%d positive h² rounded to tangential)\n",
-              worstRatio[0], worstRatio[1], worstRatio[2], present, signChecks, roundedAway);
+  std::printf("probe error / bound, worst: ordinary %.3g, near-collinear %.3g, just fitting %.3g; worst error %.2g / %.2g / "
+              "%.2g Å (%d triples, %d signs, %d positive h² with p+ = p- in double)\n",
+              worstRatio[0], worstRatio[1], worstRatio[2], worstError[0], worstError[1], worstError[2], present, signChecks,
+              oneDouble);
   EXPECT_GT(present, 10000);
 }
 
@@ -151,6 +127,86 @@ TEST(ExactPredicates, ProbeSideOnSpheresThroughTheProbe) {
   std::printf("spheres through the probe: %d checked, the plain double test wrong on %d\n", checked, doubleWrong);
   EXPECT_GT(checked, 1000);
   EXPECT_GT(doubleWrong, 100);  // the fallback is needed: rounding alone decides these
+}
+
+// Two spheres a few ulps from touching, outside (d ≈ Ra + Rb) or inside (d ≈ |Ra − Rb|):
+// distanceSign, spheresCut and sphereInside agree with 50 digits; a plain double test on
+// the rounded distance does not always.
+TEST(ExactPredicates, NearTangentSpheres) {
+  std::mt19937_64 rng(5150);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int checked = 0, plainWrong = 0, ties = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    const double Ra = 2.6 + uni(rng), Rb = 2.6 + uni(rng) + (trial % 2 ? 2.0 : 0.0);
+    const int sign = trial % 2 ? -1 : 1;  // odd: b around a, nearly touching it from outside
+    const glm::dvec3 ca = randomUnit(rng) * std::pow(10.0, 3.0 * uni(rng));
+    const double target = std::abs(Ra + sign * Rb) * (1.0 + (uni(rng) - 0.5) * std::pow(10.0, -10.0 - 6.0 * uni(rng)));
+    const glm::dvec3 cb = ca + target * randomUnit(rng);
+    const Big gap = dot(big(cb) - big(ca), big(cb) - big(ca)) - (Big(Ra) + sign * Big(Rb)) * (Big(Ra) + sign * Big(Rb));
+    const int want = gap > 0 ? 1 : gap < 0 ? -1 : 0;
+    ASSERT_EQ(distanceSign(ca, cb, Ra, Rb, sign), want) << "trial " << trial;
+    ASSERT_EQ(exactDistanceSign(ca, cb, Ra, Rb, sign), want) << "trial " << trial;
+    if (sign > 0) {
+      ASSERT_EQ(spheresCut(ca, Ra, cb, Rb), want < 0) << "trial " << trial;
+    } else {
+      ASSERT_EQ(spheresCut(ca, Ra, cb, Rb), want > 0) << "trial " << trial;
+      ASSERT_EQ(sphereInside(ca, Ra, cb, Rb), want <= 0) << "trial " << trial;  // Rb > Ra here
+    }
+    const double d = glm::distance(ca, cb);
+    plainWrong += (d < std::abs(Ra + sign * Rb)) != (want < 0) ? 1 : 0;
+    ties += want == 0 ? 1 : 0;
+    ++checked;
+  }
+  std::printf("near-tangent sphere pairs: %d checked, the plain double test wrong on %d\n", checked, plainWrong);
+  EXPECT_GT(plainWrong, 100);  // rounding alone decides these
+}
+
+// A circle (x, y) that touches a sphere k at one point, from inside or outside, with k's
+// radius moved a few ulps either way: when no point of the circle crosses k, circleSphereSign
+// says which side the circle lies on, by the circle's nearest and farthest points from k's
+// centre in 50 digits (an independent formula: max, min |p − ck|² = a² + (ρ ± w)², with a
+// and w the axial and radial offsets of ck from the circle's centre).
+TEST(ExactPredicates, CircleTouchingASphere) {
+  std::mt19937_64 rng(2718);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  int checked = 0, plainWrong = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    const double Rx = 2.6 + uni(rng), Ry = 2.6 + uni(rng);
+    const glm::dvec3 cx = randomUnit(rng) * std::pow(10.0, 3.0 * uni(rng));
+    const glm::dvec3 axis = randomUnit(rng);
+    const glm::dvec3 cy = cx + (0.5 + 4.0 * uni(rng)) * axis;
+    const BigCircle c = bigCircle(cx, Rx, cy, Ry);
+    if (!(c.radius2 > 0.1)) continue;
+    const double rho = static_cast<double>(sqrt(c.radius2));
+    // The touching point: half the trials where the plain test below looks (φ = 0).
+    const glm::dvec3 e1 = perpendicularTo(axis), e2 = glm::cross(axis, e1);
+    const double phi = trial % 2 ? 0.0 : 6.283185307179586 * uni(rng);
+    const glm::dvec3 out = std::cos(phi) * e1 + std::sin(phi) * e2;
+    const bool inside = trial % 4 < 2;
+    const double Rk = 2.0 + uni(rng) + (inside ? rho : 0.0);
+    const glm::dvec3 center = toDouble(c.center);
+    const glm::dvec3 ck = center + (inside ? rho - Rk : rho + Rk) * out;
+    const double RkMoved = Rk * (1.0 + (uni(rng) - 0.5) * std::pow(10.0, -10.0 - 6.0 * uni(rng)));
+    const BigVec w = big(ck) - c.center;
+    const Big a = dot(w, c.axis);
+    const BigVec radial = w - a * c.axis;
+    const Big rw = sqrt(dot(radial, radial)), r = sqrt(c.radius2), R2 = Big(RkMoved) * Big(RkMoved);
+    const Big far = a * a + (r + rw) * (r + rw) - R2, near = a * a + (r - rw) * (r - rw) - R2;
+    if (near < 0 && far > 0) continue;  // the circle crosses k: not this predicate's case
+    const int want = far <= 0 ? -1 : 1;  // inside (touching allowed), or outside
+    ASSERT_EQ(circleSphereSign(cx, Rx, cy, Ry, ck, RkMoved), want) << "trial " << trial;
+    ASSERT_EQ(circleBuriedBy(cx, Rx, cy, Ry, ck, RkMoved), want < 0) << "trial " << trial;
+    // The plain test of a single point of the circle, the one at φ = 0 (as the builder
+    // tested before its exact predicate).
+    const auto sc = sasCircle(cx, Rx, cy, Ry);
+    ASSERT_TRUE(sc.has_value());
+    const glm::dvec3 v = sc->center + sc->radius * sc->e1 - ck;
+    plainWrong += (glm::dot(v, v) < RkMoved * RkMoved) != (want < 0) ? 1 : 0;
+    ++checked;
+  }
+  std::printf("circles touching a sphere: %d checked, a point test at φ = 0 wrong on %d\n", checked, plainWrong);
+  EXPECT_GT(checked, 2000);
+  EXPECT_GT(plainWrong, 50);
 }
 
 }  // namespace
