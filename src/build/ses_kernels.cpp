@@ -204,10 +204,12 @@ bool clearlyInsideBoth(const Neighbourhood& nb, std::size_t a, std::size_t b) {
 // beyond the tie tolerance, |p − c|² < lo = R²(1 − kTie) (computed as glm::dot(p − c, p − c));
 // bits 2 and 3: which lie within the tolerance of such a sphere's surface or inside it,
 // |p − c|² < hi = R²(1 + kTie). The comparisons are of the exact probe positions: a double
-// |p − c|² within `slack` of lo or hi is decided by exactProbeSide. Stops once both are inside.
+// |p − c|² within `slack` of lo or hi is decided by exactProbeSide. Bits 4 and 5: which lie
+// closer than R²(1 + nearBand) (in double; only a hint). Stops once both are inside.
 int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::size_t words, std::size_t skip1,
-               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack) {
-  int inside = 0;
+               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack,
+               double nearBand) {
+  int inside = 0, near = 0;
 #if defined(__SSE2__)
   const __m128d px = _mm_set_pd(q.x, p.x), py = _mm_set_pd(q.y, p.y), pz = _mm_set_pd(q.z, p.z);
   const __m128d vslack = _mm_set1_pd(slack);
@@ -219,7 +221,7 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
       bits &= bits - 1;
       if (b == skip1 || b == skip2) continue;
       const glm::dvec4& c = nb.sphere[b];
-      const double lo = c.w * (1.0 - kTie), hi = c.w * (1.0 + kTie);
+      const double lo = c.w * (1.0 - kTie), hi = c.w * (1.0 + kTie), nearHi = c.w * (1.0 + nearBand);
       int sureLo, maybeLo, sureHi, maybeHi;  // bit 0 for p, bit 1 for q
 #if defined(__SSE2__)
       const __m128d dx = _mm_sub_pd(px, _mm_set1_pd(c.x));
@@ -231,6 +233,7 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
       maybeLo = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_add_pd(vlo, vslack)));
       sureHi = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_sub_pd(vhi, vslack)));
       maybeHi = _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_add_pd(vhi, vslack)));
+      near |= _mm_movemask_pd(_mm_cmplt_pd(d2, _mm_set1_pd(nearHi)));
 #else
       const glm::dvec3 c3(c);
       const glm::dvec3 u = p - c3, v = q - c3;
@@ -239,6 +242,7 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
       maybeLo = (du < lo + slack ? 1 : 0) | (dv < lo + slack ? 2 : 0);
       sureHi = (du < hi - slack ? 1 : 0) | (dv < hi - slack ? 2 : 0);
       maybeHi = (du < hi + slack ? 1 : 0) | (dv < hi + slack ? 2 : 0);
+      near |= (du < nearHi ? 1 : 0) | (dv < nearHi ? 2 : 0);
 #endif
       // Within the error bound of a threshold: the exact sign (rare: a probe position within
       // ~1e-12 Å of R(1 ± 1e-10)).
@@ -250,10 +254,10 @@ int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::siz
           sureHi |= exactProbeSide(triple, plus, glm::dvec3(c), hi) < 0 ? 1 << l : 0;
       }
       inside |= sureLo | (sureHi << 2);
-      if ((inside & 3) == 3) return inside;
+      if ((inside & 3) == 3) return inside | near << 4;
     }
   }
-  return inside;
+  return inside | near << 4;
 }
 
 }  // namespace surftrace::build::detail

@@ -27,8 +27,10 @@ constexpr double kTie = 2e-10;
 // Which of the probe positions p (plus) and q (minus) of `triple` lie inside (bits 0, 1) or
 // within the tie tolerance of (bits 2, 3) a sphere of (m1 & m2) other than skip1, skip2.
 // Decided for the exact positions: where the double |p − c|² lies within `slack` of a
-// threshold, by exactProbeSide.
+// threshold, by exactProbeSide. Bits 4, 5: which lie closer than R²(1 + nearBand) to the
+// centre of such a sphere (a double hint, no exact fallback).
 int insideMask(const Neighbourhood& nb, const Word* m1, const Word* m2, std::size_t words, std::size_t skip1,
-               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack);
+               std::size_t skip2, const ProbeTriple& triple, const glm::dvec3& p, const glm::dvec3& q, double slack,
+               double nearBand);
 
 }  // namespace surftrace::build::detail

@@ -97,23 +97,47 @@ CapState gatherNeighbourhood(const Atoms& a, std::uint32_t x, std::span<const st
   return covered ? CapState::Covered : some ? CapState::Some : CapState::None;
 }
 
-// |p − c|² against R² of neighbourhood sphere b: −1 inside beyond the tie tolerance, 0 a tie,
-// 1 outside beyond it.
-int sideOf(const Neighbourhood& nb, std::size_t b, const glm::dvec3& p) {
-  const glm::dvec4& c = nb.sphere[b];
-  const glm::dvec3 u = p - glm::dvec3(c);
-  const double d2 = glm::dot(u, u);
-  return d2 < c.w * (1.0 - kTie) ? -1 : d2 < c.w * (1.0 + kTie) ? 0 : 1;
+// A probe position and what decides its tests exactly: its triple (sorted), which of the
+// triple's two positions it is, and a bound on how far a double |p − c|² may be from the
+// exact one for any sphere of the neighbourhood (the slack of insideMask).
+struct ExactProbe {
+  glm::dvec3 p;
+  ProbeTriple triple;
+  bool plus;
+  double slack;
+};
+
+// The slack of |p − c|² for a position within `error` of the exact one and spheres of radius
+// up to `maxRadius`: the error carried through |p − c| ≤ R + error, plus the rounding of the
+// sum of squares.
+double sideSlack(double error, double maxRadius) {
+  const double reach = maxRadius + error;
+  return 2.0 * reach * error + 0x1p-50 * reach * reach;
 }
 
-// The atoms whose spheres pass through p (x and every live neighbour that ties), ascending;
-// false if p lies strictly inside a neighbour sphere. A sphere through p meets x's sphere,
-// so it is a neighbour of x.
-bool tiesAt(const Neighbourhood& nb, std::uint32_t x, const glm::dvec3& p, std::vector<std::uint32_t>& tied) {
+// |p − c|² against R² of neighbourhood sphere b, for the exact position: −1 inside beyond
+// the tie tolerance, 0 a tie, 1 outside beyond it. Within the slack of a threshold the exact
+// sign decides, as insideMask decides, so the two never disagree on a vertex.
+int sideOf(const Neighbourhood& nb, std::size_t b, const ExactProbe& e) {
+  const glm::dvec4& c = nb.sphere[b];
+  const glm::dvec3 u = e.p - glm::dvec3(c);
+  const double d2 = glm::dot(u, u);
+  const auto below = [&](double threshold) {
+    if (d2 < threshold - e.slack) return true;
+    if (!(d2 < threshold + e.slack)) return false;
+    return exactProbeSide(e.triple, e.plus, glm::dvec3(c), threshold) < 0;
+  };
+  return below(c.w * (1.0 - kTie)) ? -1 : below(c.w * (1.0 + kTie)) ? 0 : 1;
+}
+
+// The atoms whose spheres pass through the probe position (x and every live neighbour that
+// ties), ascending; false if it lies strictly inside a neighbour sphere. A sphere through p
+// meets x's sphere, so it is a neighbour of x.
+bool tiesAt(const Neighbourhood& nb, std::uint32_t x, const ExactProbe& e, std::vector<std::uint32_t>& tied) {
   tied.clear();
   tied.push_back(x);
   for (std::size_t b = 0; b < nb.atom.size(); ++b) {
-    const int side = sideOf(nb, b, p);
+    const int side = sideOf(nb, b, e);
     if (side < 0) return false;
     if (side == 0) tied.push_back(nb.atom[b]);
   }
@@ -127,18 +151,23 @@ bool plusSideOf(const Atoms& a, std::uint32_t i, std::uint32_t j, std::uint32_t 
 }
 
 // The merged vertex of the cospherical atoms `atoms` (ascending, k >= 4) near p: the probe
-// position of their first triple (in lexicographic order) that has one, on p's side. A
-// pure function of the atoms (and the side), so every owner computes the same bits.
-std::optional<glm::dvec3> mergedProbe(const Atoms& a, std::span<const std::uint32_t> atoms, const glm::dvec3& p) {
+// position of their first triple (in lexicographic order) that has one, on p's side, placed
+// to within an ulp (preciseProbePair: merged vertices are rare, and other vertices within
+// the error of a double position from one must not change order along a circle). A pure
+// function of the atoms (and the side), so every owner computes the same bits.
+std::optional<ExactProbe> mergedProbe(const Atoms& a, std::span<const std::uint32_t> atoms, const glm::dvec3& p,
+                                      double maxRadius) {
   const std::size_t k = atoms.size();
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t j = i + 1; j < k; ++j)
       for (std::size_t l = j + 1; l < k; ++l) {
         const std::uint32_t u = atoms[i], v = atoms[j], w = atoms[l];
-        const auto probes = probePositions(a.c[u], a.R[u], a.c[v], a.R[v], a.c[w], a.R[w]);
+        const auto probes = preciseProbePair(a.c[u], a.R[u], a.c[v], a.R[v], a.c[w], a.R[w]);
         if (!probes) continue;
         const glm::dvec3 dp = probes->plus - p, dm = probes->minus - p;
-        return glm::dot(dp, dp) <= glm::dot(dm, dm) ? probes->plus : probes->minus;
+        const bool plus = glm::dot(dp, dp) <= glm::dot(dm, dm);
+        return ExactProbe{plus ? probes->plus : probes->minus, {a.c[u], a.c[v], a.c[w], a.R[u], a.R[v], a.R[w]}, plus,
+                          sideSlack(probes->error, maxRadius)};
       }
   return std::nullopt;
 }
@@ -316,6 +345,18 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
     }
   }
 
+  // Order along a circle. Two distinct vertices on one circle, p of sphere k and p' of
+  // sphere l, are apart by more than p's distance to sphere l, which is more than
+  // (√(1 + kTie) − 1) R_l ≥ 1e-10 rp unless p ties with l (then they merge). Positions from
+  // double are within eMax of the exact ones (probePositions), which is far less in real
+  // data, but not in every input; so a position closer than 8 eMax to another sphere is
+  // placed to an ulp: p and p' can only be confused if each lies that close to the other's
+  // sphere, and then both are placed exactly enough for atan2 to order them.
+  const double coords = std::max({std::abs(cx.x), std::abs(cx.y), std::abs(cx.z)}) + Rx + 2.0 * nb.maxRadius;
+  const double eMax = kMaxProbeError * std::max(Rx, nb.maxRadius) + 64.0 * kUnitRoundoff * coords;
+  const double nearDist = 8.0 * eMax / a.rp;  // relative to the smallest possible R = rp
+  const double nearBand = nearDist * (2.0 + nearDist);
+
   // The vertices x < j < k on each crossed circle (x, j): valid iff inside no other sphere.
   // A sphere that contains a vertex meets both its circles (x, j) and (x, k), so it is a
   // candidate of both; the others clearly miss one of the circles.
@@ -339,31 +380,34 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         // Most vertices lie deep inside some other sphere: a single-precision look first,
         // then the exact probe positions and tests for what it cannot settle.
         if (clearlyInsideBoth(nb, ai, bi)) continue;
-        const auto probes = probePositions(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]);
+        auto probes = probePositions(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]);
         if (!probes) continue;
         // Both probe positions against each sphere at once: bit 0 plus, bit 1 minus.
-        // How far a rounded |p − c|² may be from the exact one: the positions' error bound
-        // carried through the largest sphere, plus the rounding of the sum of squares.
-        const double e = probes->error, reach = nb.maxRadius + e;
-        const double slack = 2.0 * reach * e + 0x1p-50 * reach * reach;
-        const int inside = insideMask(nb, candA, candB, words, ai, bi, {cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]},
-                                      probes->plus, probes->minus, slack);
+        const ProbeTriple triple{cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]};
+        const double slack = sideSlack(probes->error, nb.maxRadius);
+        const int inside = insideMask(nb, candA, candB, words, ai, bi, triple, probes->plus, probes->minus, slack, nearBand);
         for (const bool plus : {true, false}) {
-          const glm::dvec3 p = plus ? probes->plus : probes->minus;
+          glm::dvec3 p = plus ? probes->plus : probes->minus;
           if (inside & (plus ? 1 : 2)) continue;
+          if ((inside & (plus ? 16 : 32)) && !(inside & (plus ? 4 : 8))) {
+            // Valid, and near another sphere, so maybe near that sphere's own vertex on this
+            // circle: placed to within an ulp, so that their order along it is the exact one.
+            if (const auto precise = preciseProbePair(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]))
+              p = plus ? precise->plus : precise->minus;
+          }
           if (inside & (plus ? 4 : 8)) {
             // Further spheres pass through p (cospherical atoms, ORACLES E.6): one merged
             // vertex, emitted by the lowest of its atoms from the first triple that finds it.
-            if (!tiesAt(nb, x, p, s.tied) || s.tied.size() < 4) continue;
-            const auto merged = mergedProbe(a, s.tied, p);
+            if (!tiesAt(nb, x, {p, triple, plus, slack}, s.tied) || s.tied.size() < 4) continue;
+            const auto merged = mergedProbe(a, s.tied, p, nb.maxRadius);
             if (!merged || !tiesAt(nb, x, *merged, s.tied) || s.tied.size() < 4 || s.tied[0] != x) continue;
             bool seen = false;
-            for (const Polygon& poly : s.polys) seen = seen || std::memcmp(&poly.p, &*merged, sizeof(glm::dvec3)) == 0;
+            for (const Polygon& poly : s.polys) seen = seen || std::memcmp(&poly.p, &merged->p, sizeof(glm::dvec3)) == 0;
             if (seen) continue;
             s.polys.emplace_back();
-            s.polys.back().p = *merged;
+            s.polys.back().p = merged->p;
             buildPolygon(a, s.tied, s.polys.back());
-            s.verts.push_back({0.0, k, plus, *merged, static_cast<std::uint32_t>(s.polys.size() - 1)});
+            s.verts.push_back({0.0, k, plus, merged->p, static_cast<std::uint32_t>(s.polys.size() - 1)});
             continue;
           }
           s.verts.push_back({0.0, k, plus, p});

@@ -63,14 +63,14 @@ Case fullerene() {
   return {"fullerene", m.centers, m.radii};
 }
 
-// Each coordinate times (1 ± 2^-45), signs from a fixed sequence.
-Case perturbed(Case k) {
-  k.name += "+2^-45";
+// Each coordinate times (1 ± 2^-bits), signs from a fixed sequence.
+Case perturbed(Case k, int bits = 45) {
+  k.name += "+2^-" + std::to_string(bits);
   unsigned s = 12345u;
   for (auto& c : k.c)
     for (int d = 0; d < 3; ++d) {
       s = s * 1103515245u + 12345u;
-      c[d] *= 1.0 + ((s >> 16) & 1 ? 1.0 : -1.0) * std::ldexp(1.0, -45);
+      c[d] *= 1.0 + ((s >> 16) & 1 ? 1.0 : -1.0) * std::ldexp(1.0, -bits);
     }
   return k;
 }
@@ -81,14 +81,14 @@ struct Result {
   double worstPointError = 0.0;
 };
 
-Result run(const Case& k) {
+Result run(const Case& k, std::size_t samples = 400000) {
   const PatchList p = buildSes(k.c, k.r, SesParams{kRp});
   p.validate();
   Result res{computeAreas(p), {}, 0.0};
   std::vector<oracle::Sphere> atoms;
   for (std::size_t i = 0; i < k.c.size(); ++i) atoms.push_back({k.c[i], k.r[i]});
   const oracle::SesOracle oracle(atoms, kRp);
-  res.mc = oracle::sesVolumeMonteCarlo(oracle, 400000, 11);
+  res.mc = oracle::sesVolumeMonteCarlo(oracle, samples, 11);
   // Points on every concave patch (inside its cone and clipping planes) lie on the SES.
   const auto& cv = p.concave;
   for (std::size_t v = 0; v < cv.size(); ++v) {
@@ -147,13 +147,23 @@ Case caseOf(int i) {
 TEST_P(Cospherical, MatchesOraclesAndIsStableUnderPerturbation) {
   const Case k = caseOf(GetParam());
   const Result exact = run(k);
-  const Result moved = run(perturbed(k));
+  // 2^-45 stays inside the tie tolerance (the vertices merge); 2^-30 (~1e-9) leaves it, so
+  // the vertices split into slivers ~1e-9 Å apart, near each other's spheres and ordered
+  // along their circles from positions placed to an ulp.
+  for (const int bits : {45, 30}) {
+    const Result moved = run(perturbed(k, bits), bits == 45 ? 400000 : 100000);
+    EXPECT_NEAR(moved.areas.sesVolume, moved.mc.volume, 4 * moved.mc.stderr_ + 1e-6) << bits;
+    EXPECT_LT(moved.worstPointError, 1e-9) << bits;
+    // The SES itself is continuous here, except for the cube: its probe fits the central
+    // pocket exactly, and a perturbation beyond the tie tolerance either leaves a pocket
+    // ~1e-9 Å wide or closes it, removing the concave patches (volume +11.5 Å³ at 2^-30,
+    // which the independent oracle's Monte Carlo volume confirms).
+    if (bits == 30 && k.name == "cube") continue;
+    EXPECT_NEAR(exact.areas.sesTotal(), moved.areas.sesTotal(), 1e-6 * exact.areas.sesTotal()) << bits;
+    EXPECT_NEAR(exact.areas.sesVolume, moved.areas.sesVolume, 1e-6 * std::abs(exact.areas.sesVolume)) << bits;
+  }
   EXPECT_NEAR(exact.areas.sesVolume, exact.mc.volume, 4 * exact.mc.stderr_ + 1e-6);
-  EXPECT_NEAR(moved.areas.sesVolume, moved.mc.volume, 4 * moved.mc.stderr_ + 1e-6);
   EXPECT_LT(exact.worstPointError, 1e-9);
-  EXPECT_LT(moved.worstPointError, 1e-9);
-  EXPECT_NEAR(exact.areas.sesTotal(), moved.areas.sesTotal(), 1e-6 * exact.areas.sesTotal());
-  EXPECT_NEAR(exact.areas.sesVolume, moved.areas.sesVolume, 1e-6 * std::abs(exact.areas.sesVolume));
   if (k.name == "ring") {
     EXPECT_NEAR(exact.areas.sesConcave, 0.0, 1e-6);  // a great circle: no area (E.7b)
   }
