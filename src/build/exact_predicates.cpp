@@ -1,4 +1,5 @@
-// Exact probe-position predicates in rational arithmetic (GMP's mpq_class).
+// Exact SES predicates in rational arithmetic (GMP's mpq_class), and probe positions to an
+// ulp from exact integer arithmetic (mpz_class) and 256-bit floating point (mpf_class).
 //
 // With a = cb − ca, b = cc − ca, n = a × b, det = n·n, the probe positions are
 // p = ca + q ± h n/|n|, q = (α a + β b)/det, α = ra·bb − rb·ab, β = rb·aa − ra·ab,

@@ -122,13 +122,17 @@ struct ProbePair {
   double error;            // bound on the distance of either from the exact position
 };
 
-// A bound on how far the rounded probe positions of probePositions lie from the exact ones:
-// the rounding of each step (u = 2⁻⁵³) carried through a first-order error analysis and
-// inflated eightfold. κ = a·a b·b / det amplifies the solve for q, and h² near 0 (a probe
-// that just fits) the square root; tests check it against 50-digit arithmetic on
-// near-collinear and just-fitting triples (exact_predicates_test).
-inline double probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, double aa, double bb, double det,
-                         double qq, double h2) {
+// Bounds on the rounding of probePositions: of h² and of the positions. The rounding of
+// each step (u = 2⁻⁵³) carried through a first-order error analysis and inflated eightfold.
+// κ = a·a b·b / det amplifies the solve for q, and h² near 0 (a probe that just fits) the
+// square root; tests check both against 50-digit arithmetic on near-collinear and
+// just-fitting triples (exact_predicates_test).
+struct ProbeErrorBound {
+  double h2;        // of h² = Ra² − q·q
+  double position;  // of either position, Å
+};
+inline ProbeErrorBound probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, double aa, double bb,
+                                  double det, double qq, double h2) {
   constexpr double u = kUnitRoundoff;
   const double kappa = aa * bb / det;
   const double la = std::sqrt(aa), lb = std::sqrt(bb);
@@ -140,7 +144,7 @@ inline double probeError(const glm::dvec3& ca, double Ra, double Rb, double Rc, 
   const double eh = h > 0.0 ? std::min(eh2 / h, std::sqrt(eh2)) : std::sqrt(eh2);
   const double em = 8.0 * u * std::sqrt(kappa) * h;  // the direction m
   const double coords = std::max({std::abs(ca.x), std::abs(ca.y), std::abs(ca.z)});
-  return 8.0 * (4.0 * u * (coords + q + h) + eq + eh + em);
+  return {8.0 * eh2, 8.0 * (4.0 * u * (coords + q + h) + eq + eh + em)};
 }
 
 // The probe positions from preciseProbePositions, for triples the double computation cannot
@@ -161,16 +165,17 @@ inline std::optional<ProbePair> preciseProbePair(const glm::dvec3& ca, double Ra
 inline constexpr double kNearlyCollinear = 1e-14;
 // The double path is taken only when probeError bounds its error by this many Å per Å of Ra
 // (beyond the rounding of the coordinates themselves, which no computation avoids). The
-// bound is pessimistic (errors measured against 50 digits stay below 1/18 of it), so the
-// positions returned are within ~1e-10 Å of the exact ones, below the 1e-9 Å of the SES
-// oracle. Ordinary triples pass; on 1AON the precise path takes a few dozen triples whose
-// probe barely fits (h ~ 1e-3 Å), where h = √h² amplifies the rounding of h².
+// bound is pessimistic: errors measured against 50 digits stay below 1/18 of it, ~2e-10 Å,
+// under the 1e-9 Å of the SES oracle. Ordinary triples pass; the precise path takes the
+// few whose probe barely fits (h ~ 1e-4 Å), where h = √h² amplifies the rounding of h².
+// (Vertices that must be ordered against a neighbour closer than this are placed to an
+// ulp by the vertex pass.)
 inline constexpr double kMaxProbeError = 1e-9;
 
 // The probe positions of a sorted triple, or nothing when the three extended spheres share
 // no point (h² < 0), one point (h² = 0, a tangential "vertex", which bounds no patch), or
 // their centres are collinear (no isolated vertex). All three are decided for the real
-// numbers the doubles denote: the double h² when it clears its error bound, rational
+// numbers the doubles denote: the double h² when it clears its error bound, exact integer
 // arithmetic otherwise. Well-conditioned triples (the bulk) are placed in double; nearly
 // collinear centres and probes that just fit (|h²| within its error bound) are placed by
 // preciseProbePositions, so every position returned is within `error` of the exact one and
@@ -189,15 +194,14 @@ inline std::optional<ProbePair> probePositions(const glm::dvec3& ca, double Ra, 
   const glm::dvec3 q = alpha * a + beta * b;
   const double qq = glm::dot(q, q);
   const double h2 = Ra * Ra - qq;
-  const double error = probeError(ca, Ra, Rb, Rc, aa, bb, det, qq, h2);
-  const double eh2 = 2.0 * std::sqrt(qq) * error + 4.0 * kUnitRoundoff * (Ra * Ra + qq);  // bound on h2's error
-  if (h2 < -eh2) return std::nullopt;  // clearly no common point: the usual rejection
+  const ProbeErrorBound error = probeError(ca, Ra, Rb, Rc, aa, bb, det, qq, h2);
+  if (h2 < -error.h2) return std::nullopt;  // clearly no common point: the usual rejection
   const double coords = std::max({std::abs(ca.x), std::abs(ca.y), std::abs(ca.z)});
-  if (!(h2 > eh2) || !(error <= kMaxProbeError * Ra + 64.0 * kUnitRoundoff * coords))
+  if (!(h2 > error.h2) || !(error.position <= kMaxProbeError * Ra + 64.0 * kUnitRoundoff * coords))
     return preciseProbePair(ca, Ra, cb, Rb, cc, Rc);
   const double h = std::sqrt(h2);
   const glm::dvec3 m = cross / std::sqrt(det);
-  return ProbePair{ca + q + h * m, ca + q - h * m, h, error};
+  return ProbePair{ca + q + h * m, ca + q - h * m, h, error.position};
 }
 
 // On the circle of (x < y), moving with increasing φ, does the probe position `plus` of the
