@@ -40,6 +40,28 @@ void BM_BuildSes(benchmark::State& state, const std::string& name) {
   state.counters["atoms_per_s"] = benchmark::Counter(static_cast<double>(m.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Frame after frame of a trajectory in which every atom moves (a full rebuild per frame),
+// with one SesBuilder that keeps its memory: the MD use case. Frames alternate between the
+// structure and a copy with every atom moved by up to 0.3 Å.
+void BM_TrajectorySes(benchmark::State& state, const std::string& name) {
+  const auto& m = molecule(name);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::vector<glm::dvec3> moved(m.centers);
+  for (auto& c : moved) c += glm::dvec3(u(rng), u(rng), u(rng)) * (1.0 / std::sqrt(3.0));
+  SesBuilder builder;
+  builder.build(m.centers, m.radii, SesParams{1.4});
+  bool there = false;
+  for (auto _ : state) {
+    there = !there;
+    const auto& p = builder.update(there ? moved : m.centers);
+    benchmark::DoNotOptimize(p.patchCount());
+  }
+  state.counters["atoms"] = static_cast<double>(m.size());
+  state.counters["atoms_per_s"] = benchmark::Counter(static_cast<double>(m.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 // A trajectory step in which 1% of the atoms move: either a stretch of consecutive atoms
 // (a few flexible residues; range(1) = 0) or atoms scattered over the whole molecule
 // (range(1) = 1, the worst case for locality). Each iteration moves them by up to 0.3 Å
@@ -85,6 +107,8 @@ BENCHMARK_CAPTURE(BM_BuildSes, 1vis, std::string("1vis.pdb.gz"))->Arg(1)->Arg(2)
 BENCHMARK_CAPTURE(BM_BuildSes, 1j4n, std::string("1j4n.pdb.gz"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 BENCHMARK_CAPTURE(BM_BuildSes, 1af6, std::string("1af6.pdb.gz"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 BENCHMARK_CAPTURE(BM_BuildSes, 1aon, std::string("1aon.pdb.gz"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_TrajectorySes, 1af6, std::string("1af6.pdb.gz"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_TrajectorySes, 1aon, std::string("1aon.pdb.gz"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 BENCHMARK_CAPTURE(BM_UpdateSes, 1af6, std::string("1af6.pdb.gz"))
     ->ArgsProduct({{1, 2}, {0, 1}})
     ->ArgNames({"threads", "scattered"})

@@ -154,7 +154,7 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
 void SesBuilder::State::fullBuild() {
   const std::size_t n = centers.size();
   const double rp = params.probeRadius;
-  out = PatchList();
+  out.clearKeepingMemory();  // the arrays swapped out below then refill without allocating
   out.params.surface = SurfaceKind::Ses;
   out.params.probeRadius = rp;
   out.params.atomCount = static_cast<std::uint32_t>(n);

@@ -206,6 +206,12 @@ void checkAtoms(const std::vector<std::uint32_t>& atoms, std::uint32_t atomCount
 
 }  // namespace
 
+void PatchList::clearKeepingMemory() {
+  params = SurfaceParams{};
+  componentCount = 0;
+  forEachArray(*this, [](const char*, const char*, auto& v) { v.clear(); });
+}
+
 void PatchList::validate() const {
   // All arrays of one kind share a length, and every float is finite.
   std::string group;

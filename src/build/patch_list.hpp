@@ -110,6 +110,9 @@ struct PatchList {
   std::size_t patchCount() const {
     return convex.size() + tori.size() + concave.size() + mss.size();
   }
+  // An empty list that keeps the memory of its arrays, for builders that refill one list
+  // frame after frame (no allocation, no page faults once it has held the largest frame).
+  void clearKeepingMemory();
   // Throws std::runtime_error if any kind's arrays differ in length, an index range runs
   // past its array, an atom index is >= params.atomCount, or a value is not finite.
   void validate() const;

@@ -117,6 +117,26 @@ TEST(PartialUpdate, NmrResiduesMoveBetweenModels) {
   EXPECT_TRUE(builder.lastUpdate().full);
 }
 
+// Whole frames one after another (every atom moves: full rebuilds by one builder, which keeps
+// its arrays' memory from frame to frame), each followed by a partial update of a few atoms:
+// every result equals a fresh buildSes, bit for bit, so nothing of an earlier frame stays.
+TEST(PartialUpdate, WholeFramesOneAfterAnother) {
+  const Molecule first = model("ensembles/1grm_elNemo_mode7.pdb.gz", 1);
+  SesBuilder builder;
+  builder.build(first.centers, first.radii, SesParams{kRp});
+  for (const int frame : {6, 11, 2, 11}) {
+    const Molecule m = model("ensembles/1grm_elNemo_mode7.pdb.gz", frame);
+    std::vector<glm::dvec3> current = m.centers;
+    expectSamePatches(builder.update(current), buildSes(current, first.radii, SesParams{kRp}),
+                      "whole frame " + std::to_string(frame));
+    EXPECT_TRUE(builder.lastUpdate().full);
+    std::vector<glm::dvec3> to = current;
+    std::vector<std::uint32_t> atoms;
+    for (std::uint32_t a = 0; a < 20; ++a) atoms.push_back(a), to[a] += glm::dvec3(0.2, -0.1, 0.15);
+    moveAndCheck(builder, current, first.radii, atoms, to, "after whole frame " + std::to_string(frame));
+  }
+}
+
 // The elNemo normal-mode frames of gramicidin: every atom moves a little from frame to
 // frame; here random halves of a residue range follow the mode.
 TEST(PartialUpdate, NormalModeFramesInPieces) {
