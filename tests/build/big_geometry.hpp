@@ -61,4 +61,25 @@ inline BigCircle bigCircle(const glm::dvec3& px, double Rx, const glm::dvec3& py
   return {cx + t * axis, axis, Big(Rx) * Big(Rx) - t * t};
 }
 
+// Over the points p of circle c, the smallest and largest |p − ck|² − Rk²: a² + (ρ ∓ w)² − Rk²
+// with a and w the axial and radial offsets of ck from the circle's centre. Both < 0: the
+// circle is inside the sphere; both > 0: outside; otherwise it crosses (or touches) it.
+struct BigSpread {
+  Big nearest, farthest;
+};
+inline BigSpread circleSphereSpread(const BigCircle& c, const glm::dvec3& ck, double Rk) {
+  const BigVec w = big(ck) - c.center;
+  const Big a = dot(w, c.axis);
+  const BigVec radial = w - a * c.axis;
+  const Big rw = sqrt(dot(radial, radial)), r = sqrt(c.radius2), Rk2 = Big(Rk) * Big(Rk);
+  return {a * a + (r - rw) * (r - rw) - Rk2, a * a + (r + rw) * (r + rw) - Rk2};
+}
+
+// The centre of a sphere of radius Rk that touches circle c (radius rho, rounded) at its
+// point in direction `out` (unit, in the circle's plane), from inside (the circle inside the
+// sphere) or from outside; rounded to double, so a touch up to rounding.
+inline glm::dvec3 touchingCentre(const BigCircle& c, double rho, const glm::dvec3& out, double Rk, bool inside) {
+  return toDouble(c.center) + (inside ? rho - Rk : rho + Rk) * out;
+}
+
 }  // namespace surftrace::testing_big

@@ -164,8 +164,7 @@ TEST(ExactPredicates, NearTangentSpheres) {
 // A circle (x, y) that touches a sphere k at one point, from inside or outside, with k's
 // radius moved a few ulps either way: when no point of the circle crosses k, circleSphereSign
 // says which side the circle lies on, by the circle's nearest and farthest points from k's
-// centre in 50 digits (an independent formula: max, min |p − ck|² = a² + (ρ ± w)², with a
-// and w the axial and radial offsets of ck from the circle's centre).
+// centre in 50 digits (an independent formula: circleSphereSpread).
 TEST(ExactPredicates, CircleTouchingASphere) {
   std::mt19937_64 rng(2718);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -184,16 +183,11 @@ TEST(ExactPredicates, CircleTouchingASphere) {
     const glm::dvec3 out = std::cos(phi) * e1 + std::sin(phi) * e2;
     const bool inside = trial % 4 < 2;
     const double Rk = 2.0 + uni(rng) + (inside ? rho : 0.0);
-    const glm::dvec3 center = toDouble(c.center);
-    const glm::dvec3 ck = center + (inside ? rho - Rk : rho + Rk) * out;
+    const glm::dvec3 ck = touchingCentre(c, rho, out, Rk, inside);
     const double RkMoved = Rk * (1.0 + (uni(rng) - 0.5) * std::pow(10.0, -10.0 - 6.0 * uni(rng)));
-    const BigVec w = big(ck) - c.center;
-    const Big a = dot(w, c.axis);
-    const BigVec radial = w - a * c.axis;
-    const Big rw = sqrt(dot(radial, radial)), r = sqrt(c.radius2), R2 = Big(RkMoved) * Big(RkMoved);
-    const Big far = a * a + (r + rw) * (r + rw) - R2, near = a * a + (r - rw) * (r - rw) - R2;
-    if (near < 0 && far > 0) continue;  // the circle crosses k: not this predicate's case
-    const int want = far <= 0 ? -1 : 1;  // inside (touching allowed), or outside
+    const BigSpread spread = circleSphereSpread(c, ck, RkMoved);
+    if (spread.nearest < 0 && spread.farthest > 0) continue;  // the circle crosses k: not this predicate's case
+    const int want = spread.farthest <= 0 ? -1 : 1;           // inside (touching allowed), or outside
     ASSERT_EQ(circleSphereSign(cx, Rx, cy, Ry, ck, RkMoved), want) << "trial " << trial;
     ASSERT_EQ(circleBuriedBy(cx, Rx, cy, Ry, ck, RkMoved), want < 0) << "trial " << trial;
     // The plain test of a single point of the circle, the one at φ = 0 (as the builder

@@ -116,7 +116,7 @@ TEST(ExactDecisions, CircleNearlyTouchingASphere) {
     const glm::dvec3 out = std::cos(phi) * sc->e1 + std::sin(phi) * sc->e2;
     const bool inside = trial % 4 < 2;
     const double Rk = inside ? rho + 0.5 + uni(rng) : 2.5 + uni(rng);
-    const glm::dvec3 ck = toDouble(c.center) + (inside ? rho - Rk : rho + Rk) * out;
+    const glm::dvec3 ck = touchingCentre(c, rho, out, Rk, inside);
     const double RkNudged = std::max(nudged(Rk, rng), 1.6);
     const std::vector<glm::dvec3> centers{cx, cy, ck};
     const std::vector<double> R{Rx, Ry, RkNudged};
@@ -130,11 +130,7 @@ TEST(ExactDecisions, CircleNearlyTouchingASphere) {
           contained = contained || (R[j] >= R[i] && dd <= (Big(R[j]) - Big(R[i])) * (Big(R[j]) - Big(R[i])));
         }
     if (contained) continue;
-    const BigVec w = big(ck) - c.center;
-    const Big a = dot(w, c.axis);
-    const BigVec radial = w - a * c.axis;
-    const Big rw = sqrt(dot(radial, radial)), r = sqrt(c.radius2), Rk2 = Big(RkNudged) * Big(RkNudged);
-    const Big far = a * a + (r + rw) * (r + rw) - Rk2, near = a * a + (r - rw) * (r - rw) - Rk2;
+    const BigSpread spread = circleSphereSpread(c, ck, RkNudged);
     std::vector<double> radii;
     for (const double Ri : R) radii.push_back(Ri - kRp);
     const PatchList p = buildSes(centers, radii, SesParams{kRp});
@@ -146,10 +142,10 @@ TEST(ExactDecisions, CircleNearlyTouchingASphere) {
     }
     double extent = 0.0;
     const bool torus = hasTorus(p, 0, 1, &extent);
-    if (far <= 0) {
+    if (spread.farthest <= 0) {
       ASSERT_FALSE(torus) << "trial " << trial << ": the circle lies inside sphere 2";
       ++buried;
-    } else if (near >= 0) {
+    } else if (spread.nearest >= 0) {
       ASSERT_TRUE(torus) << "trial " << trial << ": the circle lies outside sphere 2";
       ASSERT_EQ(extent, 2.0 * std::numbers::pi) << "trial " << trial;
       ++free;
