@@ -20,9 +20,12 @@
 // whether a vertex lies inside another sphere. That is done on the owner's unit sphere
 // (circle (i, j) and sphere k are the boundary of cap a and the cap b) in single precision,
 // four caps at a time, and only taken when clear by a margin far above rounding; the rest
-// takes the exact double-precision tests of ORACLES A.2, so the result is that of the
-// exact tests alone (the tori, concave patches and planes are bit for bit those of the
-// first implementation, which tested every vertex against every common neighbour).
+// takes the tests of ORACLES A.2 in double precision with an error bound, and where a sign
+// is within its bound, in exact arithmetic (sas_geometry.hpp, exact_predicates.hpp). So
+// every decision (spheres cutting or containing, a circle inside a sphere, a probe
+// position existing or lying inside a sphere) is that of the real numbers the inputs
+// denote, and on real molecules the tori, concave patches and planes are bit for bit those
+// of the first implementation, which tested every vertex against every common neighbour.
 //
 // Every output array is a concatenation of per-atom (per-probe for the planes) segments
 // in atom order, which is what makes the list independent of the thread count and lets
