@@ -120,13 +120,11 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
               grid.neighbours(x, s.row);
               vertexPass(a, x, s.row, s, buf, capState[x]);
             });
-  gatherPieces(vertexPieces, offsets, Field{&VertexBuf::probe, &fv.probe, 0}, Field{&VertexBuf::dirI, &fv.dirI, 0},
-               Field{&VertexBuf::dirJ, &fv.dirJ, 0}, Field{&VertexBuf::dirK, &fv.dirK, 0},
-               Field{&VertexBuf::atomI, &fv.atomI, 0}, Field{&VertexBuf::atomJ, &fv.atomJ, 0},
-               Field{&VertexBuf::atomK, &fv.atomK, 0}, Field{&VertexBuf::plus, &fv.plus, 0},
-               Field{&VertexBuf::edges, &fv.edges, 0}, Field{&VertexBuf::group, &fv.group, 0},
-               Field{&VertexBuf::freeOther, &fv.freeOther, 1}, Field{&VertexBuf::concaveCount, &fv.concaveCount, 2},
-               Field{&VertexBuf::freeCount, &fv.freeCount, 2});
+  gatherPieces(vertexPieces, offsets, [&](auto&& field) {
+    forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(fv.*member), g}); });
+    field(Field{&VertexBuf::concaveCount, &fv.concaveCount, 2});
+    field(Field{&VertexBuf::freeCount, &fv.freeCount, 2});
+  });
 }
 
 void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
@@ -143,15 +141,11 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
               }
               contourPass(a, inc, x, s, buf);
             });
-  using B = ContourBuf;
-  gatherPieces(contourPieces, offsets, Field{&B::convexCenter, &fc.convexCenter, 0}, Field{&B::convexRadius, &fc.convexRadius, 0},
-               Field{&B::convexAtom, &fc.convexAtom, 0}, Field{&B::convexArea, &fc.convexArea, 0},
-               Field{&B::convexVectorArea, &fc.convexVectorArea, 0}, Field{&B::torusCenter, &fc.torusCenter, 1},
-               Field{&B::torusAxis, &fc.torusAxis, 1}, Field{&B::torusE1, &fc.torusE1, 1},
-               Field{&B::bigRadius, &fc.bigRadius, 1}, Field{&B::thetaI, &fc.thetaI, 1}, Field{&B::thetaJ, &fc.thetaJ, 1},
-               Field{&B::phiExtent, &fc.phiExtent, 1}, Field{&B::torusI, &fc.torusI, 1}, Field{&B::torusJ, &fc.torusJ, 1},
-               Field{&B::torusFace, &fc.torusFace, 1}, Field{&B::convexCount, &fc.convexCount, 2},
-               Field{&B::toriCount, &fc.toriCount, 2});
+  gatherPieces(contourPieces, offsets, [&](auto&& field) {
+    forEachContourArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(fc.*member), g}); });
+    field(Field{&ContourBuf::convexCount, &fc.convexCount, 2});
+    field(Field{&ContourBuf::toriCount, &fc.toriCount, 2});
+  });
 }
 
 void SesBuilder::State::fullBuild() {
@@ -178,18 +172,7 @@ void SesBuilder::State::fullBuild() {
 
   // Vertex pass over every atom: the fresh arrays are the patch list's.
   vertexPassOf(list);
-  auto& cv = out.concave;
-  cv.probe.swap(fv.probe);
-  cv.dirI.swap(fv.dirI);
-  cv.dirJ.swap(fv.dirJ);
-  cv.dirK.swap(fv.dirK);
-  cv.atomI.swap(fv.atomI);
-  cv.atomJ.swap(fv.atomJ);
-  cv.atomK.swap(fv.atomK);
-  vertexPlus.swap(fv.plus);
-  vertexEdges.swap(fv.edges);
-  vertexGroup.swap(fv.group);
-  freeOther.swap(fv.freeOther);
+  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(fv.*member); });
   prefix(fv.concaveCount, concaveBegin);
   prefix(fv.freeCount, freeBegin);
 
@@ -200,27 +183,12 @@ void SesBuilder::State::fullBuild() {
   findExtremeAtom();
 
   contourPassOf(list);
-  auto& cx = out.convex;
-  auto& tr = out.tori;
-  cx.center.swap(fc.convexCenter);
-  cx.radius.swap(fc.convexRadius);
-  cx.atom.swap(fc.convexAtom);
-  cx.area.swap(fc.convexArea);
-  cx.vectorArea.swap(fc.convexVectorArea);
-  tr.center.swap(fc.torusCenter);
-  tr.axis.swap(fc.torusAxis);
-  tr.e1.swap(fc.torusE1);
-  tr.bigRadius.swap(fc.bigRadius);
-  tr.thetaI.swap(fc.thetaI);
-  tr.thetaJ.swap(fc.thetaJ);
-  tr.phiExtent.swap(fc.phiExtent);
-  tr.atomI.swap(fc.torusI);
-  tr.atomJ.swap(fc.torusJ);
-  torusFace.swap(fc.torusFace);
+  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(fc.*member); });
   prefix(fc.convexCount, convexBegin);
   prefix(fc.toriCount, toriBegin);
 
   // Clipping planes of every probe.
+  auto& cv = out.concave;
   const std::size_t probes = cv.size();
   probeRadii.assign(probes, rp);
   probeGrid.build(cv.probe, probeRadii, 0.0);
@@ -297,27 +265,25 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
   // Vertex pass of those owners; an owner whose output differs changes the contours of
   // every atom its old and new vertices and free circles touch, and the planes near them.
   vertexPassOf(list);
-  prefix(fv.concaveCount, freshBegin);
-  prefix(fv.freeCount, freshFreeBegin);
+  prefix(fv.concaveCount, freshBegin[0]);
+  prefix(fv.freeCount, freshBegin[1]);
   auto& cv = out.concave;
+  const std::vector<std::uint32_t>* const oldBegin[2] = {&concaveBegin, &freeBegin};
   list2.clear();  // owners whose vertices changed
   for (std::size_t t = 0; t < list.size(); ++t) {
     const std::uint32_t x = list[t];
     mark[x] |= kContour;
-    const std::size_t o0 = concaveBegin[x], o1 = concaveBegin[x + 1], f0 = freshBegin[t], f1 = freshBegin[t + 1];
-    const std::size_t g0 = freeBegin[x], g1 = freeBegin[x + 1], h0 = freshFreeBegin[t], h1 = freshFreeBegin[t + 1];
-    auto same = [&](const auto& oldField, const auto& freshField) {
-      using T = typename std::remove_cvref_t<decltype(oldField)>::value_type;
-      return sameBits<T>(std::span<const T>(oldField).subspan(o0, o1 - o0),
-                         std::span<const T>(freshField).subspan(f0, f1 - f0));
-    };
-    const bool unchanged =
-        same(cv.probe, fv.probe) && same(cv.dirI, fv.dirI) && same(cv.dirJ, fv.dirJ) && same(cv.dirK, fv.dirK) &&
-        same(cv.atomI, fv.atomI) && same(cv.atomJ, fv.atomJ) && same(cv.atomK, fv.atomK) && same(vertexPlus, fv.plus) &&
-        same(vertexEdges, fv.edges) && same(vertexGroup, fv.group) &&
-        sameBits<std::uint32_t>(std::span<const std::uint32_t>(freeOther).subspan(g0, g1 - g0),
-                                std::span<const std::uint32_t>(fv.freeOther).subspan(h0, h1 - h0));
+    bool unchanged = true;
+    forEachVertexArray([&](auto member, const auto& kept, std::size_t g) {
+      using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
+      const std::size_t o0 = (*oldBegin[g])[x], o1 = (*oldBegin[g])[x + 1];
+      const std::size_t f0 = freshBegin[g][t], f1 = freshBegin[g][t + 1];
+      unchanged = unchanged && sameBits<T>(std::span<const T>(kept).subspan(o0, o1 - o0),
+                                           std::span<const T>(fv.*member).subspan(f0, f1 - f0));
+    });
     if (unchanged) continue;
+    const std::size_t o0 = concaveBegin[x], o1 = concaveBegin[x + 1], f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
+    const std::size_t g0 = freeBegin[x], g1 = freeBegin[x + 1], h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
     list2.push_back(x);
     // (The triangles of a merged vertex need not have their owner as atom I.)
     for (std::size_t v = o0; v < o1; ++v)
@@ -338,28 +304,7 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
   const auto& oldClipCount = tmp.oldClipCount = cv.clipCount;
 
   // Splice the vertex-pass arrays.
-  {
-    newStarts(concaveBegin, list, freshBegin, newBegin);
-    const Splice splice{concaveBegin, newBegin, list, freshBegin};
-    auto& t3 = tmp.v3;
-    auto& tu = tmp.u32;
-    auto& t8 = tmp.u8;
-    splice(cv.probe, fv.probe, t3);
-    splice(cv.dirI, fv.dirI, t3);
-    splice(cv.dirJ, fv.dirJ, t3);
-    splice(cv.dirK, fv.dirK, t3);
-    splice(cv.atomI, fv.atomI, tu);
-    splice(cv.atomJ, fv.atomJ, tu);
-    splice(cv.atomK, fv.atomK, tu);
-    splice(vertexPlus, fv.plus, t8);
-    splice(vertexEdges, fv.edges, t8);
-    splice(vertexGroup, fv.group, tu);
-    concaveBegin.swap(newBegin);
-    newStarts(freeBegin, list, freshFreeBegin, newBegin);
-    const Splice spliceFree{freeBegin, newBegin, list, freshFreeBegin};
-    spliceFree(freeOther, fv.freeOther, tu);
-    freeBegin.swap(newBegin);
-  }
+  spliceFresh(fv, [&](auto&& visit) { forEachVertexArray(visit); }, {&concaveBegin, &freeBegin});
   tmp.oldIncVertexBegin.swap(incVertexBegin);
   tmp.oldIncVertexFace.swap(incVertexFace);
   tmp.oldIncFreeBegin.swap(incFreeBegin);
@@ -390,36 +335,9 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
     }
   });
   contourPassOf(list);
-  {
-    auto& cx = out.convex;
-    auto& tr = out.tori;
-    auto& t3 = tmp.v3;
-    auto& td = tmp.f64;
-    auto& tu = tmp.u32;
-    prefix(fc.convexCount, freshBegin);
-    newStarts(convexBegin, list, freshBegin, newBegin);
-    const Splice sc{convexBegin, newBegin, list, freshBegin};
-    sc(cx.center, fc.convexCenter, t3);
-    sc(cx.radius, fc.convexRadius, td);
-    sc(cx.atom, fc.convexAtom, tu);
-    sc(cx.area, fc.convexArea, td);
-    sc(cx.vectorArea, fc.convexVectorArea, t3);
-    convexBegin.swap(newBegin);
-    prefix(fc.toriCount, freshBegin);
-    newStarts(toriBegin, list, freshBegin, newBegin);
-    const Splice st{toriBegin, newBegin, list, freshBegin};
-    st(tr.center, fc.torusCenter, t3);
-    st(tr.axis, fc.torusAxis, t3);
-    st(tr.e1, fc.torusE1, t3);
-    st(tr.bigRadius, fc.bigRadius, td);
-    st(tr.thetaI, fc.thetaI, td);
-    st(tr.thetaJ, fc.thetaJ, td);
-    st(tr.phiExtent, fc.phiExtent, td);
-    st(tr.atomI, fc.torusI, tu);
-    st(tr.atomJ, fc.torusJ, tu);
-    st(torusFace, fc.torusFace, tu);
-    toriBegin.swap(newBegin);
-  }
+  prefix(fc.convexCount, freshBegin[0]);
+  prefix(fc.toriCount, freshBegin[1]);
+  spliceFresh(fc, [&](auto&& visit) { forEachContourArray(visit); }, {&convexBegin, &toriBegin});
 
   // Clipping planes: those of the changed owners' new probes, and of every probe within
   // 2 rp of a removed or added probe; the others keep their lists (their neighbours kept

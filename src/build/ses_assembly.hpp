@@ -58,21 +58,21 @@ template <class Buf, class T> struct Field {
 };
 
 // Concatenates the fields of the pieces, in chunk order, in one parallel pass.
-template <class Buf, class... T>
+// forEachField(f) calls f(Field{...}) once for every field to gather.
+template <class Buf, class ForEachField>
 void gatherPieces(const std::vector<Piece<Buf>>& pieces, std::array<std::vector<std::size_t>, 3>& offset,
-                  const Field<Buf, T>&... fields) {
+                  ForEachField&& forEachField) {
   for (std::size_t g = 0; g < 3; ++g) pieceOffsets(pieces, g, offset[g]);
-  (fields.to->resize(offset[fields.group].back()), ...);
+  forEachField([&](const auto& field) { field.to->resize(offset[field.group].back()); });
   tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t c) {
     const Piece<Buf>& piece = pieces[c];
-    auto copy = [&](const auto& field) {
+    forEachField([&](const auto& field) {
       const auto& from = (*piece.buf).*(field.member);
       const std::size_t g = field.group;
       std::copy(from.begin() + static_cast<std::ptrdiff_t>(piece.begin[g]),
                 from.begin() + static_cast<std::ptrdiff_t>(piece.end[g]),
                 field.to->begin() + static_cast<std::ptrdiff_t>(offset[g][c]));
-    };
-    (copy(fields), ...);
+    });
   });
 }
 

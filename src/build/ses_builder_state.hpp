@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -65,7 +66,10 @@ struct SesBuilder::State {
   // Fresh planes of the probes listed: partners, counts, starts, planes.
   std::vector<std::uint32_t> fpCount, fpBegin;
   std::vector<Plane> fpPlanes;
-  std::vector<std::uint32_t> list, list2, freshBegin, freshFreeBegin, newBegin, tmpIndex;
+  std::vector<std::uint32_t> list, list2, tmpIndex;
+  // A partial update's segment starts of its two segment groups (concave patches and free
+  // circles; convex patches and tori): of the fresh output, and of the spliced arrays.
+  std::array<std::vector<std::uint32_t>, 2> freshBegin, newBegin;
   std::vector<std::uint8_t> mark;
   // detail::Scratch of partialUpdate, kept so that a trajectory does not allocate per frame.
   struct UpdateTmp {
@@ -76,6 +80,16 @@ struct SesBuilder::State {
     std::vector<Plane> planes;
     std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexNode;
     std::vector<std::uint32_t> oldIncVertexBegin, oldIncVertexFace, oldIncFreeBegin, oldIncFreeFace;
+    // The buffer a splice of an array of T goes through.
+    template <class T> std::vector<T>& spliceBuffer() {
+      if constexpr (std::is_same_v<T, glm::dvec3>) return v3;
+      else if constexpr (std::is_same_v<T, double>) return f64;
+      else if constexpr (std::is_same_v<T, std::uint32_t>) return u32;
+      else {
+        static_assert(std::is_same_v<T, std::uint8_t>);
+        return u8;
+      }
+    }
   } tmp;
 
   detail::Atoms atoms() const { return {centers, radii, R, buried, params.probeRadius}; }
@@ -89,6 +103,61 @@ struct SesBuilder::State {
   // difference of the radii can contain it, a small search (a superset, then the exact test).
   bool buriedByContainment(std::uint32_t i, std::vector<std::uint32_t>& near) const;
   void buildGrid();
+
+  // Every array the vertex pass produces: visit(member of VertexBuf, the array that keeps it
+  // (in `out` or beside it), its segment group: 0 per concave patch, 1 per free circle).
+  // Every array the contour pass produces likewise (ContourBuf; 0 convex patches, 1 tori).
+  // These lists alone serve the gather of the pieces, the swap of a full build, and the
+  // comparison and splice of a partial update.
+  template <class Visit> void forEachVertexArray(Visit&& visit) {
+    using B = detail::VertexBuf;
+    auto& cv = out.concave;
+    visit(&B::probe, cv.probe, 0);
+    visit(&B::dirI, cv.dirI, 0);
+    visit(&B::dirJ, cv.dirJ, 0);
+    visit(&B::dirK, cv.dirK, 0);
+    visit(&B::atomI, cv.atomI, 0);
+    visit(&B::atomJ, cv.atomJ, 0);
+    visit(&B::atomK, cv.atomK, 0);
+    visit(&B::plus, vertexPlus, 0);
+    visit(&B::edges, vertexEdges, 0);
+    visit(&B::group, vertexGroup, 0);
+    visit(&B::freeOther, freeOther, 1);
+  }
+  template <class Visit> void forEachContourArray(Visit&& visit) {
+    using B = detail::ContourBuf;
+    auto& cx = out.convex;
+    auto& tr = out.tori;
+    visit(&B::convexCenter, cx.center, 0);
+    visit(&B::convexRadius, cx.radius, 0);
+    visit(&B::convexAtom, cx.atom, 0);
+    visit(&B::convexArea, cx.area, 0);
+    visit(&B::convexVectorArea, cx.vectorArea, 0);
+    visit(&B::torusCenter, tr.center, 1);
+    visit(&B::torusAxis, tr.axis, 1);
+    visit(&B::torusE1, tr.e1, 1);
+    visit(&B::bigRadius, tr.bigRadius, 1);
+    visit(&B::thetaI, tr.thetaI, 1);
+    visit(&B::thetaJ, tr.thetaJ, 1);
+    visit(&B::phiExtent, tr.phiExtent, 1);
+    visit(&B::torusI, tr.atomI, 1);
+    visit(&B::torusJ, tr.atomJ, 1);
+    visit(&B::torusFace, torusFace, 1);
+  }
+  // Replaces, in every array of forEachArray, the segments of the atoms in `list` by those of
+  // `fresh` (whose segment starts are freshBegin); begin holds the old starts of the two
+  // groups and gets the new ones.
+  template <class Fresh, class ForEachArray>
+  void spliceFresh(const Fresh& fresh, ForEachArray&& forEachArray, std::array<std::vector<std::uint32_t>*, 2> begin) {
+    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], list, freshBegin[g], newBegin[g]);
+    const detail::Splice splice[2] = {{*begin[0], newBegin[0], list, freshBegin[0]},
+                                      {*begin[1], newBegin[1], list, freshBegin[1]}};
+    forEachArray([&](auto member, auto& kept, std::size_t g) {
+      using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
+      splice[g](kept, fresh.*member, tmp.spliceBuffer<T>());
+    });
+    for (std::size_t g = 0; g < 2; ++g) begin[g]->swap(newBegin[g]);
+  }
 
   void fullBuild();
   void partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters);

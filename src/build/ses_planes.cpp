@@ -44,7 +44,10 @@ void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
               }
               buf.count.push_back(count);
             });
-  gatherPieces(planePieces, offsets, Field{&PlaneBuf::plane, &fpPlanes, 0}, Field{&PlaneBuf::count, &fpCount, 2});
+  gatherPieces(planePieces, offsets, [&](auto&& field) {
+    field(Field{&PlaneBuf::plane, &fpPlanes, 0});
+    field(Field{&PlaneBuf::count, &fpCount, 2});
+  });
   prefix(fpCount, fpBegin);
 }
 
