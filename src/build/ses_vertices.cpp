@@ -386,15 +386,18 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         const ProbeTriple triple{cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]};
         const double slack = sideSlack(probes->error, nb.maxRadius);
         const int inside = insideMask(nb, candA, candB, words, ai, bi, triple, probes->plus, probes->minus, slack, nearBand);
-        for (const bool plus : {true, false}) {
-          glm::dvec3 p = plus ? probes->plus : probes->minus;
-          if (inside & (plus ? 1 : 2)) continue;
-          if ((inside & (plus ? 16 : 32)) && !(inside & (plus ? 4 : 8))) {
-            // Valid, and near another sphere, so maybe near that sphere's own vertex on this
-            // circle: placed to within an ulp, so that their order along it is the exact one.
-            if (const auto precise = preciseProbePair(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]))
-              p = plus ? precise->plus : precise->minus;
+        // A valid position (inside nothing, tied to nothing) near another sphere may be near
+        // that sphere's own vertex on this circle: placed to within an ulp, so that their
+        // order along it is the exact one. Bit 0 plus, bit 1 minus.
+        if (const int nearOnly = (inside >> 4) & ~(inside >> 2) & ~inside & 3) {
+          if (const auto precise = preciseProbePair(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k])) {
+            if (nearOnly & 1) probes->plus = precise->plus;
+            if (nearOnly & 2) probes->minus = precise->minus;
           }
+        }
+        for (const bool plus : {true, false}) {
+          const glm::dvec3 p = plus ? probes->plus : probes->minus;
+          if (inside & (plus ? 1 : 2)) continue;
           if (inside & (plus ? 4 : 8)) {
             // Further spheres pass through p (cospherical atoms, ORACLES E.6): one merged
             // vertex, emitted by the lowest of its atoms from the first triple that finds it.
