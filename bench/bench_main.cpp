@@ -7,7 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 #include "build/neighbour_grid.hpp"
 
 namespace {

@@ -6,8 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"

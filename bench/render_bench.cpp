@@ -7,8 +7,8 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 #include "trace/render.hpp"
 
 namespace {

@@ -10,8 +10,8 @@
 #include <glm/geometric.hpp>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
-#include "build/surface_area.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
+#include "build/ses/surface_area.hpp"
 #include "commands.hpp"
 
 namespace surftrace::tools {

@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 
 namespace surftrace::tools {
 

@@ -10,7 +10,7 @@
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 #include "commands.hpp"
 
 namespace surftrace::tools {

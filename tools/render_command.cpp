@@ -13,8 +13,8 @@
 #include <embree3/rtcore_config.h>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 #include "commands.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"

@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 #include "commands.hpp"
 
 int main(int argc, char** argv) {

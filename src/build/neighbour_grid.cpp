@@ -10,7 +10,7 @@
 
 #include <glm/common.hpp>
 
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "build/sas_geometry.hpp"
+#include "build/ses/sas_geometry.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 
 namespace surftrace::trace {
 

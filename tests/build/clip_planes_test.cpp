@@ -8,8 +8,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "build/clip_planes.hpp"
-#include "build/sas_geometry.hpp"
+#include "build/ses/clip_planes.hpp"
+#include "build/ses/sas_geometry.hpp"
 
 namespace surftrace::build {
 namespace {

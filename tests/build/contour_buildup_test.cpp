@@ -1,5 +1,5 @@
 // SES construction against formulas and a peer tool (MSMS), and its determinism.
-#include "build/contour_buildup.hpp"
+#include "build/ses/contour_buildup.hpp"
 
 #include <cstring>
 #include <numbers>
@@ -14,7 +14,7 @@
 #include <tbb/global_control.h>
 
 #include "build/spherical_region.hpp"
-#include "build/surface_area.hpp"
+#include "build/ses/surface_area.hpp"
 
 namespace surftrace::build {
 namespace {

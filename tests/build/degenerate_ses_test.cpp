@@ -14,9 +14,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
-#include "build/surface_area.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
+#include "build/ses/surface_area.hpp"
 #include "oracles/ses_oracle.hpp"
 
 namespace surftrace::build {

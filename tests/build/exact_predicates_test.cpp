@@ -10,8 +10,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "build/exact_predicates.hpp"
-#include "build/sas_geometry.hpp"
+#include "build/ses/exact_predicates.hpp"
+#include "build/ses/sas_geometry.hpp"
 #include "big_geometry.hpp"
 
 namespace surftrace::build {

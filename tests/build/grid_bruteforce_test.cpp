@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 #include "build/neighbour_grid.hpp"
 
 namespace surftrace::build {

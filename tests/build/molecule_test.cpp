@@ -1,7 +1,7 @@
 // Tests of the molecule input layer against facts established outside it: atom counts from
 // tests/data/MANIFEST.md or from grep/awk over the files (noted where used), element columns
 // of other copies of the same entry, and files the tests write themselves.
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,8 +18,8 @@
 #include <tuple>
 #include <vector>
 
-#include "build/error.hpp"
-#include "build/radii.hpp"
+#include "build/io/error.hpp"
+#include "build/io/radii.hpp"
 
 namespace surftrace::build {
 namespace {

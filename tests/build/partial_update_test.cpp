@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -10,10 +10,10 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/sas_geometry.hpp"
-#include "build/molecule.hpp"
-#include "build/surface_area.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/ses/sas_geometry.hpp"
+#include "build/io/molecule.hpp"
+#include "build/ses/surface_area.hpp"
 #include "oracles/freesasa_oracle.hpp"
 #include "oracles/ses_oracle.hpp"
 

@@ -11,8 +11,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
 #include "trace/image_compare.hpp"

@@ -18,9 +18,9 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "build/contour_buildup.hpp"
-#include "build/molecule.hpp"
-#include "build/sas_geometry.hpp"
+#include "build/ses/contour_buildup.hpp"
+#include "build/io/molecule.hpp"
+#include "build/ses/sas_geometry.hpp"
 #include "oracles/ray_march.hpp"
 #include "trace/random_geometry.hpp"
 #include "trace/sphere_oracle.hpp"

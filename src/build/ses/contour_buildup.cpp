@@ -32,7 +32,7 @@
 // SesBuilder::update splice recomputed segments between kept ones. The contour pass also
 // splits each atom's exposed region into its connected faces, from which the SES
 // components are labelled.
-#include "build/contour_buildup.hpp"
+#include "build/ses/contour_buildup.hpp"
 
 #include <algorithm>
 #include <array>
@@ -50,14 +50,14 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 #include "build/neighbour_grid.hpp"
-#include "build/sas_geometry.hpp"
-#include "build/ses_assembly.hpp"
-#include "build/ses_builder_state.hpp"
-#include "build/ses_contours.hpp"
-#include "build/ses_types.hpp"
-#include "build/ses_vertices.hpp"
+#include "build/ses/sas_geometry.hpp"
+#include "build/ses/ses_assembly.hpp"
+#include "build/ses/ses_builder_state.hpp"
+#include "build/ses/ses_contours.hpp"
+#include "build/ses/ses_types.hpp"
+#include "build/ses/ses_vertices.hpp"
 
 namespace surftrace::build {
 

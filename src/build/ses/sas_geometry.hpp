@@ -13,7 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "build/exact_predicates.hpp"
+#include "build/ses/exact_predicates.hpp"
 
 namespace surftrace::build {
 

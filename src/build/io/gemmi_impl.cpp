@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "build/error.hpp"
-#include "build/molecule.hpp"
-#include "build/radii.hpp"
+#include "build/io/error.hpp"
+#include "build/io/molecule.hpp"
+#include "build/io/radii.hpp"
 
 namespace surftrace::build::detail {
 

@@ -1,6 +1,6 @@
 // Reading a molecule: the file's bytes (gunzipped when they start with the gzip magic), one
 // parser per format, the selection of model, conformer, chains, water and hydrogens, and radii.
-#include "build/molecule.hpp"
+#include "build/io/molecule.hpp"
 
 #define ZLIB_CONST
 #include <zlib.h>
@@ -21,8 +21,8 @@
 #include <tuple>
 #include <utility>
 
-#include "build/error.hpp"
-#include "build/radii.hpp"
+#include "build/io/error.hpp"
+#include "build/io/radii.hpp"
 
 namespace surftrace::build {
 

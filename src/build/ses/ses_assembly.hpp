@@ -13,7 +13,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "build/ses_types.hpp"
+#include "build/ses/ses_types.hpp"
 
 namespace surftrace::build::detail {
 

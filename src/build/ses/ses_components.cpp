@@ -5,8 +5,8 @@
 #include <span>
 #include <vector>
 
-#include "build/ses_assembly.hpp"
-#include "build/ses_builder_state.hpp"
+#include "build/ses/ses_assembly.hpp"
+#include "build/ses/ses_builder_state.hpp"
 
 namespace surftrace::build {
 

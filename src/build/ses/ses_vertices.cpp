@@ -1,5 +1,5 @@
 // SES vertex pass: probe positions, their validity, and cospherical vertices merged into concave polygons.
-#include "build/ses_vertices.hpp"
+#include "build/ses/ses_vertices.hpp"
 
 #include <algorithm>
 #include <array>
@@ -14,8 +14,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "build/sas_geometry.hpp"
-#include "build/ses_kernels.hpp"
+#include "build/ses/sas_geometry.hpp"
+#include "build/ses/ses_kernels.hpp"
 
 namespace surftrace::build::detail {
 namespace {

@@ -11,7 +11,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include "build/sas_geometry.hpp"
+#include "build/ses/sas_geometry.hpp"
 
 namespace surftrace::build::detail {
 

@@ -5,8 +5,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "build/exact_predicates.hpp"
-#include "build/ses_types.hpp"
+#include "build/ses/exact_predicates.hpp"
+#include "build/ses/ses_types.hpp"
 
 namespace surftrace::build::detail {
 

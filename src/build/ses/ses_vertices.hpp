@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <span>
 
-#include "build/ses_types.hpp"
+#include "build/ses/ses_types.hpp"
 
 namespace surftrace::build::detail {
 

@@ -1,6 +1,6 @@
 // Elements and their van der Waals radii: symbols, elements implied by atom names, the Bondi
 // table (with Mantina et al. for the main-group elements Bondi lacks) and user radius tables.
-#include "build/radii.hpp"
+#include "build/io/radii.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -11,12 +11,12 @@
 #include <glm/vec3.hpp>
 #include <tbb/enumerable_thread_specific.h>
 
-#include "build/contour_buildup.hpp"
+#include "build/ses/contour_buildup.hpp"
 #include "build/neighbour_grid.hpp"
 #include "build/patch_list.hpp"
-#include "build/ses_assembly.hpp"
-#include "build/ses_contours.hpp"
-#include "build/ses_types.hpp"
+#include "build/ses/ses_assembly.hpp"
+#include "build/ses/ses_contours.hpp"
+#include "build/ses/ses_types.hpp"
 
 namespace surftrace::build {
 

@@ -1,5 +1,5 @@
 // SES contour pass: exposed arcs, tori, convex patch areas and the faces of each atom's exposed region.
-#include "build/ses_contours.hpp"
+#include "build/ses/ses_contours.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,7 +15,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "build/sas_geometry.hpp"
+#include "build/ses/sas_geometry.hpp"
 
 namespace surftrace::build::detail {
 namespace {

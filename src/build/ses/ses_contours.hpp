@@ -6,7 +6,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "build/ses_types.hpp"
+#include "build/ses/ses_types.hpp"
 
 namespace surftrace::build::detail {
 

@@ -7,7 +7,7 @@
 // rational), h n/|n| = √H n, so |p − c|² − T = A ± B √H with rationals
 // A = |u|² + H det − T, B = 2 u·n, u = ca + q − c; its sign needs one comparison of A²
 // with B² H. Every double is a rational, so nothing here rounds.
-#include "build/exact_predicates.hpp"
+#include "build/ses/exact_predicates.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 
 #include <gmpxx.h>
 
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 
 namespace surftrace::build {
 namespace {

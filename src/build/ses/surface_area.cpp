@@ -1,6 +1,6 @@
 // Areas and volumes: convex patches carry theirs from the build; tori and concave
 // triangles are integrated here from their own parameters.
-#include "build/surface_area.hpp"
+#include "build/ses/surface_area.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SES cap pre-tests: the single-precision SIMD (SSE2/AVX2) kernels and the double-precision inside test.
-#include "build/ses_kernels.hpp"
+#include "build/ses/ses_kernels.hpp"
 
 #include <algorithm>
 #include <bit>

@@ -1,5 +1,5 @@
 // Reporting of broken internal invariants.
-#include "build/error.hpp"
+#include "build/io/error.hpp"
 
 #include <cstdio>
 #include <cstdlib>

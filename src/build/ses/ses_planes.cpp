@@ -4,9 +4,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "build/clip_planes.hpp"
-#include "build/ses_assembly.hpp"
-#include "build/ses_builder_state.hpp"
+#include "build/ses/clip_planes.hpp"
+#include "build/ses/ses_assembly.hpp"
+#include "build/ses/ses_builder_state.hpp"
 
 namespace surftrace::build {
 
