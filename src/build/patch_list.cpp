@@ -65,6 +65,7 @@ void forEachArray(List& p, Visit&& visit) {
   visit("mss", "radialCoeff", p.mss.radialCoeff);
   visit("mss", "axialCoeff", p.mss.axialCoeff);
   visit("mss", "constant", p.mss.constant);
+  visit("mss", "boundRadius", p.mss.boundRadius);
   visit("mss", "atoms", p.mss.atoms);
   visit("mss", "cellBegin", p.mss.cellBegin);
   visit("mss", "cellCount", p.mss.cellCount);
@@ -240,6 +241,18 @@ void PatchList::validate() const {
   checkAtoms(concave.atomI, params.atomCount, "atom i");
   checkAtoms(concave.atomJ, params.atomCount, "atom j");
   checkAtoms(concave.atomK, params.atomCount, "atom k");
+  for (std::size_t k = 0; k < mss.size(); ++k) {
+    if (mss.kind[k] > static_cast<std::uint32_t>(MssKind::Concave))
+      throw std::runtime_error("patch list: MSS patch " + std::to_string(k) + " has unknown kind " +
+                               std::to_string(mss.kind[k]));
+    const glm::uvec4& a = mss.atoms[k];
+    for (std::uint32_t m = 0; m < 4; ++m) {
+      const bool used = m <= mss.kind[k];
+      if (used ? a[m] >= params.atomCount || (m > 0 && a[m] <= a[m - 1]) : a[m] != ~0u)
+        throw std::runtime_error("patch list: MSS patch " + std::to_string(k) + " has a bad simplex (atom " +
+                                 std::to_string(a[m]) + " in slot " + std::to_string(m) + ")");
+    }
+  }
 }
 
 void writePatchList(const std::string& path, const PatchList& patches) {
@@ -314,6 +327,9 @@ PatchList readPatchList(const std::string& path) {
                              " is newer than this SurfTrace reads (up to " + std::to_string(kPatchFileVersion) +
                              "); rebuild it with `surftrace build` or upgrade SurfTrace");
   if (version == 0) throw std::runtime_error(path + ": corrupt patch list (version 0)");
+  if (version < kPatchFileVersion)
+    throw std::runtime_error(path + ": patch list version " + std::to_string(version) +
+                             " was written by an older SurfTrace; rebuild it with `surftrace build`");
   const std::size_t available = bytes.size() - kHeaderSize;
   if (bodySize > available || available - bodySize < 4)
     throw std::runtime_error(path + ": truncated patch list: header announces " + std::to_string(bodySize) +

@@ -76,18 +76,31 @@ struct ConcaveTriangles {
   std::size_t size() const { return probe.size(); }
 };
 
-// MSS patch: the quadric f(x) = (x − z)ᵀ Q (x − z) + c0 = 0 inside its mixed cell, whose
-// bounding planes are cellPlanes[cellBegin, cellBegin + cellCount). Q is symmetric:
-// sphere patches have Q = I, hyperboloids Q = I − (1/(1−s) ... ) (settled by the MSS issue).
-enum class MssKind : std::uint32_t { Sphere = 0, HyperboloidOneSheet = 1, HyperboloidTwoSheets = 2, ConcaveSphere = 3 };
+// MSS patch (ORACLES C.3, C.4): the skin quadric of one Delaunay simplex X inside its mixed
+// cell μ_X = (1 − s) δ_X + s ν_X, built by src/build/mss/. The quadric is
+//   f(x) = radialCoeff·|x − z|² + axialCoeff·((x − z)·axis)² + constant,   f < 0 inside the body,
+// with f = (1 − s)·G(x) for the skin function G of ORACLES D.3, so it is continuous across
+// cells; `center` is the orthocentre z_X. The cell is the intersection of the half-spaces
+// cellPlanes[cellBegin, cellBegin + cellCount) (n·x + d <= 0); planes that cannot meet the skin
+// of the patch are left out, and two cells that share a facet store that plane bit for bit
+// negated. Every skin point of the patch lies within boundRadius of `center`.
+//   Convex  (vertex i)      sphere, radius r_i              radial 1 − s, axial 0
+//   Edge    (edge i j)      hyperboloid about the edge      radial 1 − s, axial −1
+//           (one sheet when w_X < 0, two when w_X > 0, the double cone at w_X = 0)
+//   Face    (triangle)      hyperboloid about its normal    radial −s, axial 1
+//   Concave (tetrahedron)   sphere, radius √((1 − s) w_X)   radial −s, axial 0
+// For Edge and Face patches the cell is a prism along `axis`: planes with normal ±axis cap it,
+// the others contain the axis direction.
+enum class MssKind : std::uint32_t { Convex = 0, Edge = 1, Face = 2, Concave = 3 };
 struct MssQuadrics {
-  std::vector<std::uint32_t> kind;     // MssKind
-  std::vector<glm::dvec3> center;      // z
-  std::vector<glm::dvec3> axis;        // unit symmetry axis (unused for spheres)
-  std::vector<double> radialCoeff;     // Q = radialCoeff·I + axialCoeff·axis axisᵀ
+  std::vector<std::uint32_t> kind;     // MssKind: the simplex has kind + 1 atoms
+  std::vector<glm::dvec3> center;      // z_X
+  std::vector<glm::dvec3> axis;        // unit; (0, 0, 1) for the spheres
+  std::vector<double> radialCoeff;
   std::vector<double> axialCoeff;
-  std::vector<double> constant;        // c0
-  std::vector<glm::uvec4> atoms;       // Delaunay simplex vertices (unused slots = ~0u)
+  std::vector<double> constant;        // s(1 − s) w_X
+  std::vector<double> boundRadius;     // Å
+  std::vector<glm::uvec4> atoms;       // the simplex, ascending; unused slots ~0u
   std::vector<std::uint32_t> cellBegin;
   std::vector<std::uint32_t> cellCount;
 
@@ -134,7 +147,8 @@ PatchList outerComponent(const PatchList& patches);
 //   body (parameters, then a table of named arrays) | u32 CRC-32 of the body.
 // Readers reject a wrong magic, a newer version, a truncated file or a bad checksum with
 // an error that says which.
-inline constexpr std::uint32_t kPatchFileVersion = 1;
+// Version 2: the MSS arrays (MssQuadrics as above); version-1 lists are refused with advice.
+inline constexpr std::uint32_t kPatchFileVersion = 2;
 void writePatchList(const std::string& path, const PatchList& patches);
 PatchList readPatchList(const std::string& path);
 

@@ -74,12 +74,13 @@ PatchList randomPatchList(std::uint32_t seed) {
     for (int c = 0; c < k; ++c) p.clipPlanes.emplace_back(v3(), u(rng));
     p.concave.component.push_back(1);
   }
-  p.mss.kind.push_back(static_cast<std::uint32_t>(MssKind::HyperboloidOneSheet));
+  p.mss.kind.push_back(static_cast<std::uint32_t>(MssKind::Edge));
   p.mss.center.push_back(v3());
   p.mss.axis.push_back(v3());
   p.mss.radialCoeff.push_back(u(rng));
   p.mss.axialCoeff.push_back(u(rng));
   p.mss.constant.push_back(u(rng));
+  p.mss.boundRadius.push_back(u(rng));
   p.mss.atoms.push_back(glm::uvec4(1, 2, ~0u, ~0u));
   p.mss.cellBegin.push_back(0);
   p.mss.cellCount.push_back(2);
@@ -110,6 +111,7 @@ void expectIdentical(const PatchList& a, const PatchList& b) {
   EXPECT_TRUE(sameBits(a.concave.clipCount, b.concave.clipCount));
   EXPECT_TRUE(sameBits(a.clipPlanes, b.clipPlanes));
   EXPECT_TRUE(sameBits(a.mss.atoms, b.mss.atoms));
+  EXPECT_TRUE(sameBits(a.mss.boundRadius, b.mss.boundRadius));
   EXPECT_TRUE(sameBits(a.cellPlanes, b.cellPlanes));
 }
 
