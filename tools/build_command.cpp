@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
-#include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
+#include "build/mss/mss_area.hpp"
+#include "build/mss/mss_builder.hpp"
+#include "build/ses/contour_buildup.hpp"
 #include "build/ses/surface_area.hpp"
 #include "commands.hpp"
 
@@ -20,15 +22,34 @@ struct SurfaceOptions {
   build::ReadOptions read;
   std::string surface = "ses";
   double probe = 1.4;
+  double shrink = 0.5;
   int threads = 0;
   bool dropCavities = false;
 };
 
 void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
   cmd.add_option("FILE", o.path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
-  cmd.add_option("--surface", o.surface, "Surface to build; this version builds the solvent excluded surface")
-      ->check(CLI::IsMember({"ses"}))
+  cmd.add_option("--surface", o.surface,
+                 "Surface to build: ses (solvent excluded: spheres, tori, concave triangles) or mss (molecular "
+                 "skin: spheres and hyperboloids clipped to mixed cells)")
+      ->check(CLI::IsMember({"ses", "mss"}))
       ->default_val("ses");
+  cmd.add_option("--shrink", o.shrink,
+                 "MSS shrink factor s in (0, 1]: small s is smooth and wraps the molecule loosely, s -> 1 "
+                 "approaches the atoms; s = 1 is exactly the union of the van der Waals balls (the vdW "
+                 "surface, built as whole spheres)")
+      ->check(CLI::Validator(
+          [](const std::string& v) {
+            double s = 0.0;
+            try {
+              s = std::stod(v);
+            } catch (const std::exception&) {
+              return "--shrink takes a number in (0, 1], got '" + v + "'";
+            }
+            return s > 0.0 && s <= 1.0 ? std::string() : "--shrink must lie in (0, 1], got " + v;
+          },
+          "in (0, 1]", ""))
+      ->default_val(0.5);
   cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
       ->check(CLI::PositiveNumber)
       ->default_val(1.4);
@@ -59,7 +80,13 @@ Built buildSurface(const SurfaceOptions& o) {
   b.molecule = build::readMolecule(o.path, o.read);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
-  b.patches = build::buildSes(b.molecule.centers, b.molecule.radii, build::SesParams{o.probe});
+  const auto& m = b.molecule;
+  if (o.surface == "mss" && o.shrink >= 1.0)
+    b.patches = build::atomSpheres(m.centers, m.radii, 0.0, build::SurfaceKind::Vdw);
+  else if (o.surface == "mss")
+    b.patches = build::buildMss(m.centers, m.radii, build::MssParams{o.shrink});
+  else
+    b.patches = build::buildSes(m.centers, m.radii, build::SesParams{o.probe});
   b.patches.params.radiiSet = b.molecule.radiiSet;
   b.patches.params.inputCrc32 = b.molecule.inputCrc32;
   if (o.dropCavities) b.patches = build::outerComponent(b.patches);
@@ -75,8 +102,20 @@ void runBuild(const BuildOptions& o) {
   const Built b = buildSurface(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;
-  std::printf("%s: %zu atoms -> %zu convex, %zu toroidal, %zu concave patches, %zu clipping planes\n", o.path.c_str(),
+  if (p.params.surface == build::SurfaceKind::Mss) {
+    std::size_t count[4] = {0, 0, 0, 0};
+    for (std::uint32_t k : p.mss.kind) ++count[k];
+    std::printf("%s: %zu atoms, s = %g -> %zu MSS patches: %zu convex spheres, %zu edge hyperboloids, %zu face "
+                "hyperboloids, %zu concave spheres; %zu mixed-cell planes\n",
+                o.path.c_str(), b.molecule.size(), o.shrink, p.mss.size(), count[0], count[1], count[2], count[3],
+                p.cellPlanes.size());
+  } else if (p.params.surface == build::SurfaceKind::Vdw) {
+    std::printf("%s: %zu atoms, s = 1: the union of the van der Waals balls, %zu spheres\n", o.path.c_str(),
+                b.molecule.size(), p.convex.size());
+  } else {
+    std::printf("%s: %zu atoms -> %zu convex, %zu toroidal, %zu concave patches, %zu clipping planes\n", o.path.c_str(),
               b.molecule.size(), p.convex.size(), p.tori.size(), p.concave.size(), p.clipPlanes.size());
+  }
   std::printf("read %.1f ms, built %.1f ms; wrote %s\n", b.readSeconds * 1e3, b.buildSeconds * 1e3, o.output.c_str());
 }
 
@@ -84,8 +123,55 @@ struct AreaOptions : SurfaceOptions {
   std::string format = "table";
 };
 
+// The skin's areas: by patch kind, per atom (each skin point shared by its simplex's atoms in
+// proportion to its convex weights), and the volume.
+void runMssArea(const AreaOptions& o, const Built& b) {
+  const auto& m = b.molecule;
+  const auto start = std::chrono::steady_clock::now();
+  const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(m.centers, m.radii)
+                                            : build::computeMssAreas(b.patches, m.centers);
+  const double areaSeconds = secondsSince(start);
+  static const char* kinds[4] = {"convex", "edge", "face", "concave"};
+  if (o.format == "json") {
+    nlohmann::json j;
+    j["file"] = m.source;
+    j["shrink_factor"] = o.shrink;
+    j["atoms"] = m.size();
+    j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
+    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_bound", a.areaErrorBound},
+                          {"volume_error_bound", a.volumeErrorBound}, {"per_atom", a.perAtom}};
+    for (int k = 0; k < 4; ++k) mss[kinds[k]] = a.byKind[k];
+    j["mss"] = mss;
+    std::printf("%s\n", j.dump(1).c_str());
+    return;
+  }
+  if (o.format == "csv") {
+    std::printf("atom,serial,chain,residue,residue_number,name,element,radius,mss\n");
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const auto& r = m.atoms[i];
+      std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f,%.6f\n", i, r.serial, r.chain.c_str(), r.residue.c_str(),
+                  r.residueNumber, r.name.c_str(), r.element.c_str(), m.radii[i], a.perAtom[i]);
+    }
+    return;
+  }
+  std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.shrink,
+              o.shrink >= 1.0 ? ": the union of the van der Waals balls" : "");
+  std::printf("MSS area        %14.4f Å²  (quadrature error <= %.1e)\n", a.total(), a.areaErrorBound);
+  std::printf("  convex        %14.4f Å²  (atom spheres)\n", a.byKind[0]);
+  std::printf("  edge          %14.4f Å²  (hyperboloids of Delaunay edges)\n", a.byKind[1]);
+  std::printf("  face          %14.4f Å²  (hyperboloids of Delaunay triangles)\n", a.byKind[2]);
+  std::printf("  concave       %14.4f Å²  (spheres of Delaunay tetrahedra)\n", a.byKind[3]);
+  std::printf("MSS volume      %14.4f Å³\n", a.volume);
+  std::printf("build           %.1f ms, areas %.1f ms (+ %.1f ms reading)\n", b.buildSeconds * 1e3, areaSeconds * 1e3,
+              b.readSeconds * 1e3);
+}
+
 void runArea(const AreaOptions& o) {
   const Built b = buildSurface(o);
+  if (o.surface == "mss") {
+    runMssArea(o, b);
+    return;
+  }
   const build::SurfaceAreas a = build::computeAreas(b.patches);
   const auto& m = b.molecule;
   if (o.format == "json") {
@@ -133,8 +219,10 @@ void runArea(const AreaOptions& o) {
 void addBuildCommands(CLI::App& app) {
   auto bo = std::make_shared<BuildOptions>();
   auto* build = app.add_subcommand("build",
-                                   "Build the analytic SES patch list (convex spheres, tori, concave triangles with "
-                                   "their clipping planes) and write it to a .stp file for `render --patches`");
+                                   "Build the analytic patch list and write it to a .stp file for `render --patches`: "
+                                   "the SES (convex spheres, tori, concave triangles with their clipping planes) or, "
+                                   "with --surface mss, the molecular skin (spheres and hyperboloids with their mixed "
+                                   "cells)");
   addSurfaceOptions(*build, *bo);
   build->add_option("-o,--output", bo->output, "Patch-list file to write (.stp)")->required();
   build->callback([bo] { runBuild(*bo); });
@@ -142,7 +230,8 @@ void addBuildCommands(CLI::App& app) {
   auto ao = std::make_shared<AreaOptions>();
   auto* area = app.add_subcommand("area",
                                   "Exact SAS area, SES area by patch kind, and SES volume (divergence theorem "
-                                  "over the patches), with per-atom areas in csv/json");
+                                  "over the patches), with per-atom areas in csv/json; with --surface mss the skin's "
+                                  "area by patch kind, per atom, and its volume");
   addSurfaceOptions(*area, *ao);
   area->add_option("--format", ao->format, "Output: table (totals), csv (per atom), json (totals and per atom)")
       ->check(CLI::IsMember({"table", "csv", "json"}))

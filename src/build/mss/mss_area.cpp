@@ -1,0 +1,350 @@
+// MSS areas and volumes: spheres in closed form, hyperboloids of revolution by quadrature along
+// their axis. For a patch about z with axis a write x = z + h a + ρ e(φ); in every mixed cell of
+// an edge or a triangle the lateral planes contain a, so the cross-section is one polygon for
+// all h and the circle of radius ρ(h) meets it in arcs whose length Φ and moment E = ∫ e dφ are
+// closed form. With f = B ρ² + A h² + c (B = radial, A = radial + axial) the surface is
+// ρ² = α h² + β (α = −A/B > 0, β = −c/B), dA = J dh dφ with J = √(ρ² + α² h²), and
+//   area = ∫ J Φ dh,  ∫ n dA = ∫ (sign(B) ρ E + (A/|B|) h Φ a) dh,  ∫ (x − z)·n dA = ∫ (−c/|B|) Φ dh.
+#include "build/mss/mss_area.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include <boost/math/quadrature/gauss.hpp>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "build/neighbour_grid.hpp"
+#include "build/ses/sas_geometry.hpp"
+#include "build/spherical_region.hpp"
+
+namespace surftrace::build {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// ∫ over the patch of 1, (x − z)·n, n and x − z.
+struct Moments {
+  double area = 0.0, flux = 0.0;
+  glm::dvec3 normal{0.0}, first{0.0};
+
+  Moments& operator+=(const Moments& o) {
+    area += o.area;
+    flux += o.flux;
+    normal += o.normal;
+    first += o.first;
+    return *this;
+  }
+  friend Moments operator*(double k, const Moments& m) { return {k * m.area, k * m.flux, k * m.normal, k * m.first}; }
+};
+
+struct Lateral {
+  double angle;   // direction of the plane normal's part across the axis, in the (e1, e2) frame
+  double length;  // |that part|
+  double offset;  // −(n·z + d)
+  double along;   // n·a
+};
+
+struct Revolution {
+  glm::dvec3 z, a, e1, e2;
+  double A, B, c, alpha, beta;
+  std::vector<Lateral> laterals;
+};
+
+struct Scratch {
+  SphericalRegionScratch sphere;
+  std::vector<Cap> caps;
+  std::vector<std::array<double, 2>> arcs, merged;
+  std::vector<double> breaks;
+  Revolution rev;
+};
+
+// Length Φ and ∫ e dφ (in the e1, e2 frame) of the part of the circle of radius ρ at height h
+// inside every lateral half-plane.
+void circleInPolygon(const Revolution& r, double h, double rho, Scratch& sc, double& phi, glm::dvec2& moment) {
+  sc.arcs.clear();
+  for (const Lateral& l : r.laterals) {
+    const double kappa = (l.offset - h * l.along) / (rho * l.length);
+    if (kappa >= 1.0) continue;
+    if (kappa <= -1.0) {
+      phi = 0.0;
+      moment = glm::dvec2(0.0);
+      return;
+    }
+    const double half = std::acos(kappa);
+    double lo = std::fmod(l.angle - half, kTwoPi);
+    if (lo < 0.0) lo += kTwoPi;
+    sc.arcs.push_back({lo, lo + 2.0 * half});
+  }
+  std::sort(sc.arcs.begin(), sc.arcs.end());
+  sc.merged.clear();
+  for (const auto& arc : sc.arcs) {
+    if (!sc.merged.empty() && arc[0] <= sc.merged.back()[1])
+      sc.merged.back()[1] = std::max(sc.merged.back()[1], arc[1]);
+    else
+      sc.merged.push_back(arc);
+  }
+  // The last arc may run past 2π over the first ones.
+  std::size_t first = 0;
+  while (sc.merged.size() - first > 1 && sc.merged.back()[1] - kTwoPi >= sc.merged[first][0]) {
+    sc.merged.back()[1] = std::max(sc.merged.back()[1], sc.merged[first][1] + kTwoPi);
+    ++first;
+  }
+  double excluded = 0.0;
+  glm::dvec2 excludedMoment(0.0);
+  for (std::size_t k = first; k < sc.merged.size(); ++k) {
+    const auto& [lo, hi] = sc.merged[k];
+    excluded += hi - lo;
+    excludedMoment += glm::dvec2(std::sin(hi) - std::sin(lo), std::cos(lo) - std::cos(hi));
+  }
+  if (excluded >= kTwoPi) {
+    phi = 0.0;
+    moment = glm::dvec2(0.0);
+    return;
+  }
+  phi = kTwoPi - excluded;
+  moment = -excludedMoment;  // ∫ e over the whole circle is 0
+}
+
+Moments revolutionIntegrand(const Revolution& r, double h, Scratch& sc) {
+  const double rho2 = r.alpha * h * h + r.beta;
+  if (!(rho2 > 0.0)) return {};
+  const double rho = std::sqrt(rho2);
+  double phi;
+  glm::dvec2 e;
+  circleInPolygon(r, h, rho, sc, phi, e);
+  if (phi == 0.0) return {};
+  const double J = std::sqrt(rho2 + r.alpha * r.alpha * h * h);
+  const glm::dvec3 E = e.x * r.e1 + e.y * r.e2;
+  const double absB = std::abs(r.B);
+  return {J * phi, -r.c / absB * phi, (r.B > 0 ? 1.0 : -1.0) * rho * E + (r.A / absB) * h * phi * r.a,
+          J * (h * phi * r.a + rho * E)};
+}
+
+// Adaptive Gauss–Kronrod (7/15 points, nodes and weights from Boost.Math) of the vector of
+// moments; the area component steers the subdivision. Returns the error estimate.
+double integrate(const Revolution& r, double lo, double hi, double tol, int depth, Scratch& sc, Moments& out) {
+  using Kronrod = boost::math::quadrature::gauss_kronrod<double, 15>;
+  using Gauss = boost::math::quadrature::gauss<double, 7>;
+  const auto& x = Kronrod::abscissa();
+  const auto& wk = Kronrod::weights();
+  const auto& wg = Gauss::weights();
+  const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  Moments kronrod, gauss;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    Moments f = revolutionIntegrand(r, mid + half * x[k], sc);
+    if (k > 0) f += revolutionIntegrand(r, mid - half * x[k], sc);
+    kronrod += wk[k] * f;
+    if (k % 2 == 0) gauss += wg[k / 2] * f;
+  }
+  const double error = half * std::abs(kronrod.area - gauss.area);
+  if (error <= tol || depth >= 40 || half < 1e-13 * (1.0 + std::abs(mid))) {
+    out += half * kronrod;
+    return error;
+  }
+  return integrate(r, lo, mid, 0.5 * tol, depth + 1, sc, out) + integrate(r, mid, hi, 0.5 * tol, depth + 1, sc, out);
+}
+
+// A hyperboloid patch (edge or triangle): its frame, caps and cross-section, then the integral
+// between the heights where the integrand is not smooth.
+double hyperboloidMoments(const PatchList& p, std::size_t k, Scratch& sc, Moments& m) {
+  const MssQuadrics& q = p.mss;
+  Revolution& r = sc.rev;
+  r.z = q.center[k];
+  r.a = q.axis[k];
+  r.e1 = perpendicularTo(r.a);
+  r.e2 = glm::cross(r.a, r.e1);
+  r.B = q.radialCoeff[k];
+  r.A = q.radialCoeff[k] + q.axialCoeff[k];
+  r.c = q.constant[k];
+  r.alpha = -r.A / r.B;
+  r.beta = -r.c / r.B;
+  const double bound = q.boundRadius[k];
+  double lo = -bound, hi = bound;
+  r.laterals.clear();
+  for (std::uint32_t c = 0; c < q.cellCount[k]; ++c) {
+    const Plane& plane = p.cellPlanes[q.cellBegin[k] + c];
+    const glm::dvec3 n(plane);
+    const double along = glm::dot(n, r.a), offset = -(glm::dot(n, r.z) + plane.w);
+    if (std::abs(along) > 0.5) {
+      (along > 0 ? hi : lo) = along > 0 ? std::min(hi, offset / along) : std::max(lo, offset / along);
+    } else {
+      const double x = glm::dot(n, r.e1), y = glm::dot(n, r.e2);
+      r.laterals.push_back({std::atan2(y, x), std::hypot(x, y), offset, along});
+    }
+  }
+  if (!(lo < hi)) return 0.0;
+
+  // Breakpoints: where ρ(h) vanishes, h = 0, and where the circle touches a lateral line or
+  // passes a corner of the cross-section.
+  sc.breaks.assign({lo, hi, 0.0});
+  auto addRadius = [&](double rho) {
+    const double h2 = (rho * rho - r.beta) / r.alpha;
+    if (h2 >= 0.0) {
+      sc.breaks.push_back(std::sqrt(h2));
+      sc.breaks.push_back(-std::sqrt(h2));
+    }
+  };
+  addRadius(0.0);
+  for (std::size_t u = 0; u < r.laterals.size(); ++u) {
+    const Lateral& lu = r.laterals[u];
+    addRadius(std::abs(lu.offset) / lu.length);
+    for (std::size_t v = u + 1; v < r.laterals.size(); ++v) {
+      const Lateral& lv = r.laterals[v];
+      // Corner: (cos, sin)(angle)·x = offset/length for both lines.
+      const double a1 = std::cos(lu.angle), b1 = std::sin(lu.angle), c1 = lu.offset / lu.length;
+      const double a2 = std::cos(lv.angle), b2 = std::sin(lv.angle), c2 = lv.offset / lv.length;
+      const double det = a1 * b2 - a2 * b1;
+      if (std::abs(det) < 1e-12) continue;
+      addRadius(std::hypot((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det));
+    }
+  }
+  std::sort(sc.breaks.begin(), sc.breaks.end());
+  const double tol = 1e-10 * kTwoPi * bound * bound;
+  double error = 0.0;
+  for (std::size_t b = 0; b + 1 < sc.breaks.size(); ++b) {
+    const double x0 = std::max(lo, sc.breaks[b]), x1 = std::min(hi, sc.breaks[b + 1]);
+    if (x1 > x0) error += integrate(r, x0, x1, tol, 0, sc, m);
+  }
+  return error;
+}
+
+void sphereMoments(const PatchList& p, std::size_t k, Scratch& sc, Moments& m) {
+  const MssQuadrics& q = p.mss;
+  const double R = std::sqrt(std::max(0.0, -q.constant[k] / q.radialCoeff[k]));
+  const glm::dvec3 z = q.center[k];
+  sc.caps.clear();
+  for (std::uint32_t c = 0; c < q.cellCount[k]; ++c) {
+    const Plane& plane = p.cellPlanes[q.cellBegin[k] + c];
+    const glm::dvec3 n(plane);
+    sc.caps.push_back({n, R > 0 ? -(glm::dot(n, z) + plane.w) / R : -1.0});
+  }
+  const SphericalRegion region = sphereMinusCaps(sc.caps, sc.sphere);
+  const double side = q.radialCoeff[k] > 0 ? 1.0 : -1.0;  // convex: outward normal u; concave: −u
+  m.area = R * R * region.area;
+  m.flux = side * R * R * R * region.area;
+  m.normal = side * R * R * region.vectorArea;
+  m.first = R * R * R * region.vectorArea;
+}
+
+// Barycentric coordinates of y in the simplex of `atoms` (count entries).
+std::array<double, 4> barycentric(std::span<const glm::dvec3> centers, const glm::uvec4& atoms, int count,
+                                  const glm::dvec3& y) {
+  std::array<double, 4> l{1.0, 0.0, 0.0, 0.0};
+  if (count == 1) return l;
+  const glm::dvec3 z0 = centers[atoms[0]];
+  std::array<glm::dvec3, 3> e;
+  for (int k = 1; k < count; ++k) e[k - 1] = centers[atoms[k]] - z0;
+  const glm::dvec3 v = y - z0;
+  if (count == 2) {
+    l[1] = glm::dot(v, e[0]) / glm::dot(e[0], e[0]);
+  } else if (count == 3) {
+    const double g00 = glm::dot(e[0], e[0]), g01 = glm::dot(e[0], e[1]), g11 = glm::dot(e[1], e[1]);
+    const double b0 = glm::dot(v, e[0]), b1 = glm::dot(v, e[1]), det = g00 * g11 - g01 * g01;
+    l[1] = (b0 * g11 - b1 * g01) / det;
+    l[2] = (g00 * b1 - g01 * b0) / det;
+  } else {
+    const double det = glm::dot(e[0], glm::cross(e[1], e[2]));
+    l[1] = glm::dot(v, glm::cross(e[1], e[2])) / det;
+    l[2] = glm::dot(e[0], glm::cross(v, e[2])) / det;
+    l[3] = glm::dot(e[0], glm::cross(e[1], v)) / det;
+  }
+  l[0] = 1.0;
+  for (int k = 1; k < count; ++k) l[0] -= l[k];
+  return l;
+}
+
+}  // namespace
+
+MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers) {
+  const MssQuadrics& q = p.mss;
+  const std::size_t n = q.size();
+  std::vector<Moments> moments(n);
+  std::vector<double> errors(n, 0.0);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    Scratch& sc = scratch.local();
+    const auto kind = static_cast<MssKind>(q.kind[k]);
+    if (kind == MssKind::Convex || kind == MssKind::Concave)
+      sphereMoments(p, k, sc, moments[k]);
+    else
+      errors[k] = hyperboloidMoments(p, k, sc, moments[k]);
+  });
+
+  MssAreas out;
+  out.perPatch.resize(n);
+  out.perAtom.assign(p.params.atomCount, 0.0);
+  // Volume about a point near the molecule, so the terms do not cancel from afar.
+  glm::dvec3 origin(0.0);
+  for (std::size_t k = 0; k < n; ++k) origin += q.center[k] / static_cast<double>(n);
+  const double s = p.params.shrinkFactor;
+  double volume = 0.0, volumeError = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Moments& m = moments[k];
+    const std::uint32_t kind = q.kind[k];
+    out.perPatch[k] = m.area;
+    out.byKind[kind] += m.area;
+    out.areaErrorBound += errors[k];
+    volume += m.flux + glm::dot(q.center[k] - origin, m.normal);
+    // The flux integrand is bounded by |x − origin|; its error scales like the area's.
+    volumeError += errors[k] * (q.boundRadius[k] + glm::length(q.center[k] - origin));
+    if (m.area <= 0.0) continue;
+    // Per atom: λ of the area centroid's point y (λ is affine in x over μ_X).
+    const glm::dvec3 d = m.first / m.area;
+    glm::dvec3 inLine = d;
+    if (kind == static_cast<std::uint32_t>(MssKind::Edge)) inLine = glm::dot(d, q.axis[k]) * q.axis[k];
+    if (kind == static_cast<std::uint32_t>(MssKind::Face)) inLine = d - glm::dot(d, q.axis[k]) * q.axis[k];
+    const glm::dvec3 y = q.center[k] + inLine / (1.0 - s);
+    const std::array<double, 4> l = barycentric(centers, q.atoms[k], static_cast<int>(kind) + 1, y);
+    for (std::uint32_t a = 0; a <= kind; ++a) out.perAtom[q.atoms[k][a]] += l[a] * m.area;
+  }
+  out.volume = volume / 3.0;
+  out.volumeErrorBound = volumeError / 3.0;
+  return out;
+}
+
+MssAreas unionOfBallsAreas(std::span<const glm::dvec3> centers, std::span<const double> radii) {
+  const std::size_t n = centers.size();
+  NeighbourGrid grid;
+  grid.build(centers, radii, 0.0);
+  std::vector<SphericalRegion> regions(n);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> near;
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    Scratch& sc = scratch.local();
+    std::vector<std::uint32_t>& nb = near.local();
+    nb.clear();
+    grid.neighbours(static_cast<std::uint32_t>(i), nb);
+    sc.caps.clear();
+    for (std::uint32_t j : nb) {
+      const glm::dvec3 d = centers[j] - centers[i];
+      const double dist = glm::length(d);
+      // Coincident equal balls: the lower index keeps the sphere.
+      if (dist == 0.0) {
+        if (radii[j] > radii[i] || (radii[j] == radii[i] && j < i)) sc.caps.push_back({glm::dvec3(0, 0, 1), -1.0});
+        continue;
+      }
+      const double cosRadius = (dist * dist + radii[i] * radii[i] - radii[j] * radii[j]) / (2.0 * dist * radii[i]);
+      sc.caps.push_back({d / dist, std::clamp(cosRadius, -1.0, 1.0)});
+    }
+    regions[i] = sphereMinusCaps(sc.caps, sc.sphere);
+  });
+  MssAreas out;
+  out.perAtom.resize(n);
+  glm::dvec3 origin(0.0);
+  for (const glm::dvec3& c : centers) origin += c / static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = radii[i];
+    out.perAtom[i] = r * r * regions[i].area;
+    out.byKind[0] += out.perAtom[i];
+    out.volume += r * r * (glm::dot(centers[i] - origin, regions[i].vectorArea) + r * regions[i].area) / 3.0;
+  }
+  return out;
+}
+
+}  // namespace surftrace::build

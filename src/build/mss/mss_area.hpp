@@ -1,0 +1,40 @@
+// Areas and volumes of the molecular skin from its patches (ORACLES C.3, D.2).
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "build/patch_list.hpp"
+
+namespace surftrace::build {
+
+struct MssAreas {
+  // Å² by patch kind (MssKind order: convex, edge, face, concave) and in all.
+  double byKind[4] = {0, 0, 0, 0};
+  double total() const { return byKind[0] + byKind[1] + byKind[2] + byKind[3]; }
+  double volume = 0.0;         // Å³ enclosed by the skin (divergence theorem over the patches)
+  // Bound on the quadrature error of the hyperboloid areas (the spheres are closed form).
+  double areaErrorBound = 0.0;
+  double volumeErrorBound = 0.0;
+  std::vector<double> perPatch;  // Å², one per MSS patch
+  // Per atom: each point of the skin shared by the atoms of its simplex in proportion to
+  // its convex weights λ (ORACLES D.3: x ∈ μ_X has λ = the barycentric coordinates of
+  // y = z_X + P(x − z_X)/(1 − s) in δ_X); these sum to the total.
+  std::vector<double> perAtom;
+};
+
+// Spheres (convex and concave) exactly, by Gauss–Bonnet on the sphere minus the caps outside
+// the mixed cell; hyperboloids by adaptive Gauss–Kronrod quadrature along the axis of
+// revolution between breakpoints (the circle of radius ρ(h) meets the prism's cross-section
+// polygon in arcs with closed-form length), to 1e-10 relative per patch, with the summed
+// error estimate reported. `centers` are the atoms' (for the per-atom shares).
+MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> centers);
+
+// The skin at s = 1: the union of the van der Waals balls, exactly (Gauss–Bonnet on each
+// sphere minus the caps inside its neighbours). All of it counts as convex.
+MssAreas unionOfBallsAreas(std::span<const glm::dvec3> centers, std::span<const double> radii);
+
+}  // namespace surftrace::build
