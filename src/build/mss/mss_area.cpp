@@ -284,12 +284,14 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
   for (std::size_t k = 0; k < n; ++k) origin += q.center[k] / static_cast<double>(n);
   const double s = p.params.shrinkFactor;
   double volume = 0.0, volumeError = 0.0;
+  glm::dvec3 normalSum(0.0);
   for (std::size_t k = 0; k < n; ++k) {
     const Moments& m = moments[k];
     const std::uint32_t kind = q.kind[k];
     out.perPatch[k] = m.area;
     out.byKind[kind] += m.area;
     out.areaErrorBound += errors[k];
+    normalSum += m.normal;
     volume += m.flux + glm::dot(q.center[k] - origin, m.normal);
     // The flux integrand is bounded by |x − origin|; its error scales like the area's.
     volumeError += errors[k] * (q.boundRadius[k] + glm::length(q.center[k] - origin));
@@ -303,6 +305,7 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
     const std::array<double, 4> l = barycentric(centers, q.atoms[k], static_cast<int>(kind) + 1, y);
     for (std::uint32_t a = 0; a <= kind; ++a) out.perAtom[q.atoms[k][a]] += l[a] * m.area;
   }
+  out.closure = glm::length(normalSum);
   out.volume = volume / 3.0;
   out.volumeErrorBound = volumeError / 3.0;
   return out;

@@ -19,6 +19,8 @@ struct MssAreas {
   // Bound on the quadrature error of the hyperboloid areas (the spheres are closed form).
   double areaErrorBound = 0.0;
   double volumeErrorBound = 0.0;
+  // |Σ ∫ n dA| over all patches, Å²: 0 for a closed surface (a hole or an overlap shows here).
+  double closure = 0.0;
   std::vector<double> perPatch;  // Å², one per MSS patch
   // Per atom: each point of the skin shared by the atoms of its simplex in proportion to
   // its convex weights λ (ORACLES D.3: x ∈ μ_X has λ = the barycentric coordinates of

@@ -30,7 +30,7 @@ using mss::WeightedPoints;
 
 // Atoms per block: the unit of parallel work and of partial updates. Fixed, so the result
 // does not depend on the number of threads.
-constexpr std::uint32_t kBlockAtoms = 64;
+constexpr std::uint32_t kBlockAtoms = 16;
 // Relative slack on the feasibility radius and the reach: the neighbourhood stays a superset
 // whatever the rounding of the distances that select it.
 constexpr double kReachSlack = 1e-9;
@@ -73,7 +73,8 @@ struct Scratch {
 struct Geometry {
   WeightedPoints points;
   double wMax = 0.0;
-  std::vector<double> rho;    // feasibility radius ρ_i (with slack)
+  std::vector<double> rho;    // feasibility radius ρ_i (with slack), times feasibleScale
+  std::vector<double> rho2;   // ρ_i² (with slack) without feasibleScale: where skin can be
   std::vector<double> reach;  // neighbour reach ρ_i + √(ρ_i² + w_max − w_i) (with slack)
 };
 
@@ -83,6 +84,23 @@ double pointSegmentDistance2(const glm::dvec3& x, const glm::dvec3& a, const glm
   const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
   const glm::dvec3 d = x - (a + t * ab);
   return glm::dot(d, d);
+}
+
+// Squared distance from x to the polygon of face k of the cell (local coordinates).
+double polygonDistance2(const PowerCell& cell, std::size_t k, const glm::dvec3& x) {
+  const std::span<const std::uint16_t> poly = cell.face(k);
+  const std::span<const mss::CellVertex> verts = cell.vertices();
+  const glm::dvec3 n = glm::normalize(cell.planes()[k].n);
+  bool inside = true;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t q = 0; q < poly.size(); ++q) {
+    const glm::dvec3 pa = verts[poly[q]].p, pb = verts[poly[(q + 1) % poly.size()]].p;
+    best = std::min(best, pointSegmentDistance2(x, pa, pb));
+    if (glm::dot(x - pa, glm::cross(pb - pa, n)) > 0.0) inside = false;
+  }
+  if (!inside) return best;
+  const double h = glm::dot(x - verts[poly[0]].p, n);
+  return h * h;
 }
 
 // Lower bound on d(z_X, δ_X): the largest distance of z_X beyond one of δ_X's facets
@@ -171,6 +189,10 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
     if (cell.clip(j) == PowerCell::Clip::Empty) return;
   }
 
+  // Only the part of the cell within ρ_i can bound skin (and only it is exact): a coface's
+  // facet plane is kept when its Voronoi element comes that close, so a wider neighbourhood
+  // (feasibleScale) changes nothing.
+  const double rho2 = g.rho2[i];
   const std::span<const CellPlane> planes = cell.planes();
   const std::span<const mss::CellVertex> verts = cell.vertices();
   sc.elements.clear();
@@ -185,7 +207,7 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
     double distNu = 0.0;
     for (std::size_t k = 0; k < planes.size(); ++k) {
       if (!isAtom(planes[k]) || cell.face(k).empty()) continue;
-      sc.ups.push_back(planes[k].atom);
+      if (polygonDistance2(cell, k, glm::dvec3(0.0)) <= rho2) sc.ups.push_back(planes[k].atom);
       distNu = std::max(distNu, -planes[k].c / glm::length(planes[k].n));
     }
     Simplex x;
@@ -221,7 +243,7 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
         dist2 = std::min(dist2, pointSegmentDistance2(xo, pa, pb));
         if (glm::dot(xo - pa, glm::cross(pb - pa, t)) > 0.0) inside = false;
         const CellPlane& across = planes[cell.edgeNeighbour(static_cast<std::uint16_t>(k), a, b)];
-        if (isAtom(across)) sc.ups.push_back(across.atom);
+        if (isAtom(across) && pointSegmentDistance2(glm::dvec3(0.0), pa, pb) <= rho2) sc.ups.push_back(across.atom);
       }
       if (holdsSkin(p, x, o, inside ? 0.0 : std::sqrt(dist2), maxNu2))
         addElement(x, upBegin);
@@ -241,6 +263,7 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
       const glm::dvec3 xo = o.z - zi;
       const std::size_t upBegin = sc.ups.size();
       for (std::uint16_t v : {a, b}) {
+        if (glm::dot(verts[v].p, verts[v].p) > rho2) continue;
         for (std::uint16_t pl : verts[v].plane)
           if (pl != k && pl != across && isAtom(planes[pl])) sc.ups.push_back(planes[pl].atom);
       }
@@ -349,10 +372,12 @@ struct MssBuilder::State {
     geometry.points = {centers, weights, s};
     const std::size_t n = centers.size();
     geometry.rho.resize(n);
+    geometry.rho2.resize(n);
     geometry.reach.resize(n);
     double reachMax = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      const double rho2 = (weights[i] + (1.0 - s) * geometry.wMax / s) * (1.0 + kReachSlack);
+      geometry.rho2[i] = (weights[i] + (1.0 - s) * geometry.wMax / s) * (1.0 + kReachSlack);
+      const double rho2 = geometry.rho2[i] * params.feasibleScale * params.feasibleScale;
       geometry.rho[i] = std::sqrt(rho2);
       geometry.reach[i] = (geometry.rho[i] + std::sqrt(rho2 + geometry.wMax - weights[i])) * (1.0 + kReachSlack);
       reachMax = std::max(reachMax, geometry.reach[i]);
@@ -369,6 +394,7 @@ MssBuilder& MssBuilder::operator=(MssBuilder&&) noexcept = default;
 const PatchList& MssBuilder::build(std::span<const glm::dvec3> centers, std::span<const double> radii,
                                    const MssParams& params) {
   checkShrink(params.shrink);
+  if (!(params.feasibleScale >= 1.0)) throw std::invalid_argument("MSS: feasibleScale must be >= 1");
   if (centers.size() != radii.size()) throw std::invalid_argument("MSS: centres and radii differ in length");
   if (centers.size() >= kBoxPlane) throw std::invalid_argument("MSS: too many atoms");
   State& s = *s_;

@@ -14,6 +14,9 @@ namespace surftrace::build {
 
 struct MssParams {
   double shrink = 0.5;  // s in (0, 1); s = 1 is the union of balls (use atomSpheres)
+  // Scales the feasibility radius ρ_i (>= 1). Only tests change it: at large values every
+  // cell is the whole power cell, and the list must not change (feasible cells are exact).
+  double feasibleScale = 1.0;
 };
 
 // Builds the MSS patch list of atoms (centres, radii >= 0, validated by the caller) for the
