@@ -149,7 +149,11 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
   double area = std::fmod(turning - kTwoPi * cycles, 2.0 * kTwoPi);
   if (area < 0.0) area += 2.0 * kTwoPi;
   if (area > 2.0 * kTwoPi - 0.5 * maxCapArea) area -= 2.0 * kTwoPi;
-  return {std::max(area, 0.0), vectorArea, cycles};
+  // |W| <= area for any region (|u| = 1). A region that Gauss–Bonnet finds empty to rounding,
+  // such as the sliver between two coincident circles (a mixed cell of zero volume between
+  // co-spherical simplices), has no vector area, whether or not its arcs pair up.
+  if (area < 1e-12) return {std::max(area, 0.0), glm::dvec3(0.0), cycles};
+  return {area, vectorArea, cycles};
 }
 
 }  // namespace surftrace::build

@@ -226,13 +226,8 @@ TEST(MssBuilder, DegenerateConfigurationsAreStableUnderTinyPerturbation) {
       for (int kind = 0; kind < 4; ++kind) EXPECT_NEAR(a.byKind[kind], b.byKind[kind], 1e-6) << where << " kind " << kind;
       // Closed surfaces: ∮ n dA = 0 (a hole or a doubled patch would show).
       EXPECT_LT(a.closure, 1e-6) << where;
-      // Known issue (see the MSS part 1 note): for some perturbations of the fullerene the
-      // vector areas of its co-spherical concave patches do not sum to zero (closure 0.06
-      // Å² at s = 0.3) although their areas do; its volume is compared once that is fixed.
-      if (name != "fullerene") {
-        EXPECT_LT(b.closure, 1e-6) << where;
-        EXPECT_NEAR(a.volume, b.volume, 1e-6) << where;
-      }
+      EXPECT_LT(b.closure, 1e-6) << where;
+      EXPECT_NEAR(a.volume, b.volume, 1e-6) << where;
       const double total = a.total(), totalMoved = b.total();
       EXPECT_NEAR(total, totalMoved, 1e-6) << where;
     }
