@@ -35,22 +35,28 @@ constexpr std::uint32_t kBlockAtoms = 16;
 // whatever the rounding of the distances that select it.
 constexpr double kReachSlack = 1e-9;
 
+// Every array of MssQuadrics, visited in lockstep in two lists (a block's and the whole's).
+template <class A, class B, class Visit>
+void forEachQuadricArray(A& a, B& b, Visit&& visit) {
+  visit(a.kind, b.kind);
+  visit(a.center, b.center);
+  visit(a.axis, b.axis);
+  visit(a.radialCoeff, b.radialCoeff);
+  visit(a.axialCoeff, b.axialCoeff);
+  visit(a.constant, b.constant);
+  visit(a.boundRadius, b.boundRadius);
+  visit(a.atoms, b.atoms);
+  visit(a.cellBegin, b.cellBegin);
+  visit(a.cellCount, b.cellCount);
+}
+
 // One block's patches, with cell-plane indices relative to the block.
 struct Chunk {
   MssQuadrics q;
   std::vector<Plane> planes;
 
   void clear() {
-    q.kind.clear();
-    q.center.clear();
-    q.axis.clear();
-    q.radialCoeff.clear();
-    q.axialCoeff.clear();
-    q.constant.clear();
-    q.boundRadius.clear();
-    q.atoms.clear();
-    q.cellBegin.clear();
-    q.cellCount.clear();
+    forEachQuadricArray(q, q, [](auto& v, auto&) { v.clear(); });
     planes.clear();
   }
 };
@@ -131,7 +137,7 @@ bool holdsSkin(const WeightedPoints& p, const Simplex& x, const mss::Orthocentre
 }
 
 void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& out) {
-  const mss::SkinQuadric q = mss::skinQuadric(p, x);
+  const mss::SkinQuadric q = mss::skinQuadric(p, x, mss::orthocentre(p, x));
   const double bound = mss::skinBoundRadius(p, x, q.weight);
   const auto begin = static_cast<std::uint32_t>(out.planes.size());
   // A plane is kept unless the whole ball of the patch's skin lies on its inner side.
@@ -139,7 +145,7 @@ void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::u
   auto keep = [&](const glm::dvec4& plane) {
     if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) out.planes.push_back(plane);
   };
-  for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(-mss::facetPlane(p, x.without(k), x[k]));
+  for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(-mss::facetPlane(p, x.without(k), x[k], q.center));
   for (std::uint32_t a : ups) keep(mss::facetPlane(p, x, a));
   glm::uvec4 atoms(~0u);
   for (int k = 0; k < x.size; ++k) atoms[k] = x[k];
@@ -325,6 +331,7 @@ struct MssBuilder::State {
   MssUpdateStats stats;
   tbb::enumerable_thread_specific<Scratch> scratch;
   std::vector<std::uint8_t> dirty;  // per block
+  std::vector<std::size_t> patchOffset, planeOffset;  // per block, into the list
   bool built = false;
 
   void buildBlocks(std::span<const std::uint32_t> which) {
@@ -343,28 +350,31 @@ struct MssBuilder::State {
     stats.exactSides = exact.combine(std::plus<>());
   }
 
+  // The blocks concatenated, in parallel: offsets first, then each block copies itself.
   void assemble() {
-    MssQuadrics& q = list.mss;
-    list.clearKeepingMemory();
+    list.params = {};
     list.params.surface = SurfaceKind::Mss;
     list.params.shrinkFactor = params.shrink;
     list.params.atomCount = static_cast<std::uint32_t>(centers.size());
     list.componentCount = 0;
-    for (const Chunk& c : blocks) {
-      const auto base = static_cast<std::uint32_t>(list.cellPlanes.size());
-      auto append = [](auto& dst, const auto& src) { dst.insert(dst.end(), src.begin(), src.end()); };
-      append(q.kind, c.q.kind);
-      append(q.center, c.q.center);
-      append(q.axis, c.q.axis);
-      append(q.radialCoeff, c.q.radialCoeff);
-      append(q.axialCoeff, c.q.axialCoeff);
-      append(q.constant, c.q.constant);
-      append(q.boundRadius, c.q.boundRadius);
-      append(q.atoms, c.q.atoms);
-      for (std::uint32_t b : c.q.cellBegin) q.cellBegin.push_back(base + b);
-      append(q.cellCount, c.q.cellCount);
-      append(list.cellPlanes, c.planes);
+    const std::size_t count = blocks.size();
+    patchOffset.assign(count + 1, 0);
+    planeOffset.assign(count + 1, 0);
+    for (std::size_t b = 0; b < count; ++b) {
+      patchOffset[b + 1] = patchOffset[b] + blocks[b].q.size();
+      planeOffset[b + 1] = planeOffset[b] + blocks[b].planes.size();
     }
+    forEachQuadricArray(list.mss, list.mss, [&](auto& v, auto&) { v.resize(patchOffset[count]); });
+    list.cellPlanes.resize(planeOffset[count]);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
+      const Chunk& c = blocks[b];
+      forEachQuadricArray(list.mss, c.q, [&](auto& dst, const auto& src) {
+        std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(patchOffset[b]));
+      });
+      const auto base = static_cast<std::uint32_t>(planeOffset[b]);
+      for (std::size_t k = patchOffset[b]; k < patchOffset[b + 1]; ++k) list.mss.cellBegin[k] += base;
+      std::copy(c.planes.begin(), c.planes.end(), list.cellPlanes.begin() + static_cast<std::ptrdiff_t>(planeOffset[b]));
+    });
   }
 
   void setGeometry() {
@@ -454,10 +464,15 @@ const PatchList& MssBuilder::update(std::span<const std::uint32_t> moved, std::s
       if (glm::dot(d, d) < s.geometry.reach[j] * s.geometry.reach[j]) s.dirty[j / kBlockAtoms] = 1;
     }
   };
-  for (std::size_t k = 0; k < moved.size(); ++k) {
-    s.dirty[moved[k] / kBlockAtoms] = 1;
-    markAround(oldPlaces[k]);
-    markAround(newCenters[k]);
+  // When many atoms move, finding who is near them costs more than rebuilding everything.
+  if (moved.size() > n / 8) {
+    s.dirty.assign(blockCount, 1);
+  } else {
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+      s.dirty[moved[k] / kBlockAtoms] = 1;
+      markAround(oldPlaces[k]);
+      markAround(newCenters[k]);
+    }
   }
   std::vector<std::uint32_t> which;
   for (std::uint32_t b = 0; b < blockCount; ++b) {

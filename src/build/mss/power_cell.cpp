@@ -108,12 +108,18 @@ CellVertex PowerCell::makeVertex(std::uint16_t a, std::uint16_t b, std::uint16_t
   return v;
 }
 
-int PowerCell::side(const CellVertex& v, std::uint16_t m) {
+// The fast path inline in the clipping loop; the rational one out of line.
+inline int PowerCell::side(const CellVertex& v, std::uint16_t m) {
   const CellPlane& P = planes_[m];
-  const double t = glm::dot(P.n, glm::dvec3(v.h)) - P.c * v.h.w;
-  const double bound = kSideError * (glm::dot(glm::abs(P.n), glm::dvec3(v.hMag)) + P.mag * v.hMag.w);
+  const double t = P.n.x * v.h.x + P.n.y * v.h.y + P.n.z * v.h.z - P.c * v.h.w;
+  const double bound =
+      kSideError * (std::abs(P.n.x) * v.hMag.x + std::abs(P.n.y) * v.hMag.y + std::abs(P.n.z) * v.hMag.z + P.mag * v.hMag.w);
   if (t > bound) return v.wSign;
   if (t < -bound) return -v.wSign;
+  return exactSideCounted(v, m);
+}
+
+int PowerCell::exactSideCounted(const CellVertex& v, std::uint16_t m) {
   ++exactSides_;
   return exactSide(v, m) * v.wSign;
 }

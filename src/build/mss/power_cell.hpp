@@ -77,6 +77,7 @@ class PowerCell {
   CellPlane planeOf(std::uint32_t j) const;
   CellVertex makeVertex(std::uint16_t a, std::uint16_t b, std::uint16_t c);
   int side(const CellVertex& v, std::uint16_t m);
+  [[gnu::noinline]] int exactSideCounted(const CellVertex& v, std::uint16_t m);
   int exactSide(const CellVertex& v, std::uint16_t m) const;
   int exactWSign(const CellVertex& v) const;
 

@@ -112,10 +112,15 @@ inline glm::dvec3 facetNormal(const WeightedPoints& p, const Simplex& x, std::ui
 
 // The plane n·x + d <= 0 of μ_X's side of its facet with μ_{X∪{a}}: normal facetNormal(X, a),
 // through (1 − s) z_{X[0]} + s z_{X∪{a}}. The cell of X ∪ {a} uses the same plane negated.
-inline glm::dvec4 facetPlane(const WeightedPoints& p, const Simplex& x, std::uint32_t a) {
+// zY is orthocentre(X ∪ {a}).z, passed in by callers that have it (the same bits either way).
+inline glm::dvec4 facetPlane(const WeightedPoints& p, const Simplex& x, std::uint32_t a, const glm::dvec3& zY) {
   const glm::dvec3 n = facetNormal(p, x, a);
-  const glm::dvec3 point = (1.0 - p.s) * p.z[x[0]] + p.s * orthocentre(p, x.with(a)).z;
+  const glm::dvec3 point = (1.0 - p.s) * p.z[x[0]] + p.s * zY;
   return {n, -glm::dot(n, point)};
+}
+
+inline glm::dvec4 facetPlane(const WeightedPoints& p, const Simplex& x, std::uint32_t a) {
+  return facetPlane(p, x, a, orthocentre(p, x.with(a)).z);
 }
 
 // The skin in μ_X as f(x) = radial·|x − z|² + axial·((x − z)·axis)² + constant, f < 0 inside
@@ -131,9 +136,8 @@ struct SkinQuadric {
   double weight;    // w_X
 };
 
-inline SkinQuadric skinQuadric(const WeightedPoints& p, const Simplex& x) {
+inline SkinQuadric skinQuadric(const WeightedPoints& p, const Simplex& x, const Orthocentre& o) {
   const double s = p.s;
-  const Orthocentre o = orthocentre(p, x);
   SkinQuadric q{o.z, glm::dvec3(0, 0, 1), 0, 0, s * (1.0 - s) * o.w, o.w};
   switch (x.size) {
     case 1: q.radial = 1.0 - s; break;
