@@ -11,7 +11,7 @@
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
-#include "trace/camera.hpp"
+#include "view/camera.hpp"
 
 namespace {
 
@@ -48,15 +48,15 @@ int main(int argc, char** argv) {
       patches = build::buildSes(molecule.centers, molecule.radii, build::SesParams{probe});
       buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
-    trace::RenderOptions options;
+    view::RenderOptions options;
     options.camera.width = options.camera.height = size;
     if (projection == "orthographic") {
-      options.camera.projection = trace::Projection::Orthographic;
+      options.camera.projection = view::Projection::Orthographic;
     } else if (projection != "perspective") {
       throw std::invalid_argument("unknown projection '" + projection + "'");
     }
-    options.camera = trace::frameSpheres(options.camera, patches.convex.center, patches.convex.radius,
-                                         trace::namedViewDirection(view));
+    options.camera = view::frameSpheres(options.camera, patches.convex.center, patches.convex.radius,
+                                         view::namedViewDirection(view));
     gl::GlOptions glOptions;
     glOptions.torus = gl::parseTorusMethod(method);
     glOptions.primitive = gl::parsePrimitive(primitive);

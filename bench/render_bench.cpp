@@ -37,12 +37,12 @@ trace::ScenePatches patchesFor(const Prepared& p, bool ses) {
   return trace::ScenePatches::fromPatchList(ses ? p.ses : p.vdw);
 }
 
-trace::Camera frontCamera(const Prepared& p, int size) {
-  trace::Camera c;
+view::Camera frontCamera(const Prepared& p, int size) {
+  view::Camera c;
   c.width = c.height = size;
   std::vector<double> reach(p.molecule.radii);
   for (double& r : reach) r += 1.4;
-  return trace::frameSpheres(c, p.molecule.centers, reach, trace::namedViewDirection("front"));
+  return view::frameSpheres(c, p.molecule.centers, reach, view::namedViewDirection("front"));
 }
 
 // range(0): threads; range(1): 1 = SES, 0 = vdW.
@@ -59,11 +59,11 @@ void BM_Frame(benchmark::State& state, const std::string& name) {
   const Prepared& p = prepared(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   const trace::PatchScene scene(patchesFor(p, state.range(1) == 1));
-  trace::RenderOptions o;
+  view::RenderOptions o;
   o.camera = frontCamera(p, 1024);
   std::size_t rays = 0;
   for (auto _ : state) {
-    const trace::FrameBuffers f = trace::render(scene, o, {});
+    const view::FrameBuffers f = trace::render(scene, o, {});
     rays = f.rays;
     benchmark::DoNotOptimize(f.depth.data());
   }

@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "commands.hpp"
-#include "trace/camera.hpp"
-#include "trace/image_compare.hpp"
-#include "trace/image_io.hpp"
+#include "view/camera.hpp"
+#include "view/image_compare.hpp"
+#include "view/image_io.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -25,22 +25,22 @@ struct LimitsExceeded : std::runtime_error {
 };
 
 void runCompare(const CompareOptions& o) {
-  trace::ImageMetadata testMeta, refMeta;
-  const trace::FrameBuffers test = trace::readExr(o.test, &testMeta);
-  const trace::FrameBuffers ref = trace::readExr(o.reference, &refMeta);
+  view::ImageMetadata testMeta, refMeta;
+  const view::FrameBuffers test = view::readExr(o.test, &testMeta);
+  const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
   if (test.width != ref.width || test.height != ref.height)
     throw std::invalid_argument(o.test + " is " + std::to_string(test.width) + "x" + std::to_string(test.height) + " but " +
                                 o.reference + " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
-  std::optional<trace::Camera> camera;
-  if (refMeta.count("surftrace:camera")) camera = trace::cameraFromJson(refMeta.at("surftrace:camera"));
+  std::optional<view::Camera> camera;
+  if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
   if (!o.ignoreCamera && camera && testMeta.count("surftrace:camera")) {
-    const trace::Camera other = trace::cameraFromJson(testMeta.at("surftrace:camera"));
+    const view::Camera other = view::cameraFromJson(testMeta.at("surftrace:camera"));
     if (other.eye != camera->eye || other.lookAt != camera->lookAt || other.up != camera->up ||
         other.fovY != camera->fovY || other.projection != camera->projection || other.orthoHeight != camera->orthoHeight)
       throw std::invalid_argument("the two images were rendered with different cameras (see their surftrace:camera "
                                   "metadata); compare only renderings of the same view, or pass --ignore-camera");
   }
-  const trace::FrameComparison c = trace::compareFrames(test, ref, camera ? &*camera : nullptr);
+  const view::FrameComparison c = view::compareFrames(test, ref, camera ? &*camera : nullptr);
   std::printf("test      %s (%s)\nreference %s (%s)\n%s\n", o.test.c_str(),
               testMeta.count("surftrace:renderer") ? testMeta.at("surftrace:renderer").c_str() : "?", o.reference.c_str(),
               refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?", c.summary().c_str());
@@ -50,8 +50,8 @@ void runCompare(const CompareOptions& o) {
     if (!out) throw std::runtime_error(o.report + ": cannot write the report");
   }
   if (!o.diff.empty()) {
-    const std::vector<float> rgb = trace::differenceImage(test, ref);
-    trace::FrameBuffers image;
+    const std::vector<float> rgb = view::differenceImage(test, ref);
+    view::FrameBuffers image;
     image.width = ref.width;
     image.height = ref.height;
     image.rgba.resize(4 * ref.pixels());
@@ -59,10 +59,10 @@ void runCompare(const CompareOptions& o) {
       for (int k = 0; k < 3; ++k) image.rgba[4 * p + k] = rgb[3 * p + k];
       image.rgba[4 * p + 3] = 1.0f;
     }
-    trace::writePng(o.diff, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
+    view::writePng(o.diff, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
                                                          "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
   }
-  trace::CompareThresholds limits = o.preset.empty() ? trace::CompareThresholds{} : trace::CompareThresholds::preset(o.preset);
+  view::CompareThresholds limits = o.preset.empty() ? view::CompareThresholds{} : view::CompareThresholds::preset(o.preset);
   if (o.maxCoverage) limits.maxCoverageFraction = o.maxCoverage;
   if (o.maxDepthP99) limits.maxDepthP99Relative = o.maxDepthP99;
   if (o.minKind) limits.minKindAgreement = o.minKind;

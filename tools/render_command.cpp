@@ -18,9 +18,10 @@
 #include "commands.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
-#include "trace/image_io.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
+#include "view/atom_colors.hpp"
+#include "view/image_io.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -113,11 +114,11 @@ void runRender(const RenderCommandOptions& o) {
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<std::size_t>(o.threads));
-  trace::RenderOptions ro;
+  view::RenderOptions ro;
   parseSize(o.size, ro.camera.width, ro.camera.height);
-  ro.camera.projection = o.ortho ? trace::Projection::Orthographic : trace::Projection::Perspective;
+  ro.camera.projection = o.ortho ? view::Projection::Orthographic : view::Projection::Perspective;
   ro.camera.fovY = o.fov;
-  ro.color = trace::parseColorMode(o.color);
+  ro.color = view::parseColorMode(o.color);
   ro.background = parseColor("--background", o.background);
   const glm::vec3 uniform = parseColor("--uniform-color", o.uniformColor);
   ro.samplesPerPixel = o.spp;
@@ -125,7 +126,7 @@ void runRender(const RenderCommandOptions& o) {
   ro.aoSamples = o.ao;
   ro.aoDistance = o.aoDistance;
   // Every option is checked before the slow work starts.
-  const glm::dvec3 viewDirection = trace::namedViewDirection(o.view);
+  const glm::dvec3 viewDirection = view::namedViewDirection(o.view);
   if (!(o.fov > 0.0 && o.fov < 180.0))
     throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
   std::optional<glm::dvec3> eye, lookAt, up;
@@ -161,15 +162,15 @@ void runRender(const RenderCommandOptions& o) {
   std::vector<double> reach(molecule.radii);
   if (o.surface != "vdw")
     for (double& r : reach) r += o.probe;
-  ro.camera = trace::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  ro.camera = view::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
   if (lookAt) ro.camera.lookAt = *lookAt;
   if (eye) ro.camera.eye = *eye;
   if (up) ro.camera.up = *up;
   ro.camera.validate();
 
-  const auto colors = trace::atomColors(molecule, ro.color, uniform);
-  trace::FrameBuffers frame;
-  trace::ImageMetadata meta;
+  const auto colors = view::atomColors(molecule, ro.color, uniform);
+  view::FrameBuffers frame;
+  view::ImageMetadata meta;
   double sceneSeconds = 0.0;
   if (o.engine == "gl") {
     gl::GlOptions glOptions;
@@ -191,15 +192,15 @@ void runRender(const RenderCommandOptions& o) {
   }
 
   meta["surftrace:engine"] = o.engine;
-  meta["surftrace:camera"] = trace::cameraToJson(ro.camera);
+  meta["surftrace:camera"] = view::cameraToJson(ro.camera);
   meta["surftrace:surface"] = o.surface;
   meta["surftrace:probe_radius"] = std::to_string(o.probe);
   meta["surftrace:input"] = o.path;
   meta["surftrace:color"] = o.color;
   meta["surftrace:command"] = o.commandLine;
   meta["Software"] = "surftrace 0.1.0";
-  if (!o.output.empty()) trace::writePng(o.output, frame, meta);
-  if (!o.exr.empty()) trace::writeExr(o.exr, frame, meta);
+  if (!o.output.empty()) view::writePng(o.output, frame, meta);
+  if (!o.exr.empty()) view::writeExr(o.exr, frame, meta);
 
   std::size_t covered = 0;
   for (auto k : frame.kind) covered += k != 0;

@@ -233,10 +233,10 @@ void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origi
   m.uploaded = true;
 }
 
-void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> atomColors, const GlOptions& gl) {
+void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> atomColors, const GlOptions& gl) {
   Impl& m = *impl_;
   if (!m.uploaded) throw std::logic_error("GlRenderer::draw before upload");
-  const trace::Camera& cam = o.camera;
+  const view::Camera& cam = o.camera;
   cam.validate();
   if (o.samplesPerPixel != 1 || o.shadows || o.aoSamples != 0)
     throw std::invalid_argument(
@@ -247,7 +247,7 @@ void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> 
   m.ensureTargets(cam.width, cam.height);
 
   GpuFrame f{};
-  const bool ortho = cam.projection == trace::Projection::Orthographic;
+  const bool ortho = cam.projection == view::Projection::Orthographic;
   f.eyeProjection = vec4Of(cam.eye - m.origin, ortho ? 1.0 : 0.0);
   f.forwardTan = vec4Of(cam.forward(), std::tan(0.5 * cam.fovY * kPi / 180.0));
   f.rightAspect = vec4Of(cam.right(), static_cast<double>(cam.width) / cam.height);
@@ -257,11 +257,11 @@ void GlRenderer::draw(const trace::RenderOptions& o, std::span<const glm::vec3> 
                          static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
   f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
   f.background = glm::vec4(o.background, 0.0f);
-  f.kindColor[0] = glm::vec4(trace::kConvexColor, 1.0f);
-  f.kindColor[1] = glm::vec4(trace::kToroidalColor, 1.0f);
-  f.kindColor[2] = glm::vec4(trace::kConcaveColor, 1.0f);
+  f.kindColor[0] = glm::vec4(view::kindColor(view::PatchKind::Convex), 1.0f);
+  f.kindColor[1] = glm::vec4(view::kindColor(view::PatchKind::Toroidal), 1.0f);
+  f.kindColor[2] = glm::vec4(view::kindColor(view::PatchKind::Concave), 1.0f);
   f.idBase = glm::uvec4(0u, static_cast<unsigned>(m.sphereCount), static_cast<unsigned>(m.sphereCount + m.torusCount),
-                        o.color == trace::ColorMode::Patch ? 0u : 1u);
+                        o.color == view::ColorMode::Patch ? 0u : 1u);
   f.counts = glm::uvec4(static_cast<unsigned>(atomColors.size()), gl.torus == TorusMethod::Quartic ? 0u : 1u,
                         static_cast<unsigned>(gl.maxSteps), gl.probeBallJumps ? 0u : 1u);
   f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
@@ -324,9 +324,9 @@ std::vector<glm::uvec2> GlRenderer::fragmentCounts() const {
   return counts;
 }
 
-trace::FrameBuffers GlRenderer::readBack() const {
+view::FrameBuffers GlRenderer::readBack() const {
   const Impl& m = *impl_;
-  trace::FrameBuffers fb;
+  view::FrameBuffers fb;
   fb.reset(m.width, m.height);
   const std::size_t n = fb.pixels(), w = static_cast<std::size_t>(m.width), h = static_cast<std::size_t>(m.height);
   std::vector<float> color(4 * n), depth(2 * n), normal(4 * n);
@@ -359,8 +359,8 @@ trace::FrameBuffers GlRenderer::readBack() const {
   return fb;
 }
 
-trace::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
-                             const trace::RenderOptions& options, std::span<const glm::vec3> atomColors,
+view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
+                             const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
                              const GlOptions& gl) {
   const auto start = std::chrono::steady_clock::now();
   GlRenderer renderer(context);
@@ -368,12 +368,12 @@ trace::FrameBuffers renderGl(const GlContext& context, const build::PatchList& p
   // close-ups: either way the coordinates the GPU sees are small (ORACLES D.4).
   renderer.upload(patches, options.camera.lookAt);
   renderer.draw(options, atomColors, gl);
-  trace::FrameBuffers fb = renderer.readBack();
+  view::FrameBuffers fb = renderer.readBack();
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fb;
 }
 
-GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& options,
+GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const view::RenderOptions& options,
                       std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames) {
   if (frames < 1) throw std::invalid_argument("benchmark: frames must be >= 1");
   GlRenderer renderer(context);

@@ -13,7 +13,9 @@
 #include "gl/gl_context.hpp"
 #include "gl/gpu_layout.hpp"
 #include "gl/shaders.hpp"
-#include "trace/render.hpp"
+#include "view/frame_buffers.hpp"
+#include "view/patch_kind.hpp"
+#include "view/render_options.hpp"
 
 namespace surftrace::gl {
 
@@ -67,9 +69,9 @@ class GlRenderer {
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
   // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion
   // are rejected with std::invalid_argument (the Embree path renders those).
-  void draw(const trace::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {});
+  void draw(const view::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {});
   // Reads the last frame back: the buffers of trace::render, rows top first; flags 0.
-  trace::FrameBuffers readBack() const;
+  view::FrameBuffers readBack() const;
 
   // Per global patch id (spheres, tori, concave triangles): (fragments shaded, hits) of the
   // last draw with GlOptions::countFragments; empty otherwise.
@@ -86,8 +88,8 @@ class GlRenderer {
 // upload + draw + readBack: the GL counterpart of trace::render (same options, same
 // buffers and meanings: rgba, depth = ray distance, viewZ, normal, kind, patchId, atomId).
 // fb.seconds is the wall time of all three.
-trace::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
-                             const trace::RenderOptions& options, std::span<const glm::vec3> atomColors,
+view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
+                             const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
                              const GlOptions& gl = {});
 
 // Frame times of `frames` frames after one warm-up frame, each waited for with glFinish.
@@ -98,7 +100,7 @@ struct GlTimings {
   double minDrawSeconds = 0.0;
   std::string renderer;              // GlContext::description()
 };
-GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& options,
+GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const view::RenderOptions& options,
                       std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames);
 
 }  // namespace surftrace::gl

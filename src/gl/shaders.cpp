@@ -1,6 +1,6 @@
 // GLSL sources of the ray-casting programs (Lindow et al. 2010, Sect. 5), one per patch kind.
 //
-// Every fragment shader rebuilds the exact pixel-centre ray of trace::Camera::ray and
+// Every fragment shader rebuilds the exact pixel-centre ray of view::Camera::ray and
 // intersects one patch with the same formulas and the same patch tests as the double
 // precision intersectors in src/trace (sphere_patch.cpp, torus_patch.cpp,
 // concave_patch.cpp), in float on origin-shifted coordinates. Record layouts: gpu_layout.hpp.
@@ -243,7 +243,7 @@ layout(location = 1) out vec2 outDepth;    // ray distance t, view-space z
 layout(location = 2) out vec4 outNormal;
 layout(location = 3) out uvec4 outIds;     // kind, global patch id, atom, flags
 
-// trace::Camera::ray through the pixel centre: gl_FragCoord is (x + 0.5, y + 0.5) with y up,
+// view::Camera::ray through the pixel centre: gl_FragCoord is (x + 0.5, y + 0.5) with y up,
 // the camera's sy runs down, so sy = H − gl_FragCoord.y.
 void cameraRay(out vec3 org, out vec3 dir) {
   float sx = gl_FragCoord.x, sy = frame.viewport.y - gl_FragCoord.y;
@@ -261,7 +261,7 @@ void cameraRay(out vec3 org, out vec3 dir) {
   }
 }
 
-// trace::shade: Blinn–Phong with the headlight at the eye (half vector = light direction).
+// view::shade: Blinn–Phong with the headlight at the eye (half vector = light direction).
 vec3 shade(vec3 base, vec3 n, vec3 towardsEye) {
   float nl = max(0.0, dot(n, towardsEye));
   float spec = frame.lighting.z * pow(nl, frame.lighting.w);

@@ -14,7 +14,7 @@ struct ProgramSources {
 // The three stages of a kind's program: a trivial vertex shader (one point per patch,
 // gl_PrimitiveIDIn indexes the patch records), a geometry shader emitting the
 // rasterisation primitive bounding the patch's projection, and a fragment shader that
-// builds the pixel-centre ray of trace::Camera and intersects the patch exactly.
+// builds the pixel-centre ray of view::Camera and intersects the patch exactly.
 ProgramSources programSources(ProgramKind kind);
 
 }  // namespace surftrace::gl

@@ -137,16 +137,6 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 
 }  // namespace
 
-const char* patchKindName(PatchKind kind) {
-  switch (kind) {
-    case PatchKind::None: return "none";
-    case PatchKind::Convex: return "convex";
-    case PatchKind::Toroidal: return "toroidal";
-    case PatchKind::Concave: return "concave";
-  }
-  return "?";
-}
-
 // ---------------------------------------------------------------------------------------
 // ScenePatches
 

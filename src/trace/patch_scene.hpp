@@ -12,12 +12,12 @@
 #include "trace/ray.hpp"
 #include "trace/sphere_patch.hpp"
 #include "trace/torus_patch.hpp"
+#include "view/patch_kind.hpp"
 
 namespace surftrace::trace {
 
-// Patch kinds as written to the `patch.kind` image channel (0 = no hit).
-enum class PatchKind : std::uint32_t { None = 0, Convex = 1, Toroidal = 2, Concave = 3 };
-const char* patchKindName(PatchKind kind);
+// Hits name their kind in the shared vocabulary of the image channels.
+using view::PatchKind;
 
 // A hit in double precision, with the patch it belongs to.
 struct SceneHit {

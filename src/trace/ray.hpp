@@ -7,21 +7,18 @@
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
+#include "view/ray.hpp"
+
 namespace surftrace::trace {
 
-// x(t) = org + t·dir. Intersectors accept any non-zero dir (Embree hands over float
-// directions that are unit only to float precision) and report t in this parametrisation.
-struct Ray {
-  glm::dvec3 org{0.0};
-  glm::dvec3 dir{0.0, 0.0, 1.0};
-};
+// The camera's ray and the flag bits are renderer-neutral (view/ray.hpp); the intersectors
+// speak of them as their own.
+using view::Ray;
+using view::HitFlag;
+using view::kHitGrazing;
+using view::kHitCusp;
+using view::kHitNearBoundary;
 
-// Why a pixel's answer is genuinely ambiguous (ORACLES B.4, D.4). A comparison masks it.
-enum HitFlag : std::uint32_t {
-  kHitGrazing = 1u << 0,       // |n·d| < kGrazingCosine: hit/miss flips within rounding
-  kHitCusp = 1u << 1,          // within kCuspFraction·rp of a spindle torus cusp
-  kHitNearBoundary = 1u << 2,  // within kBoundaryTolerance of a patch's trimming edge
-};
 inline constexpr double kGrazingCosine = 1e-3;
 inline constexpr double kCuspFraction = 1e-6;
 // Relative (to the patch's scale) distance from a trimming edge below which the hit could

@@ -13,19 +13,14 @@
 namespace surftrace::trace {
 namespace {
 
+using view::Camera;
+using view::ColorMode;
+using view::FrameBuffers;
+using view::RenderOptions;
+
 constexpr int kTile = 16;    // pixels per tile side: 16 packets of 4×4 rays
 constexpr int kPacket = 4;   // 4×4 = 16 rays, Embree's widest packet
 constexpr double kPi = 3.14159265358979323846;
-
-glm::vec3 kindColor(PatchKind kind) {
-  switch (kind) {
-    case PatchKind::Convex: return kConvexColor;
-    case PatchKind::Toroidal: return kToroidalColor;
-    case PatchKind::Concave: return kConcaveColor;
-    case PatchKind::None: break;
-  }
-  return glm::vec3(0.0f);
-}
 
 // A small, fast, deterministic hash-based generator: AO samples depend only on the pixel
 // and sample index, so images do not depend on the thread schedule.
@@ -49,11 +44,11 @@ class Shader {
   }
 
   glm::vec3 color(const Ray& ray, const SceneHit& h, std::uint32_t atom, std::uint64_t pixel) const {
-    const glm::vec3 base = o_.color == ColorMode::Patch ? kindColor(h.kind)
+    const glm::vec3 base = o_.color == ColorMode::Patch ? view::kindColor(h.kind)
                            : atom < atomColors_.size()  ? atomColors_[atom]
                                                         : glm::vec3(1.0f, 0.0f, 1.0f);
     const glm::dvec3 toEye = -glm::normalize(ray.dir);
-    glm::vec3 c = shade(base, h.hit.normal, toEye, o_.lighting);
+    glm::vec3 c = view::shade(base, h.hit.normal, toEye, o_.lighting);
     const glm::dvec3 x = ray.org + h.hit.t * ray.dir;
     const glm::dvec3 start = x + offset_ * h.hit.normal;
     if (o_.shadows && scene_.occluded(Ray{start, keyLight_}, 0.0, std::numeric_limits<double>::infinity()))
@@ -91,21 +86,6 @@ class Shader {
 };
 
 }  // namespace
-
-void FrameBuffers::reset(int newWidth, int newHeight) {
-  width = newWidth;
-  height = newHeight;
-  const std::size_t n = pixels();
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  rgba.assign(4 * n, 0.0f);
-  depth.assign(n, kInf);
-  viewZ.assign(n, kInf);
-  normal.assign(3 * n, 0.0f);
-  kind.assign(n, 0u);
-  patchId.assign(n, ~0u);
-  atomId.assign(n, ~0u);
-  flags.assign(n, 0u);
-}
 
 FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
   o.camera.validate();

@@ -15,11 +15,11 @@
 #include "build/io/molecule.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
-#include "trace/image_compare.hpp"
-#include "trace/image_io.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
 #include "trace/sphere_patch.hpp"
+#include "view/image_compare.hpp"
+#include "view/image_io.hpp"
 
 namespace surftrace::gl {
 namespace {
@@ -41,14 +41,14 @@ build::PatchList onePatchList(const glm::dvec3& center, double radius) {
   return list;
 }
 
-// Every pixel of a single big sphere against trace::Camera::ray intersected in double: the
+// Every pixel of a single big sphere against view::Camera::ray intersected in double: the
 // GPU's ray is the camera's ray (position, direction, row order, aspect).
-void expectSameRays(const trace::Camera& camera) {
+void expectSameRays(const view::Camera& camera) {
   const GlContext context;
   const trace::SpherePatch sphere{{1.3, 2.1, -0.7}, 6.0};
-  trace::RenderOptions o;
+  view::RenderOptions o;
   o.camera = camera;
-  const trace::FrameBuffers f = renderGl(context, onePatchList(sphere.center, sphere.radius), o, {});
+  const view::FrameBuffers f = renderGl(context, onePatchList(sphere.center, sphere.radius), o, {});
   ASSERT_EQ(f.width, camera.width);
   ASSERT_EQ(f.height, camera.height);
   int hits = 0, compared = 0;
@@ -56,7 +56,7 @@ void expectSameRays(const trace::Camera& camera) {
   for (int y = 0; y < camera.height; ++y)
     for (int x = 0; x < camera.width; ++x) {
       const std::size_t p = static_cast<std::size_t>(y) * camera.width + x;
-      const trace::Ray ray = camera.ray(x + 0.5, y + 0.5);
+      const view::Ray ray = camera.ray(x + 0.5, y + 0.5);
       const auto want = trace::intersect(sphere, ray, 0.0, std::numeric_limits<double>::infinity());
       // Rays within 1e-3 of tangency may round either way in float.
       const glm::dvec3 oc = ray.org - sphere.center;
@@ -87,7 +87,7 @@ void expectSameRays(const trace::Camera& camera) {
 }
 
 TEST(GlRays, PerspectiveRaysAreTheCameraRays) {
-  trace::Camera c;
+  view::Camera c;
   c.eye = {9.0, 14.0, 31.0};
   c.lookAt = {-2.0, 4.0, 0.0};  // the sphere sits off-centre: a row or column flip would show
   c.up = {0.2, 1.0, 0.0};
@@ -98,8 +98,8 @@ TEST(GlRays, PerspectiveRaysAreTheCameraRays) {
 }
 
 TEST(GlRays, OrthographicRaysAreTheCameraRays) {
-  trace::Camera c;
-  c.projection = trace::Projection::Orthographic;
+  view::Camera c;
+  c.projection = view::Projection::Orthographic;
   c.eye = {-20.0, 6.0, 9.0};
   c.lookAt = {0.0, 4.0, 1.0};
   c.up = {0.0, 0.0, 1.0};
@@ -110,7 +110,7 @@ TEST(GlRays, OrthographicRaysAreTheCameraRays) {
 }
 
 TEST(GlRays, EyeInsideTheSphereSeesItsFarSide) {
-  trace::Camera c;
+  view::Camera c;
   c.eye = {1.0, 2.0, 0.0};
   c.lookAt = {1.0, 2.0, -1.0};
   c.fovY = 90.0;
@@ -144,24 +144,24 @@ struct View {
   const char* name;
   const char* file;
   const char* direction;
-  trace::Projection projection;
+  view::Projection projection;
   int size;
   double zoom;  // 1: the whole bounding sphere (the molecule fills a third); > 1 closer
 };
 
 const View kViews[] = {
-    {"crambin_front", "structures/1crn.pdb", "front", trace::Projection::Perspective, 160, 1.6},
-    {"crambin_closeup", "structures/1crn.pdb", "0.3,-0.5,0.8", trace::Projection::Perspective, 128, 3.0},
-    {"gramicidin_left_ortho", "small/1grm_single.pdb", "left", trace::Projection::Orthographic, 128, 1.4},
+    {"crambin_front", "structures/1crn.pdb", "front", view::Projection::Perspective, 160, 1.6},
+    {"crambin_closeup", "structures/1crn.pdb", "0.3,-0.5,0.8", view::Projection::Perspective, 128, 3.0},
+    {"gramicidin_left_ortho", "small/1grm_single.pdb", "left", view::Projection::Orthographic, 128, 1.4},
 };
 
-trace::RenderOptions viewOptions(const Scene& s, const View& v) {
-  trace::RenderOptions o;
+view::RenderOptions viewOptions(const Scene& s, const View& v) {
+  view::RenderOptions o;
   o.camera.projection = v.projection;
   o.camera.width = o.camera.height = v.size;
   std::vector<double> reach(s.molecule.radii);
   for (double& r : reach) r += kRp;
-  o.camera = trace::frameSpheres(o.camera, s.molecule.centers, reach, trace::namedViewDirection(v.direction));
+  o.camera = view::frameSpheres(o.camera, s.molecule.centers, reach, view::namedViewDirection(v.direction));
   if (v.zoom != 1.0) {
     o.camera.fovY /= v.zoom;
     o.camera.orthoHeight /= v.zoom;
@@ -170,26 +170,26 @@ trace::RenderOptions viewOptions(const Scene& s, const View& v) {
 }
 
 struct Compared {
-  trace::FrameComparison agreement;
+  view::FrameComparison agreement;
   double sceneSize;
 };
 
 Compared compareWithEmbree(const View& v, const GlOptions& gl) {
   const Scene s = loadScene(v.file);
-  const trace::RenderOptions o = viewOptions(s, v);
+  const view::RenderOptions o = viewOptions(s, v);
   const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
-  const trace::FrameBuffers ref = trace::render(scene, o, {});
+  const view::FrameBuffers ref = trace::render(scene, o, {});
   const GlContext context;
-  const trace::FrameBuffers f = renderGl(context, s.patches, o, {}, gl);
-  const trace::FrameComparison a = trace::compareFrames(f, ref);
+  const view::FrameBuffers f = renderGl(context, s.patches, o, {}, gl);
+  const view::FrameComparison a = view::compareFrames(f, ref);
   const std::string method = std::string(torusMethodName(gl.torus)) +
                              (gl.torus == TorusMethod::SphereTracing && !gl.probeBallJumps ? "-plain" : "");
   std::printf("%s, %s (%s): %s\n", v.name, method.c_str(), context.renderer().c_str(), a.summary().c_str());
   // SURFTRACE_GL_TEST_IMAGES=<folder> keeps both images for a look.
   if (const char* folder = std::getenv("SURFTRACE_GL_TEST_IMAGES")) {
-    const trace::ImageMetadata meta{{"surftrace:renderer", context.description()}};
-    trace::writePng(std::string(folder) + "/" + v.name + "_" + method + "_gl.png", f, meta);
-    trace::writePng(std::string(folder) + "/" + v.name + "_embree.png", ref, {});
+    const view::ImageMetadata meta{{"surftrace:renderer", context.description()}};
+    view::writePng(std::string(folder) + "/" + v.name + "_" + method + "_gl.png", f, meta);
+    view::writePng(std::string(folder) + "/" + v.name + "_embree.png", ref, {});
   }
   std::printf("  GL frame %.3f s, Embree %.3f s\n", f.seconds, ref.seconds);
   return {a, s.size};
@@ -201,7 +201,7 @@ TEST_P(GlVsEmbree, QuarticMeetsTheAgreementBounds) {
   GlOptions gl;
   gl.torus = TorusMethod::Quartic;
   const Compared c = compareWithEmbree(GetParam(), gl);
-  const trace::FrameComparison& a = c.agreement;
+  const view::FrameComparison& a = c.agreement;
   EXPECT_GT(a.depthSamples, a.pixels / 10);
   EXPECT_LT(a.coverageFraction, kMaxCoverageMismatch);
   EXPECT_LT(a.depthP99, kMaxDepthP99 * c.sceneSize);
@@ -217,7 +217,7 @@ TEST_P(GlVsEmbree, SphereTracingIsMeasured) {
   gl.torus = TorusMethod::SphereTracing;
   gl.maxSteps = 30;
   const Compared c = compareWithEmbree(GetParam(), gl);
-  const trace::FrameComparison& a = c.agreement;
+  const view::FrameComparison& a = c.agreement;
   RecordProperty("coverage_mismatch", std::to_string(a.coverageFraction));
   RecordProperty("depth_p99_relative", std::to_string(a.depthP99 / c.sceneSize));
   RecordProperty("kind_agreement", std::to_string(a.kindAgreement));
@@ -251,12 +251,12 @@ struct PrimitiveStats {
 };
 
 struct PrimitiveRun {
-  trace::FrameBuffers frame;
+  view::FrameBuffers frame;
   std::vector<glm::uvec2> counts;
   PrimitiveStats stats;
 };
 
-PrimitiveRun renderCounted(const GlContext& context, const build::PatchList& patches, const trace::RenderOptions& o,
+PrimitiveRun renderCounted(const GlContext& context, const build::PatchList& patches, const view::RenderOptions& o,
                            GlOptions gl) {
   gl.countFragments = true;
   GlRenderer renderer(context);
@@ -275,7 +275,7 @@ PrimitiveRun renderCounted(const GlContext& context, const build::PatchList& pat
 // Renders with both primitives and checks the cylinder patch by patch: the same hits
 // (conservative) and, for the final image, the same buffers. Returns (box, cylinder).
 std::pair<PrimitiveStats, PrimitiveStats> expectConservative(const build::PatchList& patches,
-                                                             const trace::RenderOptions& o, const char* name,
+                                                             const view::RenderOptions& o, const char* name,
                                                              TorusMethod method = TorusMethod::Quartic) {
   const GlContext context;
   GlOptions gl;
@@ -360,8 +360,8 @@ TEST(GlPrimitive, EyeInsideAndBesideCylinders) {
   }
   int n = 0;
   for (const auto& [eye, at] : eyes) {
-    for (trace::Projection projection : {trace::Projection::Perspective, trace::Projection::Orthographic}) {
-      trace::RenderOptions o;
+    for (view::Projection projection : {view::Projection::Perspective, view::Projection::Orthographic}) {
+      view::RenderOptions o;
       o.camera.projection = projection;
       o.camera.width = o.camera.height = 64;
       o.camera.eye = eye;
@@ -369,7 +369,7 @@ TEST(GlPrimitive, EyeInsideAndBesideCylinders) {
       o.camera.up = std::abs(glm::normalize(at - eye).y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
       o.camera.fovY = 90.0;
       o.camera.orthoHeight = 12.0;
-      const std::string name = "eye " + std::to_string(n++) + (projection == trace::Projection::Perspective ? " persp" : " ortho");
+      const std::string name = "eye " + std::to_string(n++) + (projection == view::Projection::Perspective ? " persp" : " ortho");
       expectConservative(P, o, name.c_str());
     }
   }

@@ -12,8 +12,8 @@
 
 #include "build/patch_list.hpp"
 #include "run_tool.hpp"
-#include "trace/camera.hpp"
-#include "trace/image_io.hpp"
+#include "view/camera.hpp"
+#include "view/image_io.hpp"
 
 namespace {
 
@@ -90,21 +90,21 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
   const Result r = run("render " + data("structures/1crn.pdb") + " --size 64x48 --quiet -o " + png + " --exr " + exr);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(std::filesystem::file_size(png) > 100);
-  const auto frame = surftrace::trace::readExr(exr);
+  const auto frame = surftrace::view::readExr(exr);
   EXPECT_EQ(frame.width, 64);
   EXPECT_EQ(frame.height, 48);
   std::size_t covered = 0;
   for (auto k : frame.kind) covered += k != 0;
   EXPECT_GT(covered, frame.pixels() / 4) << "the framed molecule should fill much of the image";
-  surftrace::trace::ImageMetadata meta;
-  surftrace::trace::readExr(exr, &meta);
-  const auto camera = surftrace::trace::cameraFromJson(meta.at("surftrace:camera"));
+  surftrace::view::ImageMetadata meta;
+  surftrace::view::readExr(exr, &meta);
+  const auto camera = surftrace::view::cameraFromJson(meta.at("surftrace:camera"));
   EXPECT_EQ(camera.width, 64);
 
   ASSERT_EQ(run("build " + data("structures/1crn.pdb") + " -o " + stp).status, 0);
   const Result again = run("render " + data("structures/1crn.pdb") + " --patches " + stp + " --size 64x48 --quiet --exr " + exr2);
   ASSERT_EQ(again.status, 0) << again.output;
-  const auto frame2 = surftrace::trace::readExr(exr2);
+  const auto frame2 = surftrace::view::readExr(exr2);
   EXPECT_EQ(frame2.depth, frame.depth);
   EXPECT_EQ(frame2.patchId, frame.patchId);
 }

@@ -19,6 +19,11 @@
 namespace surftrace::trace {
 namespace {
 
+using view::Camera;
+using view::FrameBuffers;
+using view::Projection;
+using view::RenderOptions;
+
 constexpr double kRp = 1.4;
 
 struct Case {

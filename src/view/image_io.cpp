@@ -1,5 +1,5 @@
 // Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR.
-#include "trace/image_io.hpp"
+#include "view/image_io.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -7,7 +7,7 @@
 
 #include <OpenImageIO/imageio.h>
 
-namespace surftrace::trace {
+namespace surftrace::view {
 namespace {
 
 namespace oiio = OIIO;
@@ -111,4 +111,4 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
   return f;
 }
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

@@ -8,10 +8,10 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "trace/camera.hpp"
-#include "trace/image_io.hpp"
+#include "view/camera.hpp"
+#include "view/image_io.hpp"
 
-namespace surftrace::trace {
+namespace surftrace::view {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -202,5 +202,5 @@ TEST(ImageIo, ForeignFileIsAClearError) {
 }
 
 }  // namespace
-}  // namespace surftrace::trace
+}  // namespace surftrace::view
 

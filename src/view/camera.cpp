@@ -1,5 +1,5 @@
 // The camera: pixel-centre rays in double precision, automatic framing, named views.
-#include "trace/camera.hpp"
+#include "view/camera.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-namespace surftrace::trace {
+namespace surftrace::view {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -159,4 +159,4 @@ Camera cameraFromJson(const std::string& text) {
   return c;
 }
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

@@ -6,9 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "trace/render.hpp"
+#include "view/camera.hpp"
+#include "view/frame_buffers.hpp"
 
-namespace surftrace::trace {
+namespace surftrace::view {
 
 struct FrameComparison {
   std::size_t pixels = 0;
@@ -55,4 +56,4 @@ struct CompareThresholds {
 // from 1e-6 Å to 1 Å, green = patch kind differs.
 std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& reference);
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

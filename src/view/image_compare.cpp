@@ -1,5 +1,5 @@
 // Pixel-by-pixel comparison of two renderings of the same view (ORACLES D.4).
-#include "trace/image_compare.hpp"
+#include "view/image_compare.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,9 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-namespace surftrace::trace {
+#include "view/ray.hpp"
+
+namespace surftrace::view {
 namespace {
 
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
@@ -199,4 +201,4 @@ std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers&
   return rgb;
 }
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

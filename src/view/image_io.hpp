@@ -4,9 +4,9 @@
 #include <map>
 #include <string>
 
-#include "trace/render.hpp"
+#include "view/frame_buffers.hpp"
 
-namespace surftrace::trace {
+namespace surftrace::view {
 
 // String attributes stored with an image ("surftrace:camera" holds cameraToJson, etc.).
 using ImageMetadata = std::map<std::string, std::string>;
@@ -24,4 +24,4 @@ void writeExr(const std::string& path, const FrameBuffers& frame, const ImageMet
 // naming the file and the missing channel when it is not such a file.
 FrameBuffers readExr(const std::string& path, ImageMetadata* metadata = nullptr);
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

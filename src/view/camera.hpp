@@ -6,9 +6,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "trace/ray.hpp"
+#include "view/ray.hpp"
 
-namespace surftrace::trace {
+namespace surftrace::view {
 
 enum class Projection { Perspective, Orthographic };
 
@@ -68,4 +68,4 @@ Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::spa
 std::string cameraToJson(const Camera& camera);
 Camera cameraFromJson(const std::string& json);
 
-}  // namespace surftrace::trace
+}  // namespace surftrace::view

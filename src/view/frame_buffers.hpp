@@ -1,0 +1,31 @@
+// One rendered frame: colour and the per-pixel buffers (AOVs) every renderer fills alike.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace surftrace::view {
+
+// Per-pixel results. The buffers (all but rgba) come from the pixel-centre ray, so another
+// renderer using the same camera can be compared with them pixel by pixel; rgba averages
+// all samples. Misses: kind 0, ids ~0u, depths +inf, normal 0.
+struct FrameBuffers {
+  int width = 0, height = 0;
+  std::vector<float> rgba;            // 4 per pixel, display values in [0, 1]; A = coverage
+  std::vector<float> depth;           // ray distance t (Å, unit direction)
+  std::vector<float> viewZ;           // distance along the view direction (Å)
+  std::vector<float> normal;          // 3 per pixel, world space, outward
+  std::vector<std::uint32_t> kind;    // PatchKind (view/patch_kind.hpp)
+  std::vector<std::uint32_t> patchId; // PatchIdOrder::globalId
+  std::vector<std::uint32_t> atomId;
+  std::vector<std::uint32_t> flags;   // HitFlag bits of the centre hit (view/ray.hpp)
+  double seconds = 0.0;               // wall time of the frame
+  std::size_t rays = 0;               // camera rays traced (shadow and AO rays not counted)
+
+  std::size_t pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  // Sizes every buffer for width × height and fills it with the miss state.
+  void reset(int newWidth, int newHeight);
+};
+
+}  // namespace surftrace::view

@@ -1,0 +1,61 @@
+// Patch kinds, their colours and the global patch-id order: what the `patch.kind` and `patch.id` channels mean.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+
+#include <glm/vec3.hpp>
+
+#include "build/patch_list.hpp"
+
+namespace surftrace::view {
+
+// Patch kinds as written to the `patch.kind` image channel (0 = no hit).
+enum class PatchKind : std::uint32_t { None = 0, Convex = 1, Toroidal = 2, Concave = 3 };
+
+// One row per kind that holds patches, in the order of the global patch ids (and of the
+// kind codes: row k is kind k + 1). A new kind is a new row here, and a new row in each
+// renderer's table (trace/patch_kinds.hpp, gl/gpu_kinds.hpp).
+struct PatchKindInfo {
+  PatchKind kind;
+  const char* name;
+  glm::vec3 color;  // Lindow et al. 2010 colour the kinds: convex green, toroidal yellow, concave red
+};
+inline constexpr PatchKindInfo kPatchKinds[] = {
+    {PatchKind::Convex, "convex", {0.30f, 0.75f, 0.30f}},
+    {PatchKind::Toroidal, "toroidal", {0.90f, 0.80f, 0.25f}},
+    {PatchKind::Concave, "concave", {0.85f, 0.25f, 0.20f}},
+};
+inline constexpr std::size_t kPatchKindCount = std::size(kPatchKinds);
+
+// The row of a kind that holds patches (not None).
+constexpr std::size_t kindRow(PatchKind kind) { return static_cast<std::size_t>(kind) - 1; }
+
+const char* patchKindName(PatchKind kind);  // "none" for None
+glm::vec3 kindColor(PatchKind kind);         // black for None
+// How many patches of `kind` the list holds.
+std::size_t patchCount(const build::PatchList& list, PatchKind kind);
+
+// Global patch ids (the `patch.id` channel, GL's fragment counts): the kinds in row order,
+// each kind's patches in list order: spheres first, then tori, then concave triangles.
+class PatchIdOrder {
+ public:
+  PatchIdOrder() = default;
+  // Throws std::invalid_argument when the patches do not fit 32-bit ids.
+  explicit PatchIdOrder(const std::array<std::size_t, kPatchKindCount>& counts);
+  explicit PatchIdOrder(const build::PatchList& list);
+
+  std::uint32_t first(PatchKind kind) const { return first_[kindRow(kind)]; }
+  std::uint32_t count(PatchKind kind) const { return first_[kindRow(kind) + 1] - first_[kindRow(kind)]; }
+  std::uint32_t globalId(PatchKind kind, std::uint32_t patch) const {
+    return kind == PatchKind::None ? ~0u : first(kind) + patch;
+  }
+  std::size_t total() const { return first_[kPatchKindCount]; }
+
+ private:
+  std::array<std::uint32_t, kPatchKindCount + 1> first_{};
+};
+
+}  // namespace surftrace::view

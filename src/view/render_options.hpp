@@ -1,0 +1,28 @@
+// What a frame should show and how: the options every renderer takes (each rejects what it cannot do).
+#pragma once
+
+#include <functional>
+
+#include <glm/vec3.hpp>
+
+#include "view/camera.hpp"
+#include "view/shading.hpp"
+
+namespace surftrace::view {
+
+// The Embree path renders everything; the GL path renders the centre sample only and rejects
+// samplesPerPixel > 1, shadows and ambient occlusion.
+struct RenderOptions {
+  Camera camera;
+  ColorMode color = ColorMode::Patch;
+  Lighting lighting;
+  glm::vec3 background{1.0f, 1.0f, 1.0f};
+  int samplesPerPixel = 1;  // a k×k stratified grid per pixel (k = ceil(sqrt(spp)))
+  bool shadows = false;     // a ray towards a key light above-left of the eye
+  int aoSamples = 0;        // ambient-occlusion rays per hit (0 = off)
+  double aoDistance = 8.0;  // Å
+  // Called now and then from worker threads with the fraction done (for a progress bar).
+  std::function<void(double)> progress;
+};
+
+}  // namespace surftrace::view
