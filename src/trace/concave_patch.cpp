@@ -167,4 +167,10 @@ std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double 
   return std::nullopt;
 }
 
+std::uint32_t atomOf(const ConcavePatch& c, const glm::uvec3& atoms, const glm::dvec3& x) {
+  const glm::dvec3 u = x - c.probe;
+  const double di = glm::dot(u, c.dirI), dj = glm::dot(u, c.dirJ), dk = glm::dot(u, c.dirK);
+  return di >= dj && di >= dk ? atoms.x : (dj >= dk ? atoms.y : atoms.z);
+}
+
 }  // namespace surftrace::trace

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <cstdint>
 #include <span>
 
 #include "build/patch_list.hpp"
@@ -33,5 +34,9 @@ std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double 
 // The clip test intersect() applies to a point on the probe sphere. `slack` (Å, >= 0)
 // widens the patch by that distance from its cone faces and clipping planes.
 bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack = 0.0);
+
+// The atom a hit at x belongs to, of the triangle's atoms (i, j, k): the one of the
+// nearest contact direction.
+std::uint32_t atomOf(const ConcavePatch& p, const glm::uvec3& atoms, const glm::dvec3& x);
 
 }  // namespace surftrace::trace

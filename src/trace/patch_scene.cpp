@@ -6,6 +6,8 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <tuple>
+#include <type_traits>
 
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
@@ -25,17 +27,22 @@ float roundUp(double v) {
 }
 
 // What each Embree geometry's callbacks see: its patches and the box padding.
-template <class Patch> struct GeometryData {
-  const Patch* patches = nullptr;
+template <class Kind> struct GeometryData {
+  using Row = Kind;
+  const typename Kind::Patch* patches = nullptr;
   double pad = 0.0;
+};
+template <class Kinds> struct GeometryDataOf;
+template <class... Kind> struct GeometryDataOf<std::tuple<Kind...>> {
+  using type = std::tuple<GeometryData<Kind>...>;
 };
 
 // Embree drops a primitive whose box is empty or not finite (accelset.h), which would
 // leave a hole; the intersectors promise finite boxes. Embree traverses with the float
 // rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
 // than the distance between the two (PatchScene's constructor) and rounded outward.
-template <class Patch> void boundsFn(const RTCBoundsFunctionArguments* args) {
-  const auto* data = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr);
+template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
+  const auto* data = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr);
   const Bounds3d b = bounds(data->patches[args->primID]);
   RTCBounds* o = args->bounds_o;
   o->lower_x = roundDown(b.lower.x - data->pad);
@@ -60,8 +67,8 @@ struct HitContext {
 
 // Embree calls these from C and from its TBB workers for packets of N = 1, 4, 8 or 16
 // rays, honouring valid[] (STYLE §3.7). The intersectors neither throw nor allocate.
-template <class Patch> void intersectFn(const RTCIntersectFunctionNArguments* args) {
-  const Patch& patch = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr)->patches[args->primID];
+template <class Kind> void intersectFn(const RTCIntersectFunctionNArguments* args) {
+  const auto& patch = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr)->patches[args->primID];
   const auto* context = reinterpret_cast<const HitContext*>(args->context);
   const unsigned N = args->N;
   RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, N);
@@ -89,8 +96,8 @@ template <class Patch> void intersectFn(const RTCIntersectFunctionNArguments* ar
 
 // Embree 3 runs no filter functions for user geometry and marks an occluded ray by
 // tfar = −inf.
-template <class Patch> void occludedFn(const RTCOccludedFunctionNArguments* args) {
-  const Patch& patch = static_cast<const GeometryData<Patch>*>(args->geometryUserPtr)->patches[args->primID];
+template <class Kind> void occludedFn(const RTCOccludedFunctionNArguments* args) {
+  const auto& patch = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr)->patches[args->primID];
   const auto* context = reinterpret_cast<const HitContext*>(args->context);
   const unsigned N = args->N;
   for (unsigned i = 0; i < N; ++i) {
@@ -142,89 +149,63 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 
 ScenePatches ScenePatches::fromPatchList(const build::PatchList& list) {
   ScenePatches s;
-  const double rp = list.params.probeRadius;
-  s.spheres.reserve(list.convex.size());
-  for (std::size_t i = 0; i < list.convex.size(); ++i) s.spheres.push_back({list.convex.center[i], list.convex.radius[i]});
-  s.sphereAtom = list.convex.atom;
-  s.tori.reserve(list.tori.size());
-  for (std::size_t i = 0; i < list.tori.size(); ++i) s.tori.push_back(torusPatch(list.tori, i, rp));
-  s.torusAtomI = list.tori.atomI;
-  s.torusAtomJ = list.tori.atomJ;
-  s.clipPlanes = list.clipPlanes;
-  s.concave.reserve(list.concave.size());
-  for (std::size_t i = 0; i < list.concave.size(); ++i) {
-    ConcavePatch c = concavePatch(list, i);
-    // Re-point the clipping planes at this object's own copy.
-    c.clipPlanes = std::span<const build::Plane>(s.clipPlanes).subspan(list.concave.clipBegin[i], list.concave.clipCount[i]);
-    s.concave.push_back(c);
-    s.concaveAtoms.emplace_back(list.concave.atomI[i], list.concave.atomJ[i], list.concave.atomK[i]);
-  }
+  s.planes.clip = list.clipPlanes;
+  s.ids = view::PatchIdOrder(list);
+  std::apply(
+      [&](auto&... k) {
+        auto load = [&](auto& kp) {
+          using Kind = typename std::remove_reference_t<decltype(kp)>::Row;
+          const std::size_t n = view::patchCount(list, Kind::kind);
+          kp.patches.reserve(n);
+          kp.atoms.reserve(n);
+          for (std::size_t i = 0; i < n; ++i) {
+            kp.patches.push_back(Kind::patch(list, i, s.planes));
+            kp.atoms.push_back(Kind::atoms(list, i));
+          }
+        };
+        (load(k), ...);
+      },
+      s.kinds);
   return s;
 }
 
-std::uint32_t ScenePatches::globalId(PatchKind kind, std::uint32_t patch) const {
-  switch (kind) {
-    case PatchKind::Convex: return patch;
-    case PatchKind::Toroidal: return static_cast<std::uint32_t>(spheres.size()) + patch;
-    case PatchKind::Concave: return static_cast<std::uint32_t>(spheres.size() + tori.size()) + patch;
-    case PatchKind::None: break;
-  }
-  return ~0u;
-}
-
 std::uint32_t ScenePatches::atomOf(const SceneHit& h, const glm::dvec3& x) const {
-  switch (h.kind) {
-    case PatchKind::Convex: return sphereAtom[h.patch];
-    case PatchKind::Toroidal: {
-      // The saddle meets atom i at θ_i and atom j at θ_j; the axial coordinate decides.
-      const TorusPatch& t = tori[h.patch];
-      const double a = glm::dot(x - t.center, t.axis);
-      const double aI = t.probeRadius * std::sin(t.thetaI), aJ = t.probeRadius * std::sin(t.thetaJ);
-      return a - aI <= aJ - a ? torusAtomI[h.patch] : torusAtomJ[h.patch];
-    }
-    case PatchKind::Concave: {
-      const ConcavePatch& c = concave[h.patch];
-      const glm::dvec3 u = x - c.probe;
-      const double di = glm::dot(u, c.dirI), dj = glm::dot(u, c.dirJ), dk = glm::dot(u, c.dirK);
-      const glm::uvec3& atoms = concaveAtoms[h.patch];
-      return di >= dj && di >= dk ? atoms.x : (dj >= dk ? atoms.y : atoms.z);
-    }
-    case PatchKind::None: break;
-  }
-  return ~0u;
+  std::uint32_t atom = ~0u;
+  forEachKind([&](const auto& k) {
+    if (std::remove_reference_t<decltype(k)>::Row::kind == h.kind) atom = trace::atomOf(k.patches[h.patch], k.atoms[h.patch], x);
+  });
+  return atom;
 }
 
 Bounds3d ScenePatches::bounds() const {
   Bounds3d b;
-  for (const auto& s : spheres) b.extend(trace::bounds(s));
-  for (const auto& t : tori) b.extend(trace::bounds(t));
-  for (const auto& c : concave) b.extend(trace::bounds(c));
+  forEachKind([&](const auto& k) {
+    for (const auto& p : k.patches) b.extend(trace::bounds(p));
+  });
   return b;
 }
 
 SceneHit ScenePatches::intersectPatch(PatchKind kind, std::uint32_t patch, const Ray& ray, double tMin, double tMax) const {
   std::optional<PatchHit> h;
-  switch (kind) {
-    case PatchKind::Convex: h = intersect(spheres[patch], ray, tMin, tMax); break;
-    case PatchKind::Toroidal: h = intersect(tori[patch], ray, tMin, tMax); break;
-    case PatchKind::Concave: h = intersect(concave[patch], ray, tMin, tMax); break;
-    case PatchKind::None: break;
-  }
+  forEachKind([&](const auto& k) {
+    if (std::remove_reference_t<decltype(k)>::Row::kind == kind) h = intersect(k.patches[patch], ray, tMin, tMax);
+  });
   if (!h) return {};
   return SceneHit{kind, patch, *h};
 }
 
 SceneHit ScenePatches::intersectAll(const Ray& ray, double tMin, double tMax) const {
   SceneHit best;
-  auto consider = [&](PatchKind kind, std::uint32_t i, const std::optional<PatchHit>& h) {
-    if (h && h->t <= tMax) {
-      best = SceneHit{kind, i, *h};
-      tMax = h->t;
+  forEachKind([&](const auto& k) {
+    constexpr PatchKind kind = std::remove_reference_t<decltype(k)>::Row::kind;
+    for (std::uint32_t i = 0; i < k.patches.size(); ++i) {
+      const std::optional<PatchHit> h = intersect(k.patches[i], ray, tMin, tMax);
+      if (h && h->t <= tMax) {
+        best = SceneHit{kind, i, *h};
+        tMax = h->t;
+      }
     }
-  };
-  for (std::uint32_t i = 0; i < spheres.size(); ++i) consider(PatchKind::Convex, i, intersect(spheres[i], ray, tMin, tMax));
-  for (std::uint32_t i = 0; i < tori.size(); ++i) consider(PatchKind::Toroidal, i, intersect(tori[i], ray, tMin, tMax));
-  for (std::uint32_t i = 0; i < concave.size(); ++i) consider(PatchKind::Concave, i, intersect(concave[i], ray, tMin, tMax));
+  });
   return best;
 }
 
@@ -234,7 +215,7 @@ SceneHit ScenePatches::intersectAll(const Ray& ray, double tMin, double tMax) co
 struct PatchScene::Embree {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  PatchKind kindOfGeometry[3] = {PatchKind::None, PatchKind::None, PatchKind::None};
+  PatchKind kindOfGeometry[view::kPatchKindCount] = {};  // by Embree geometry id
   std::mutex errorMutex;
   std::string error;
 
@@ -252,26 +233,26 @@ struct PatchScene::Embree {
     std::lock_guard lock(errorMutex);
     if (!error.empty()) throw std::runtime_error(std::string(what) + ": " + error);
   }
-  GeometryData<SpherePatch> sphereData;
-  GeometryData<TorusPatch> torusData;
-  GeometryData<ConcavePatch> concaveData;
+  // What each kind's geometry callbacks see, one per row of SceneKinds.
+  GeometryDataOf<SceneKinds>::type geometryData;
   Bounds3d box;  // the scene's patches, padded like each patch's box
 
-  template <class Patch>
-  void add(const std::vector<Patch>& patches, PatchKind kind, GeometryData<Patch>& data, double pad) {
+  template <class Kind> void add(const KindPatches<Kind>& kp, GeometryData<Kind>& slot, double pad) {
+    using Patch = typename Kind::Patch;
+    const std::vector<Patch>& patches = kp.patches;
     if (patches.empty()) return;
-    data = GeometryData<Patch>{patches.data(), pad};
+    slot = GeometryData<Kind>{patches.data(), pad};
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(patches.size()));
-    rtcSetGeometryUserData(g, &data);
-    rtcSetGeometryBoundsFunction(g, boundsFn<Patch>, nullptr);
-    rtcSetGeometryIntersectFunction(g, intersectFn<Patch>);
-    rtcSetGeometryOccludedFunction(g, occludedFn<Patch>);
+    rtcSetGeometryUserData(g, &slot);
+    rtcSetGeometryBoundsFunction(g, boundsFn<Kind>, nullptr);
+    rtcSetGeometryIntersectFunction(g, intersectFn<Kind>);
+    rtcSetGeometryOccludedFunction(g, occludedFn<Kind>);
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
     check("creating the Embree geometry");
-    kindOfGeometry[id] = kind;
+    kindOfGeometry[id] = Kind::kind;
   }
 };
 
@@ -293,9 +274,9 @@ PatchScene::PatchScene(ScenePatches patches) : patches_(std::move(patches)), emb
     pad = 0x1.0p-20 * (largest + glm::length(box.upper - box.lower));
     embree_->box = Bounds3d{box.lower - pad, box.upper + pad};
   }
-  embree_->add(patches_.spheres, PatchKind::Convex, embree_->sphereData, pad);
-  embree_->add(patches_.tori, PatchKind::Toroidal, embree_->torusData, pad);
-  embree_->add(patches_.concave, PatchKind::Concave, embree_->concaveData, pad);
+  // One geometry per kind that has patches, attached in row order.
+  std::apply([&](auto&... data) { (embree_->add(patches_.of<typename std::remove_reference_t<decltype(data)>::Row>(), data, pad), ...); },
+             embree_->geometryData);
   rtcCommitScene(embree_->scene);
   embree_->check("building the Embree scene");
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,13 +5,12 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "build/patch_list.hpp"
-#include "trace/concave_patch.hpp"
+#include "trace/patch_kinds.hpp"
 #include "trace/ray.hpp"
-#include "trace/sphere_patch.hpp"
-#include "trace/torus_patch.hpp"
 #include "view/patch_kind.hpp"
 
 namespace surftrace::trace {
@@ -27,18 +26,15 @@ struct SceneHit {
   bool valid() const { return kind != PatchKind::None; }
 };
 
-// The patches a scene holds, in the intersectors' own form. The SES holds all three
-// kinds; the vdW and SAS surfaces (build::atomSpheres) hold spheres only.
+// The patches a scene holds, in the intersectors' own form, one KindPatches per row of
+// SceneKinds (trace/patch_kinds.hpp). The SES holds the three kinds; the vdW and SAS
+// surfaces (build::atomSpheres) hold spheres only.
 struct ScenePatches {
-  std::vector<SpherePatch> spheres;
-  std::vector<std::uint32_t> sphereAtom;  // atom of each sphere
-  std::vector<TorusPatch> tori;
-  std::vector<std::uint32_t> torusAtomI, torusAtomJ;
-  std::vector<build::Plane> clipPlanes;   // concave patches' spans point in here
-  std::vector<ConcavePatch> concave;
-  std::vector<glm::uvec3> concaveAtoms;
+  ScenePlanes planes;  // the patches' plane spans point in here
+  SceneKindPatches kinds;
+  view::PatchIdOrder ids;
 
-  // Concave patches hold spans into clipPlanes: moving keeps them valid, copying would not.
+  // Patches hold spans into `planes`: moving keeps them valid, copying would not.
   ScenePatches() = default;
   ScenePatches(ScenePatches&&) = default;
   ScenePatches& operator=(ScenePatches&&) = default;
@@ -47,11 +43,17 @@ struct ScenePatches {
 
   static ScenePatches fromPatchList(const build::PatchList& patches);
 
-  std::size_t size() const { return spheres.size() + tori.size() + concave.size(); }
-  // Global patch id: spheres first, then tori, then concave triangles.
-  std::uint32_t globalId(PatchKind kind, std::uint32_t patch) const;
+  template <class Kind> const KindPatches<Kind>& of() const { return std::get<KindPatches<Kind>>(kinds); }
+  // f(const KindPatches<Kind>&) for every row, in SceneKinds order.
+  template <class F> void forEachKind(F&& f) const {
+    std::apply([&](const auto&... k) { (f(k), ...); }, kinds);
+  }
+
+  std::size_t size() const { return ids.total(); }
+  // Global patch id (view::PatchIdOrder): spheres first, then tori, then concave triangles.
+  std::uint32_t globalId(PatchKind kind, std::uint32_t patch) const { return ids.globalId(kind, patch); }
   // The atom a hit belongs to: its sphere's atom, the nearer contact atom of a torus or
-  // concave triangle.
+  // concave triangle (atomOf of the kind's intersector).
   std::uint32_t atomOf(const SceneHit& hit, const glm::dvec3& x) const;
   Bounds3d bounds() const;
 

@@ -500,4 +500,11 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack) {
   return clipLocal(n, slack == 0.0 ? limitsOf(p, derivedValid(p)) : makeLimits(p, slack), local, rho, slack).inside;
 }
 
+std::uint32_t atomOf(const TorusPatch& t, const glm::uvec2& atoms, const glm::dvec3& x) {
+  // The saddle meets atom i at θ_i and atom j at θ_j; the axial coordinate decides.
+  const double a = glm::dot(x - t.center, t.axis);
+  const double aI = t.probeRadius * std::sin(t.thetaI), aJ = t.probeRadius * std::sin(t.thetaJ);
+  return a - aI <= aJ - a ? atoms.x : atoms.y;
+}
+
 }  // namespace surftrace::trace

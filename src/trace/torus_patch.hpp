@@ -4,6 +4,8 @@
 #include <limits>
 #include <optional>
 
+#include <glm/vec2.hpp>
+
 #include "build/patch_list.hpp"
 #include "trace/ray.hpp"
 
@@ -69,5 +71,9 @@ glm::dvec3 normalAt(const TorusPatch& p, const glm::dvec3& x);
 // of a spindle torus), with `slack` radians of tolerance: the clip test the intersector
 // and its brute-force oracle share.
 bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack = 0.0);
+
+// The atom a hit at x belongs to, of the saddle's atoms (i, j): the one whose contact
+// circle is nearer along the axis.
+std::uint32_t atomOf(const TorusPatch& p, const glm::uvec2& atoms, const glm::dvec3& x);
 
 }  // namespace surftrace::trace
