@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gemmi-dev tao-pegtl-dev zlib1g-dev libgmp-dev libboost-dev
   libcgal-dev
-  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools
   nlohmann-json3-dev libcli11-dev
   freesasa
 )

@@ -2,12 +2,15 @@
 #include "gl/gl_renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -17,20 +20,9 @@ namespace surftrace::gl {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kProgramCount = 3;
-constexpr int kStorageCount = 7;  // SSBO bindings 0..6 of gpu_layout.hpp
 // The perspective boxes are clipped at this fraction of the scene's depth extent from the
 // eye: far below a pixel footprint, far above float rounding of the clip coordinates.
 constexpr double kNearFraction = 1e-5;
-
-const char* programName(ProgramKind kind) {
-  switch (kind) {
-    case ProgramKind::Sphere: return "sphere";
-    case ProgramKind::Torus: return "torus";
-    case ProgramKind::Concave: return "concave";
-  }
-  return "?";
-}
 
 std::string shaderLog(GLuint shader) {
   GLint length = 0;
@@ -63,9 +55,8 @@ GLuint compileShader(GLenum stage, const std::string& source, const std::string&
   return shader;
 }
 
-GLuint linkProgram(ProgramKind kind) {
-  const ProgramSources sources = programSources(kind);
-  const std::string name = programName(kind);
+GLuint linkProgram(const std::string& name) {
+  const ProgramSources sources = programSources(name);
   const GLuint stages[3] = {compileShader(GL_VERTEX_SHADER, sources.vertex, name + " vertex"),
                             compileShader(GL_GEOMETRY_SHADER, sources.geometry, name + " geometry"),
                             compileShader(GL_FRAGMENT_SHADER, sources.fragment, name + " fragment")};
@@ -125,15 +116,25 @@ Primitive parsePrimitive(const std::string& name) {
 
 const char* primitiveName(Primitive primitive) { return primitive == Primitive::Cylinder ? "cylinder" : "box"; }
 
+// Runs f(row, Kind) for each row of GpuKinds (gpu_kinds.hpp), in order.
+template <class F> void forEachGpuKind(F&& f) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (f(I, std::tuple_element_t<I, GpuKinds>{}), ...);
+  }(std::make_index_sequence<kGpuKindCount>{});
+}
+
 struct GlRenderer::Impl {
-  GLuint programs[kProgramCount] = {};
+  // Per row of GpuKinds: the kind's program, its record and atom buffers, its patch count.
+  GLuint programs[kGpuKindCount] = {};
+  GLuint records[kGpuKindCount] = {}, atoms[kGpuKindCount] = {};
+  std::size_t counts[kGpuKindCount] = {};
+  view::PatchIdOrder ids;
   GLuint vao = 0;
-  GLuint storage[kStorageCount] = {};
+  GLuint atomColorBuffer = 0;
   GLuint frameBuffer = 0;  // the uniform block
   GLuint clipBuffer = 0, clipTexture = 0;
-  GLuint countBuffer = 0;  // binding 7: (fragments, hits) per patch, GlOptions::countFragments
+  GLuint countBuffer = 0;  // (fragments, hits) per patch, GlOptions::countFragments
   bool counted = false;
-  std::size_t sphereCount = 0, torusCount = 0, concaveCount = 0;
   glm::dvec3 origin{0.0}, boundsCenter{0.0};
   double boundsRadius = 0.0;
   bool uploaded = false;
@@ -145,7 +146,9 @@ struct GlRenderer::Impl {
     for (GLuint p : programs)
       if (p != 0) glDeleteProgram(p);
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(kStorageCount, storage);
+    glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), records);
+    glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), atoms);
+    glDeleteBuffers(1, &atomColorBuffer);
     glDeleteBuffers(1, &frameBuffer);
     glDeleteBuffers(1, &clipBuffer);
     glDeleteBuffers(1, &countBuffer);
@@ -195,11 +198,11 @@ struct GlRenderer::Impl {
 GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>()) {
   context.makeCurrent();
   Impl& m = *impl_;
-  m.programs[0] = linkProgram(ProgramKind::Sphere);
-  m.programs[1] = linkProgram(ProgramKind::Torus);
-  m.programs[2] = linkProgram(ProgramKind::Concave);
+  forEachGpuKind([&](std::size_t row, auto kind) { m.programs[row] = linkProgram(decltype(kind)::shader); });
   glCreateVertexArrays(1, &m.vao);
-  glCreateBuffers(kStorageCount, m.storage);
+  glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.records);
+  glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.atoms);
+  glCreateBuffers(1, &m.atomColorBuffer);
   glCreateBuffers(1, &m.frameBuffer);
   glCreateBuffers(1, &m.clipBuffer);
   glCreateBuffers(1, &m.countBuffer);
@@ -209,24 +212,24 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
 
 GlRenderer::~GlRenderer() = default;
 
-unsigned GlRenderer::program(ProgramKind kind) const { return impl_->programs[static_cast<int>(kind)]; }
+unsigned GlRenderer::program(view::PatchKind kind) const { return impl_->programs[view::kindRow(kind)]; }
 
 void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin) {
   Impl& m = *impl_;
   const GpuPatches g = packPatches(patches, origin);
-  bufferData(m.storage[kSphereBinding], g.spheres);
-  bufferData(m.storage[kSphereAtomBinding], g.sphereAtoms);
-  bufferData(m.storage[kTorusBinding], g.tori);
-  bufferData(m.storage[kTorusAtomBinding], g.torusAtoms);
-  bufferData(m.storage[kConcaveBinding], g.concave);
-  bufferData(m.storage[kConcaveAtomBinding], g.concaveAtoms);
+  std::array<std::size_t, kGpuKindCount> counts{};
+  forEachGpuKind([&](std::size_t row, auto kind) {
+    const auto& k = g.of<decltype(kind)>();
+    bufferData(m.records[row], k.records);
+    bufferData(m.atoms[row], k.atoms);
+    counts[row] = k.records.size();
+  });
   bufferData(m.clipBuffer, g.clipPlanes);
   // Re-attach: the buffer's data store was just re-specified.
   glTextureBuffer(m.clipTexture, GL_RGBA32F, m.clipBuffer);
   checkGlError("uploading the patches");
-  m.sphereCount = g.spheres.size();
-  m.torusCount = g.tori.size();
-  m.concaveCount = g.concave.size();
+  std::copy(counts.begin(), counts.end(), m.counts);
+  m.ids = view::PatchIdOrder(counts);
   m.origin = origin;
   m.boundsCenter = g.boundsCenter;
   m.boundsRadius = g.boundsRadius;
@@ -257,20 +260,21 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
                          static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
   f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
   f.background = glm::vec4(o.background, 0.0f);
-  f.kindColor[0] = glm::vec4(view::kindColor(view::PatchKind::Convex), 1.0f);
-  f.kindColor[1] = glm::vec4(view::kindColor(view::PatchKind::Toroidal), 1.0f);
-  f.kindColor[2] = glm::vec4(view::kindColor(view::PatchKind::Concave), 1.0f);
-  f.idBase = glm::uvec4(0u, static_cast<unsigned>(m.sphereCount), static_cast<unsigned>(m.sphereCount + m.torusCount),
-                        o.color == view::ColorMode::Patch ? 0u : 1u);
-  f.counts = glm::uvec4(static_cast<unsigned>(atomColors.size()), gl.torus == TorusMethod::Quartic ? 0u : 1u,
-                        static_cast<unsigned>(gl.maxSteps), gl.probeBallJumps ? 0u : 1u);
+  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
+    const view::PatchKind kind = view::kPatchKinds[row].kind;
+    f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
+    f.kinds[row].first = glm::uvec4(m.ids.first(kind), 0u, 0u, 0u);
+  }
+  f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColors.size()), 0u, 0u);
+  f.torusTrace = glm::uvec4(gl.torus == TorusMethod::Quartic ? 0u : 1u, static_cast<unsigned>(gl.maxSteps),
+                            gl.probeBallJumps ? 0u : 1u, 0u);
   f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
                             gl.countFragments ? 1.0f : 0.0f, 0.0f);
   glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
   std::vector<glm::vec4> colors;
   colors.reserve(atomColors.size());
   for (const glm::vec3& c : atomColors) colors.emplace_back(c, 1.0f);
-  bufferData(m.storage[kAtomColorBinding], colors);
+  bufferData(m.atomColorBuffer, colors);
 
   const float inf = std::numeric_limits<float>::infinity();
   const float clearColor[4] = {o.background.r, o.background.g, o.background.b, 0.0f};
@@ -293,18 +297,20 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   glDepthMask(GL_TRUE);
   glBindVertexArray(m.vao);
   glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, m.frameBuffer);
-  for (unsigned i = 0; i < kStorageCount; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, i, m.storage[i]);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomColorBinding, m.atomColorBuffer);
   glBindTextureUnit(kClipPlaneUnit, m.clipTexture);
-  const std::size_t patchCount = m.sphereCount + m.torusCount + m.concaveCount;
+  const std::size_t patchCount = m.ids.total();
   const std::vector<glm::uvec2> zeros(gl.countFragments ? patchCount : 0, glm::uvec2(0u));
   bufferData(m.countBuffer, zeros);
   m.counted = gl.countFragments;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCountBinding, m.countBuffer);
-  const std::size_t counts[kProgramCount] = {m.sphereCount, m.torusCount, m.concaveCount};
-  for (int k = 0; k < kProgramCount; ++k) {
-    if (counts[k] == 0) continue;
-    glUseProgram(m.programs[k]);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(counts[k]));
+  // One draw per kind, its records and atoms bound to the two slots every kind's program reads.
+  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
+    if (m.counts[row] == 0) continue;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, m.records[row]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, m.atoms[row]);
+    glUseProgram(m.programs[row]);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(m.counts[row]));
   }
   glUseProgram(0);
   glBindVertexArray(0);
@@ -317,7 +323,7 @@ std::vector<glm::uvec2> GlRenderer::fragmentCounts() const {
   const Impl& m = *impl_;
   std::vector<glm::uvec2> counts;
   if (!m.counted) return counts;
-  counts.resize(m.sphereCount + m.torusCount + m.concaveCount);
+  counts.resize(m.ids.total());
   if (!counts.empty())
     glGetNamedBufferSubData(m.countBuffer, 0, static_cast<GLsizeiptr>(counts.size() * sizeof(glm::uvec2)), counts.data());
   checkGlError("reading the fragment counts");

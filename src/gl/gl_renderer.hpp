@@ -11,7 +11,7 @@
 
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"
-#include "gl/gpu_layout.hpp"
+#include "gl/gpu_kinds.hpp"
 #include "gl/shaders.hpp"
 #include "view/frame_buffers.hpp"
 #include "view/patch_kind.hpp"
@@ -57,13 +57,13 @@ struct GlOptions {
 // Use (and destroy) it on the context's thread while that context is current.
 class GlRenderer {
  public:
-  // Compiles and links the three programs; throws std::runtime_error with the info log.
+  // Compiles and links one program per kind (gpu_kinds.hpp); throws std::runtime_error with the info log.
   explicit GlRenderer(const GlContext& context);
   ~GlRenderer();
   GlRenderer(const GlRenderer&) = delete;
   GlRenderer& operator=(const GlRenderer&) = delete;
 
-  // Uploads the patch list in the compact GPU form (gpu_layout.hpp), coordinates shifted by
+  // Uploads the patch list in the compact GPU form (gpu_kinds.hpp), coordinates shifted by
   // −origin in double first (use the camera's look-at or the molecule centre). Once per frame.
   void upload(const build::PatchList& patches, const glm::dvec3& origin);
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
@@ -73,12 +73,12 @@ class GlRenderer {
   // Reads the last frame back: the buffers of trace::render, rows top first; flags 0.
   view::FrameBuffers readBack() const;
 
-  // Per global patch id (spheres, tori, concave triangles): (fragments shaded, hits) of the
+  // Per global patch id (view::PatchIdOrder): (fragments shaded, hits) of the
   // last draw with GlOptions::countFragments; empty otherwise.
   std::vector<glm::uvec2> fragmentCounts() const;
 
   // The program of a kind, for layout queries in the tests.
-  unsigned program(ProgramKind kind) const;
+  unsigned program(view::PatchKind kind) const;
 
  private:
   struct Impl;

@@ -10,6 +10,7 @@
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
+#include "gl/gpu_kinds.hpp"
 #include "gl/gpu_layout.hpp"
 
 namespace surftrace::gl {
@@ -31,7 +32,7 @@ GLint resourceProperty(GLuint program, GLenum interface, const std::string& name
 TEST(GlLayout, StorageRecordsMatchStd430) {
   const GlContext context;
   const GlRenderer renderer(context);
-  const GLuint torus = renderer.program(ProgramKind::Torus);
+  const GLuint torus = renderer.program(view::PatchKind::Toroidal);
   const Member torusMembers[] = {{"tori[0].centerR", offsetof(GpuTorus, centerR)},
                                  {"tori[0].axisRp", offsetof(GpuTorus, axisRp)},
                                  {"tori[0].e1Phi", offsetof(GpuTorus, e1Phi)},
@@ -43,7 +44,7 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
   EXPECT_EQ(resourceProperty(torus, GL_BUFFER_VARIABLE, "torusAtoms[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::uvec2)));
 
-  const GLuint concave = renderer.program(ProgramKind::Concave);
+  const GLuint concave = renderer.program(view::PatchKind::Concave);
   const Member concaveMembers[] = {{"concaves[0].probeRp", offsetof(GpuConcave, probeRp)},
                                    {"concaves[0].dirIBegin", offsetof(GpuConcave, dirIBegin)},
                                    {"concaves[0].dirJCount", offsetof(GpuConcave, dirJCount)},
@@ -55,7 +56,7 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
   EXPECT_EQ(resourceProperty(concave, GL_BUFFER_VARIABLE, "concaveAtoms[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::uvec4)));
 
-  const GLuint sphere = renderer.program(ProgramKind::Sphere);
+  const GLuint sphere = renderer.program(view::PatchKind::Convex);
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "spheres[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(GpuSphere)));
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "sphereAtoms[0]", GL_ARRAY_STRIDE),
@@ -63,15 +64,16 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "atomColors[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::vec4)));
 
-  // The bindings the renderer binds its buffers to.
+  // The bindings the renderer binds its buffers to: each kind's records and atoms to the
+  // same two slots (bound per draw), the atom colours and fragment counts to their own.
   const struct {
     GLuint program;
     const char* block;
     GLint binding;
-  } blocks[] = {{sphere, "Spheres", kSphereBinding},       {sphere, "SphereAtoms", kSphereAtomBinding},
-                {torus, "Tori", kTorusBinding},            {torus, "TorusAtoms", kTorusAtomBinding},
-                {concave, "Concaves", kConcaveBinding},    {concave, "ConcaveAtoms", kConcaveAtomBinding},
-                {sphere, "AtomColors", kAtomColorBinding}};
+  } blocks[] = {{sphere, "Spheres", kRecordBinding},       {sphere, "SphereAtoms", kAtomBinding},
+                {torus, "Tori", kRecordBinding},           {torus, "TorusAtoms", kAtomBinding},
+                {concave, "Concaves", kRecordBinding},     {concave, "ConcaveAtoms", kAtomBinding},
+                {sphere, "AtomColors", kAtomColorBinding}, {torus, "FragmentCounts", kFragmentCountBinding}};
   for (const auto& b : blocks)
     EXPECT_EQ(resourceProperty(b.program, GL_SHADER_STORAGE_BLOCK, b.block, GL_BUFFER_BINDING), b.binding) << b.block;
 }
@@ -79,18 +81,21 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
 TEST(GlLayout, FrameBlockMatchesStd140) {
   const GlContext context;
   const GlRenderer renderer(context);
-  const GLuint program = renderer.program(ProgramKind::Torus);
-  const Member members[] = {{"Frame.eyeProjection", offsetof(GpuFrame, eyeProjection)},
-                            {"Frame.forwardTan", offsetof(GpuFrame, forwardTan)},
-                            {"Frame.rightAspect", offsetof(GpuFrame, rightAspect)},
-                            {"Frame.upHalfHeight", offsetof(GpuFrame, upHalfHeight)},
-                            {"Frame.viewport", offsetof(GpuFrame, viewport)},
-                            {"Frame.lighting", offsetof(GpuFrame, lighting)},
-                            {"Frame.background", offsetof(GpuFrame, background)},
-                            {"Frame.kindColor[0]", offsetof(GpuFrame, kindColor)},
-                            {"Frame.idBase", offsetof(GpuFrame, idBase)},
-                            {"Frame.counts", offsetof(GpuFrame, counts)},
-                            {"Frame.traceParams", offsetof(GpuFrame, traceParams)}};
+  const GLuint program = renderer.program(view::PatchKind::Toroidal);
+  const GLint kinds = offsetof(GpuFrame, kinds);
+  const Member members[] = {{"frame.eyeProjection", offsetof(GpuFrame, eyeProjection)},
+                            {"frame.forwardTan", offsetof(GpuFrame, forwardTan)},
+                            {"frame.rightAspect", offsetof(GpuFrame, rightAspect)},
+                            {"frame.upHalfHeight", offsetof(GpuFrame, upHalfHeight)},
+                            {"frame.viewport", offsetof(GpuFrame, viewport)},
+                            {"frame.lighting", offsetof(GpuFrame, lighting)},
+                            {"frame.background", offsetof(GpuFrame, background)},
+                            {"frame.kinds[0].color", kinds + static_cast<GLint>(offsetof(GpuKind, color))},
+                            {"frame.kinds[0].first", kinds + static_cast<GLint>(offsetof(GpuKind, first))},
+                            {"frame.kinds[1].color", kinds + static_cast<GLint>(sizeof(GpuKind))},
+                            {"frame.shading", offsetof(GpuFrame, shading)},
+                            {"frame.torusTrace", offsetof(GpuFrame, torusTrace)},
+                            {"frame.traceParams", offsetof(GpuFrame, traceParams)}};
   for (const Member& m : members) EXPECT_EQ(resourceProperty(program, GL_UNIFORM, m.name, GL_OFFSET), m.offset) << m.name;
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_DATA_SIZE), static_cast<GLint>(sizeof(GpuFrame)));
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_BINDING), static_cast<GLint>(kFrameBinding));
@@ -117,15 +122,18 @@ TEST(GlLayout, PackingShiftsInDoubleBeforeRounding) {
   // Keep x·(0,0,1) − (origin.z + 0.5) <= 0, i.e. z' <= 0.5 after the shift.
   list.clipPlanes = {{0.0, 0.0, 1.0, -(origin.z + 0.5)}};
   const GpuPatches g = packPatches(list, origin);
-  ASSERT_EQ(g.spheres.size(), 1u);
-  EXPECT_FLOAT_EQ(g.spheres[0].x, 1.0001234f);
-  EXPECT_FLOAT_EQ(g.spheres[0].w, 1.7f);
-  EXPECT_EQ(g.sphereAtoms[0], 7u);
-  EXPECT_FLOAT_EQ(g.concave[0].probeRp.y, 2.0000321f);
-  EXPECT_FLOAT_EQ(g.concave[0].probeRp.w, 1.5f);
-  EXPECT_EQ(g.concave[0].dirIBegin.w, 0.0f);
-  EXPECT_EQ(g.concave[0].dirJCount.w, 1.0f);
-  EXPECT_EQ(g.concaveAtoms[0], glm::uvec4(1, 2, 3, 0));
+  const auto& spheres = g.of<GpuSphereKind>();
+  const auto& concave = g.of<GpuConcaveKind>();
+  ASSERT_EQ(spheres.records.size(), 1u);
+  EXPECT_FLOAT_EQ(spheres.records[0].x, 1.0001234f);
+  EXPECT_FLOAT_EQ(spheres.records[0].w, 1.7f);
+  EXPECT_EQ(spheres.atoms[0], 7u);
+  ASSERT_EQ(concave.records.size(), 1u);
+  EXPECT_FLOAT_EQ(concave.records[0].probeRp.y, 2.0000321f);
+  EXPECT_FLOAT_EQ(concave.records[0].probeRp.w, 1.5f);
+  EXPECT_EQ(concave.records[0].dirIBegin.w, 0.0f);
+  EXPECT_EQ(concave.records[0].dirJCount.w, 1.0f);
+  EXPECT_EQ(concave.atoms[0], glm::uvec4(1, 2, 3, 0));
   ASSERT_EQ(g.clipPlanes.size(), 1u);
   EXPECT_FLOAT_EQ(g.clipPlanes[0].w, -0.5f);
   build::PatchList mss;

@@ -1,0 +1,110 @@
+// The patch kinds of the GL renderer, one row each: GPU record, atoms, shader file; and the upload of a patch list.
+#include "gl/gpu_kinds.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace surftrace::gl {
+namespace {
+
+// Clip-plane indices travel as floats (GpuConcave): every integer below 2²⁴ is exact.
+constexpr std::size_t kMaxFloatIndex = std::size_t{1} << 24;
+
+glm::vec4 shifted(const glm::dvec3& x, const glm::dvec3& origin, double w) {
+  return glm::vec4(glm::vec3(x - origin), static_cast<float>(w));
+}
+
+}  // namespace
+
+GpuSphere GpuSphereKind::record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin) {
+  return shifted(list.convex.center[i], origin, list.convex.radius[i]);
+}
+std::uint32_t GpuSphereKind::atoms(const build::PatchList& list, std::size_t i) { return list.convex.atom[i]; }
+std::pair<glm::dvec3, double> GpuSphereKind::reach(const build::PatchList& list, std::size_t i) {
+  return {list.convex.center[i], list.convex.radius[i]};
+}
+
+GpuTorus GpuTorusKind::record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin) {
+  const build::Tori& t = list.tori;
+  const double rp = list.params.probeRadius;
+  GpuTorus gt;
+  gt.centerR = shifted(t.center[i], origin, t.bigRadius[i]);
+  gt.axisRp = glm::vec4(glm::vec3(t.axis[i]), static_cast<float>(rp));
+  gt.e1Phi = glm::vec4(glm::vec3(t.e1[i]), static_cast<float>(t.phiExtent[i]));
+  gt.theta = glm::vec4(static_cast<float>(t.thetaI[i]), static_cast<float>(t.thetaJ[i]), 0.0f, 0.0f);
+  return gt;
+}
+glm::uvec2 GpuTorusKind::atoms(const build::PatchList& list, std::size_t i) {
+  return {list.tori.atomI[i], list.tori.atomJ[i]};
+}
+std::pair<glm::dvec3, double> GpuTorusKind::reach(const build::PatchList& list, std::size_t i) {
+  return {list.tori.center[i], list.tori.bigRadius[i] + list.params.probeRadius};
+}
+
+GpuConcave GpuConcaveKind::record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin) {
+  const build::ConcaveTriangles& c = list.concave;
+  GpuConcave gc;
+  gc.probeRp = shifted(c.probe[i], origin, list.params.probeRadius);
+  gc.dirIBegin = glm::vec4(glm::vec3(c.dirI[i]), static_cast<float>(c.clipBegin[i]));
+  gc.dirJCount = glm::vec4(glm::vec3(c.dirJ[i]), static_cast<float>(c.clipCount[i]));
+  gc.dirK = glm::vec4(glm::vec3(c.dirK[i]), 0.0f);
+  return gc;
+}
+glm::uvec4 GpuConcaveKind::atoms(const build::PatchList& list, std::size_t i) {
+  return {list.concave.atomI[i], list.concave.atomJ[i], list.concave.atomK[i], 0u};
+}
+std::pair<glm::dvec3, double> GpuConcaveKind::reach(const build::PatchList& list, std::size_t i) {
+  return {list.concave.probe[i], list.params.probeRadius};
+}
+
+GpuPatches packPatches(const build::PatchList& list, const glm::dvec3& origin) {
+  if (list.mss.size() != 0)
+    throw std::invalid_argument("gl engine: molecular skin (MSS) patches are not drawn by the GL path yet; use --engine embree");
+  if (list.clipPlanes.size() >= kMaxFloatIndex)
+    throw std::invalid_argument("gl engine: " + std::to_string(list.clipPlanes.size()) +
+                                " clipping planes exceed the 2^24 the GPU records index exactly");
+  GpuPatches g;
+  g.origin = origin;
+
+  // Bounding sphere of all patches (box centre, largest reach): sets the depth range only.
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  std::apply(
+      [&](auto&... kp) {
+        auto pack = [&](auto& k) {
+          using Kind = typename std::remove_reference_t<decltype(k)>::Row;
+          const std::size_t n = view::patchCount(list, Kind::kind);
+          k.records.reserve(n);
+          k.atoms.reserve(n);
+          for (std::size_t i = 0; i < n; ++i) {
+            k.records.push_back(Kind::record(list, i, origin));
+            k.atoms.push_back(Kind::atoms(list, i));
+            const auto [c, r] = Kind::reach(list, i);
+            lo = glm::min(lo, c - r);
+            hi = glm::max(hi, c + r);
+          }
+        };
+        (pack(kp), ...);
+      },
+      g.kinds);
+
+  // n·x + w <= 0 with x = x' + origin becomes n·x' + (w + n·origin) <= 0.
+  g.clipPlanes.reserve(list.clipPlanes.size());
+  for (const build::Plane& p : list.clipPlanes) {
+    const glm::dvec3 n(p);
+    g.clipPlanes.emplace_back(glm::vec3(n), static_cast<float>(p.w + glm::dot(n, origin)));
+  }
+
+  if (lo.x <= hi.x) {
+    g.boundsCenter = 0.5 * (lo + hi);
+    g.boundsRadius = 0.5 * glm::length(hi - lo);
+  }
+  return g;
+}
+
+}  // namespace surftrace::gl

@@ -1,0 +1,54 @@
+// Fragment-stage helpers: the camera ray, shading, writing a hit to the render targets.
+
+flat in uint patchIndex;
+layout(std430, binding = kAtomColorBinding) readonly buffer AtomColors { vec4 atomColors[]; };
+layout(location = 0) out vec4 outColor;
+layout(location = 1) out vec2 outDepth;    // ray distance t, view-space z
+layout(location = 2) out vec4 outNormal;
+layout(location = 3) out uvec4 outIds;     // kind, global patch id, atom, flags
+
+// view::Camera::ray through the pixel centre: gl_FragCoord is (x + 0.5, y + 0.5) with y up,
+// the camera's sy runs down, so sy = H − gl_FragCoord.y.
+void cameraRay(out vec3 org, out vec3 dir) {
+  float sx = gl_FragCoord.x, sy = frame.viewport.y - gl_FragCoord.y;
+  float x = 2.0 * sx / frame.viewport.x - 1.0, y = 2.0 * sy / frame.viewport.y - 1.0;
+  vec3 f = frame.forwardTan.xyz, r = frame.rightAspect.xyz, u = frame.upHalfHeight.xyz;
+  float aspect = frame.rightAspect.w;
+  if (frame.eyeProjection.w == 0.0) {
+    float h = frame.forwardTan.w;
+    org = frame.eyeProjection.xyz;
+    dir = normalize(f + (x * h * aspect) * r - (y * h) * u);
+  } else {
+    float h = frame.upHalfHeight.w;
+    org = frame.eyeProjection.xyz + (x * h * aspect) * r - (y * h) * u;
+    dir = f;
+  }
+}
+
+// view::shade: Blinn–Phong with the headlight at the eye (half vector = light direction).
+vec3 shade(vec3 base, vec3 n, vec3 towardsEye) {
+  float nl = max(0.0, dot(n, towardsEye));
+  float spec = frame.lighting.z * pow(nl, frame.lighting.w);
+  return min(base * (frame.lighting.x + frame.lighting.y * nl) + vec3(spec), vec3(1.0));
+}
+
+// The global patch id (view::PatchIdOrder) of patch `index` of a kind.
+uint globalId(uint kind, uint index) { return frame.kinds[kind - 1u].first.x + index; }
+
+// Optional per-patch statistics (GlOptions::countFragments): fragments shaded, hits.
+layout(std430, binding = kFragmentCountBinding) buffer FragmentCounts { uint fragmentCounts[]; };
+void countFragment(uint patchId, uint what) {
+  if (frame.traceParams.z != 0.0) atomicAdd(fragmentCounts[2u * patchId + what], 1u);
+}
+
+void writeHit(vec3 dir, float t, vec3 n, uint kind, uint patchId, uint atom) {
+  countFragment(patchId, 1u);
+  vec3 base = frame.shading.x == 0u ? frame.kinds[kind - 1u].color.rgb
+              : (atom < frame.shading.y ? atomColors[atom].rgb : vec3(1.0, 0.0, 1.0));
+  outColor = vec4(shade(base, n, -dir), 1.0);
+  outDepth = vec2(t, t * dot(dir, frame.forwardTan.xyz));
+  outNormal = vec4(n, 0.0);
+  outIds = uvec4(kind, patchId, atom, 0u);
+  // Linear in t: per pixel the same order as the ray distance, which is what occludes.
+  gl_FragDepth = clamp(t * frame.viewport.w, 0.0, 1.0);
+}

@@ -1,0 +1,61 @@
+// The GPU records, the per-frame block and the resource bindings, declared once for C++ and GLSL.
+//
+// Written in the subset of C both languages read (as OSPRay's *Shared.h between C++ and
+// ISPC): gl/gpu_layout.hpp includes it with vec4, uvec4 and uint standing for the glm types,
+// every GLSL stage has it pasted in first (src/gl/CMakeLists.txt). std430 records, std140
+// block; gpu_layout.hpp static_asserts the sizes, tests/gl/gl_layout_test.cpp checks the
+// offsets GL reports. No preprocessor lines: GLSL would need an include extension for them.
+
+// Buffers every program reads, and the two slots a kind's own buffers are bound to before
+// its draw: each program sees its kind's records and atoms and no other kind's.
+const int kFrameBinding = 0;          // uniform block Frame (std140)
+const int kAtomColorBinding = 0;      // vec4 atomColors[]
+const int kFragmentCountBinding = 1;  // uint fragmentCounts[2 n]: fragments shaded, hits (statistics only)
+const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], GpuTorus tori[], GpuConcave concaves[]
+const int kAtomBinding = 3;           // the kind's atoms: uint, uvec2 (i, j), uvec4 (i, j, k, unused)
+const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w)
+
+// The `patch.kind` codes (view::PatchKind); the frame's kinds[code − 1] is the kind's row.
+const uint kConvexKind = 1u;
+const uint kToroidalKind = 2u;
+const uint kConcaveKind = 3u;
+const int kKindCount = 3;
+
+// A saddle in four vectors: the torus, its frame and the patch limits (ORACLES A.3).
+struct GpuTorus {
+  vec4 centerR;  // centre c, big radius R
+  vec4 axisRp;   // unit axis n (atom i → j), tube (probe) radius rp
+  vec4 e1Phi;    // unit e1 ⊥ n (φ = 0), φ extent in (0, 2π]
+  vec4 theta;    // θi, θj, unused, unused
+};
+
+// A concave triangle in four vectors: the probe and its three contact directions (ORACLES
+// A.4). Its clipping planes are texels [clipBegin, clipBegin + clipCount) of the clip-plane
+// texture buffer; the indices are stored as floats, exact below 2²⁴ (checked at upload).
+struct GpuConcave {
+  vec4 probeRp;    // probe centre p, probe radius rp
+  vec4 dirIBegin;  // unit contact direction u_i, clipBegin
+  vec4 dirJCount;  // u_j, clipCount
+  vec4 dirK;       // u_k, unused
+};
+
+// What the shaders need of a kind: its colour and where its global patch ids start.
+struct GpuKind {
+  vec4 color;   // rgb: view::kPatchKinds colour, a = 1
+  uvec4 first;  // x: global id of the kind's first patch (view::PatchIdOrder), yzw unused
+};
+
+// Everything that changes per frame but not per patch: camera, shading, depth mapping.
+struct GpuFrame {
+  vec4 eyeProjection;  // eye (origin-shifted), projection (0 perspective, 1 orthographic)
+  vec4 forwardTan;     // unit forward, tan(fovY/2)
+  vec4 rightAspect;    // unit right, W/H
+  vec4 upHalfHeight;   // unit true up, orthoHeight/2
+  vec4 viewport;       // W, H, near plane of the rasterised boxes (Å), 1/(depth range in Å)
+  vec4 lighting;       // ambient, diffuse, specular, shininess
+  vec4 background;     // rgb, unused
+  GpuKind kinds[kKindCount];
+  uvec4 shading;       // colour by kind (0) or by atom (1), atom colours, unused, unused
+  uvec4 torusTrace;    // torus method (0 quartic, 1 sphere tracing), max steps, plain march (1), unused
+  vec4 traceParams;    // sphere-tracing stop distance (Å), primitive (0 box, 1 cylinder), count fragments (1), unused
+};
