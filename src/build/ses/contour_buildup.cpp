@@ -103,8 +103,8 @@ void SesBuilder::State::buildGrid() {
   grid.build(centers, radii, rp + 0x1p-40 * (rp + rMax));
 }
 
-// The vertex pass for `owners` (ascending) into fv (owner counts in fv.concaveCount,
-// fv.freeCount, one per owner).
+// The vertex pass for `owners` (ascending) into freshVertices (owner counts in freshVertices.concaveCount,
+// freshVertices.freeCount, one per owner).
 void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
   const Atoms a = atoms();
   runChunks(tls, owners.size(), vertexPieces, [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
@@ -120,10 +120,10 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
               grid.neighbours(x, s.row);
               vertexPass(a, x, s.row, s, buf, capState[x]);
             });
-  gatherPieces(vertexPieces, offsets, [&](auto&& field) {
-    forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(fv.*member), g}); });
-    field(Field{&VertexBuf::concaveCount, &fv.concaveCount, 2});
-    field(Field{&VertexBuf::freeCount, &fv.freeCount, 2});
+  gatherPieces(vertexPieces, gatherOffsets, [&](auto&& field) {
+    forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshVertices.*member), g}); });
+    field(Field{&VertexBuf::concaveCount, &freshVertices.concaveCount, 2});
+    field(Field{&VertexBuf::freeCount, &freshVertices.freeCount, 2});
   });
 }
 
@@ -141,10 +141,10 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
               }
               contourPass(a, inc, x, s, buf);
             });
-  gatherPieces(contourPieces, offsets, [&](auto&& field) {
-    forEachContourArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(fc.*member), g}); });
-    field(Field{&ContourBuf::convexCount, &fc.convexCount, 2});
-    field(Field{&ContourBuf::toriCount, &fc.toriCount, 2});
+  gatherPieces(contourPieces, gatherOffsets, [&](auto&& field) {
+    forEachContourArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshContours.*member), g}); });
+    field(Field{&ContourBuf::convexCount, &freshContours.convexCount, 2});
+    field(Field{&ContourBuf::toriCount, &freshContours.toriCount, 2});
   });
 }
 
@@ -167,14 +167,14 @@ void SesBuilder::State::fullBuild() {
     for (std::size_t i = range.begin(); i != range.end(); ++i) buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
   });
 
-  list.resize(n);
-  for (std::size_t i = 0; i < n; ++i) list[i] = static_cast<std::uint32_t>(i);
+  selection.resize(n);
+  for (std::size_t i = 0; i < n; ++i) selection[i] = static_cast<std::uint32_t>(i);
 
   // Vertex pass over every atom: the fresh arrays are the patch list's.
-  vertexPassOf(list);
-  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(fv.*member); });
-  prefix(fv.concaveCount, concaveBegin);
-  prefix(fv.freeCount, freeBegin);
+  vertexPassOf(selection);
+  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshVertices.*member); });
+  prefix(freshVertices.concaveCount, concaveBegin);
+  prefix(freshVertices.freeCount, freeBegin);
 
   buildIncidence();
   incVertexFace.assign(incVertex.size(), 0);
@@ -182,21 +182,21 @@ void SesBuilder::State::fullBuild() {
   faceCount.assign(n, 0);
   findExtremeAtom();
 
-  contourPassOf(list);
-  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(fc.*member); });
-  prefix(fc.convexCount, convexBegin);
-  prefix(fc.toriCount, toriBegin);
+  contourPassOf(selection);
+  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshContours.*member); });
+  prefix(freshContours.convexCount, convexBegin);
+  prefix(freshContours.toriCount, toriBegin);
 
   // Clipping planes of every probe.
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
   probeRadii.assign(probes, rp);
   probeGrid.build(cv.probe, probeRadii, 0.0);
-  list.resize(probes);
-  for (std::size_t i = 0; i < probes; ++i) list[i] = static_cast<std::uint32_t>(i);
-  planesOf(list);
-  out.clipPlanes.swap(fpPlanes);
-  cv.clipCount.swap(fpCount);
+  selection.resize(probes);
+  for (std::size_t i = 0; i < probes; ++i) selection[i] = static_cast<std::uint32_t>(i);
+  planesOf(selection);
+  out.clipPlanes.swap(freshPlanes);
+  cv.clipCount.swap(freshPlaneCount);
   cv.clipBegin.resize(probes);
   std::uint32_t at = 0;
   for (std::size_t k = 0; k < probes; ++k) {
@@ -226,151 +226,178 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
     stats.full = true;
     return;
   }
-  constexpr std::uint8_t kNear = 1, kOwner = 2, kContour = 4;
-  mark.assign(n, 0);
+  markNearMove(moved, newCenters);
+  selectOwners();
+  updateVertices();
+  updateContours();
+  updatePlanes();
+  labelComponents();
+}
+
+// Near: the moved atoms and their neighbours at the old positions (the grid still holds
+// them) and, after the move, at the new ones. Moves the atoms and rebuilds the grid.
+void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
+  marks.assign(centers.size(), 0);
   auto& rowBuf = tls.local().row;
-  // Near: the moved atoms and their neighbours at the old positions (the grid still holds
-  // them) and, after the move, at the new ones.
   for (const std::uint32_t m : moved) {
-    mark[m] |= kNear;
+    marks[m] |= kNear;
     rowBuf.clear();
     grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) mark[j] |= kNear;
+    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
   }
   for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
   buildGrid();
   for (const std::uint32_t m : moved) {
     rowBuf.clear();
     grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) mark[j] |= kNear;
+    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
   }
-  // Burial can change only near the move; where it does, the neighbours' vertices change.
+}
+
+// Burial can change only near the move; where it does, the neighbours' vertices change.
+// Selects the owners whose vertex pass runs again.
+void SesBuilder::State::selectOwners() {
+  const std::size_t n = centers.size();
+  auto& rowBuf = tls.local().row;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(mark[i] & kNear)) continue;
-    mark[i] |= kOwner;
+    if (!(marks[i] & kNear)) continue;
+    marks[i] |= kOwner;
     const auto x = static_cast<std::uint32_t>(i);
     const char now = buriedByContainment(x, rowBuf) ? 1 : 0;
     if (now != buried[i]) {
       buried[i] = now;
       rowBuf.clear();
       grid.neighbours(x, rowBuf);
-      for (const std::uint32_t j : rowBuf) mark[j] |= kOwner;
+      for (const std::uint32_t j : rowBuf) marks[j] |= kOwner;
     }
   }
-  list.clear();
+  selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (mark[i] & kOwner) list.push_back(static_cast<std::uint32_t>(i));
-  stats.owners = list.size();
+    if (marks[i] & kOwner) selection.push_back(static_cast<std::uint32_t>(i));
+  stats.owners = selection.size();
+}
 
-  // Vertex pass of those owners; an owner whose output differs changes the contours of
-  // every atom its old and new vertices and free circles touch, and the planes near them.
-  vertexPassOf(list);
-  prefix(fv.concaveCount, freshBegin[0]);
-  prefix(fv.freeCount, freshBegin[1]);
+// Vertex pass of the owners selected; an owner whose output differs changes the contours
+// of every atom its old and new vertices and free circles touch, and the planes near them.
+// Splices the fresh segments in and rebuilds the incidence.
+void SesBuilder::State::updateVertices() {
+  vertexPassOf(selection);
+  prefix(freshVertices.concaveCount, freshBegin[0]);
+  prefix(freshVertices.freeCount, freshBegin[1]);
   auto& cv = out.concave;
   const std::vector<std::uint32_t>* const oldBegin[2] = {&concaveBegin, &freeBegin};
-  list2.clear();  // owners whose vertices changed
-  for (std::size_t t = 0; t < list.size(); ++t) {
-    const std::uint32_t x = list[t];
-    mark[x] |= kContour;
+  changedOwners.clear();
+  for (std::size_t t = 0; t < selection.size(); ++t) {
+    const std::uint32_t x = selection[t];
+    marks[x] |= kContour;
     bool unchanged = true;
     forEachVertexArray([&](auto member, const auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
       const std::size_t o0 = (*oldBegin[g])[x], o1 = (*oldBegin[g])[x + 1];
       const std::size_t f0 = freshBegin[g][t], f1 = freshBegin[g][t + 1];
       unchanged = unchanged && sameBits<T>(std::span<const T>(kept).subspan(o0, o1 - o0),
-                                           std::span<const T>(fv.*member).subspan(f0, f1 - f0));
+                                           std::span<const T>(freshVertices.*member).subspan(f0, f1 - f0));
     });
     if (unchanged) continue;
     const std::size_t o0 = concaveBegin[x], o1 = concaveBegin[x + 1], f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
     const std::size_t g0 = freeBegin[x], g1 = freeBegin[x + 1], h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
-    list2.push_back(x);
+    changedOwners.push_back(x);
     // (The triangles of a merged vertex need not have their owner as atom I.)
     for (std::size_t v = o0; v < o1; ++v)
-      mark[cv.atomI[v]] |= kContour, mark[cv.atomJ[v]] |= kContour, mark[cv.atomK[v]] |= kContour;
+      marks[cv.atomI[v]] |= kContour, marks[cv.atomJ[v]] |= kContour, marks[cv.atomK[v]] |= kContour;
     for (std::size_t v = f0; v < f1; ++v)
-      mark[fv.atomI[v]] |= kContour, mark[fv.atomJ[v]] |= kContour, mark[fv.atomK[v]] |= kContour;
-    for (std::size_t f = g0; f < g1; ++f) mark[freeOther[f]] |= kContour;
-    for (std::size_t f = h0; f < h1; ++f) mark[fv.freeOther[f]] |= kContour;
+      marks[freshVertices.atomI[v]] |= kContour, marks[freshVertices.atomJ[v]] |= kContour,
+          marks[freshVertices.atomK[v]] |= kContour;
+    for (std::size_t f = g0; f < g1; ++f) marks[freeOther[f]] |= kContour;
+    for (std::size_t f = h0; f < h1; ++f) marks[freshVertices.freeOther[f]] |= kContour;
   }
 
   // Old probes of changed owners, before the splice: their planes' partners need updates.
-  auto& removed = tmp.removed;
+  auto& removed = update.removedProbes;
   removed.clear();
-  for (const std::uint32_t x : list2)
+  for (const std::uint32_t x : changedOwners)
     removed.insert(removed.end(), cv.probe.begin() + concaveBegin[x], cv.probe.begin() + concaveBegin[x + 1]);
-  const auto& oldConcaveBegin = tmp.oldConcaveBegin = concaveBegin;
-  const auto& oldClipBegin = tmp.oldClipBegin = cv.clipBegin;
-  const auto& oldClipCount = tmp.oldClipCount = cv.clipCount;
+  update.oldConcaveBegin = concaveBegin;
+  update.oldClipBegin = cv.clipBegin;
+  update.oldClipCount = cv.clipCount;
 
-  // Splice the vertex-pass arrays.
-  spliceFresh(fv, [&](auto&& visit) { forEachVertexArray(visit); }, {&concaveBegin, &freeBegin});
-  tmp.oldIncVertexBegin.swap(incVertexBegin);
-  tmp.oldIncVertexFace.swap(incVertexFace);
-  tmp.oldIncFreeBegin.swap(incFreeBegin);
-  tmp.oldIncFreeFace.swap(incFreeFace);
+  spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); }, {&concaveBegin, &freeBegin});
+  update.oldIncVertexBegin.swap(incVertexBegin);
+  update.oldIncVertexFace.swap(incVertexFace);
+  update.oldIncFreeBegin.swap(incFreeBegin);
+  update.oldIncFreeFace.swap(incFreeFace);
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
   findExtremeAtom();
-  if (n > 0) mark[extremeAtom] |= kContour;
+  if (!centers.empty()) marks[extremeAtom] |= kContour;
+}
 
-  // Contours of the atoms touched. The others keep their faces; their incidence lists hold
-  // the same vertices in the same order, only moved.
-  list.clear();
+// Contours of the atoms touched. The others keep their faces; their incidence lists hold
+// the same vertices in the same order, only moved.
+void SesBuilder::State::updateContours() {
+  const std::size_t n = centers.size();
+  selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (mark[i] & kContour) list.push_back(static_cast<std::uint32_t>(i));
-  stats.contours = list.size();
+    if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
+  stats.contours = selection.size();
   incVertexFace.resize(incVertex.size());
   incFreeFace.resize(incFree.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (mark[i] & kContour) continue;
-      const auto& ob = tmp.oldIncVertexBegin;
-      const auto& fb = tmp.oldIncFreeBegin;
+      if (marks[i] & kContour) continue;
+      const auto& ob = update.oldIncVertexBegin;
+      const auto& fb = update.oldIncFreeBegin;
       SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incVertexBegin[i + 1] - incVertexBegin[i]);
       SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incFreeBegin[i + 1] - incFreeBegin[i]);
-      std::copy(tmp.oldIncVertexFace.begin() + ob[i], tmp.oldIncVertexFace.begin() + ob[i + 1],
+      std::copy(update.oldIncVertexFace.begin() + ob[i], update.oldIncVertexFace.begin() + ob[i + 1],
                 incVertexFace.begin() + incVertexBegin[i]);
-      std::copy(tmp.oldIncFreeFace.begin() + fb[i], tmp.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incFreeBegin[i]);
+      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incFreeBegin[i]);
     }
   });
-  contourPassOf(list);
-  prefix(fc.convexCount, freshBegin[0]);
-  prefix(fc.toriCount, freshBegin[1]);
-  spliceFresh(fc, [&](auto&& visit) { forEachContourArray(visit); }, {&convexBegin, &toriBegin});
+  contourPassOf(selection);
+  prefix(freshContours.convexCount, freshBegin[0]);
+  prefix(freshContours.toriCount, freshBegin[1]);
+  spliceFresh(freshContours, [&](auto&& visit) { forEachContourArray(visit); }, {&convexBegin, &toriBegin});
+}
 
-  // Clipping planes: those of the changed owners' new probes, and of every probe within
-  // 2 rp of a removed or added probe; the others keep their lists (their neighbours kept
-  // their relative order).
+// Clipping planes: those of the changed owners' new probes, and of every probe within
+// 2 rp of a removed or added probe; the others keep their lists (their neighbours kept
+// their relative order).
+void SesBuilder::State::updatePlanes() {
+  const std::size_t n = centers.size();
+  auto& cv = out.concave;
   const std::size_t probes = cv.size();
   probeRadii.assign(probes, params.probeRadius);
   probeGrid.build(cv.probe, probeRadii, 0.0);
-  auto& dirty = tmp.dirty;
+  auto& dirty = update.dirtyProbes;
   dirty.assign(probes, 0);
-  for (const std::uint32_t x : list2)
+  for (const std::uint32_t x : changedOwners)
     for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) dirty[v] = 1;
+  auto& rowBuf = tls.local().row;
   auto markNear = [&](const glm::dvec3& p) {
     rowBuf.clear();
     probeGrid.atomsNear(p, params.probeRadius, rowBuf);
     for (const std::uint32_t v : rowBuf) dirty[v] = 1;
   };
-  for (const glm::dvec3& p : removed) markNear(p);
-  for (const std::uint32_t x : list2)
+  for (const glm::dvec3& p : update.removedProbes) markNear(p);
+  for (const std::uint32_t x : changedOwners)
     for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
-  list.clear();
+  selection.clear();
   for (std::size_t v = 0; v < probes; ++v)
-    if (dirty[v]) list.push_back(static_cast<std::uint32_t>(v));
-  stats.probes = list.size();
-  planesOf(list);
+    if (dirty[v]) selection.push_back(static_cast<std::uint32_t>(v));
+  stats.probes = selection.size();
+  planesOf(selection);
   // Old index of each new probe of an unchanged owner: same place within the owner.
-  tmpIndex.assign(probes, ~0u);
+  const auto& oldConcaveBegin = update.oldConcaveBegin;
+  auto& oldProbeIndex = update.oldProbeIndex;
+  oldProbeIndex.assign(probes, ~0u);
   for (std::size_t x = 0; x < n; ++x) {
     const std::uint32_t len = concaveBegin[x + 1] - concaveBegin[x];
     if (len == 0 || len != oldConcaveBegin[x + 1] - oldConcaveBegin[x]) continue;
-    for (std::uint32_t k = 0; k < len; ++k) tmpIndex[concaveBegin[x] + k] = oldConcaveBegin[x] + k;
+    for (std::uint32_t k = 0; k < len; ++k) oldProbeIndex[concaveBegin[x] + k] = oldConcaveBegin[x] + k;
   }
-  auto& clipCount = tmp.clipCount;
-  auto& clipBegin = tmp.clipBegin;
+  auto& clipCount = update.newClipCount;
+  auto& clipBegin = update.newClipBegin;
   clipCount.resize(probes);
   clipBegin.resize(probes);
   std::size_t d = 0;
@@ -378,28 +405,27 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
   for (std::size_t v = 0; v < probes; ++v) {
     clipBegin[v] = at;
     if (dirty[v]) {
-      clipCount[v] = fpCount[d++];
+      clipCount[v] = freshPlaneCount[d++];
     } else {
-      SURFTRACE_ASSERT(tmpIndex[v] != ~0u);
-      clipCount[v] = oldClipCount[tmpIndex[v]];
+      SURFTRACE_ASSERT(oldProbeIndex[v] != ~0u);
+      clipCount[v] = update.oldClipCount[oldProbeIndex[v]];
     }
     at += clipCount[v];
   }
-  auto& planes = tmp.planes;
+  auto& planes = update.newPlanes;
   planes.resize(at);
+  const auto& oldClipBegin = update.oldClipBegin;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes, 256), [&](const auto& range) {
     // Dirty probes before this range, to find their fresh planes.
-    std::size_t dd = static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), range.begin()) - list.begin());
+    std::size_t dd = static_cast<std::size_t>(std::lower_bound(selection.begin(), selection.end(), range.begin()) - selection.begin());
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const Plane* from = dirty[v] ? fpPlanes.data() + fpBegin[dd++] : out.clipPlanes.data() + oldClipBegin[tmpIndex[v]];
+      const Plane* from = dirty[v] ? freshPlanes.data() + freshPlaneBegin[dd++] : out.clipPlanes.data() + oldClipBegin[oldProbeIndex[v]];
       std::copy(from, from + clipCount[v], planes.begin() + clipBegin[v]);
     }
   });
   out.clipPlanes.swap(planes);
   cv.clipBegin.swap(clipBegin);
   cv.clipCount.swap(clipCount);
-
-  labelComponents();
 }
 
 SesBuilder::SesBuilder() : s_(std::make_unique<State>()) {}

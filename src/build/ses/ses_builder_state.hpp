@@ -21,7 +21,7 @@
 namespace surftrace::build {
 
 // The passes over atoms and probes are in contour_buildup.cpp (vertexPassOf, contourPassOf,
-// fullBuild, partialUpdate), ses_planes.cpp (planesOf) and ses_components.cpp
+// fullBuild, partialUpdate and its steps), ses_planes.cpp (planesOf) and ses_components.cpp
 // (buildIncidence, findExtremeAtom, labelComponents).
 struct SesBuilder::State {
   SesParams params;
@@ -56,41 +56,57 @@ struct SesBuilder::State {
   SesUpdateStats stats;
   bool built = false;
 
-  // Pieces and fresh arrays of the passes (reused).
+  // Pieces and fresh arrays of the passes (reused, so that a trajectory does not allocate
+  // per frame).
   std::vector<detail::Piece<detail::VertexBuf>> vertexPieces;
   std::vector<detail::Piece<detail::ContourBuf>> contourPieces;
   std::vector<detail::Piece<detail::PlaneBuf>> planePieces;
-  std::array<std::vector<std::size_t>, 3> offsets;
-  detail::VertexBuf fv;   // fresh vertex-pass output of the atoms listed
-  detail::ContourBuf fc;  // fresh contour-pass output
-  // Fresh planes of the probes listed: partners, counts, starts, planes.
-  std::vector<std::uint32_t> fpCount, fpBegin;
-  std::vector<Plane> fpPlanes;
-  std::vector<std::uint32_t> list, list2, tmpIndex;
+  std::array<std::vector<std::size_t>, 3> gatherOffsets;
+  detail::VertexBuf freshVertices;   // vertex-pass output of the atoms selected
+  detail::ContourBuf freshContours;  // contour-pass output of the atoms selected
+  // planesOf's output for the probes selected: per probe its count and start, the planes.
+  std::vector<std::uint32_t> freshPlaneCount, freshPlaneBegin;
+  std::vector<Plane> freshPlanes;
+  // The atoms (or probes) the next pass runs over, ascending.
+  std::vector<std::uint32_t> selection;
   // A partial update's segment starts of its two segment groups (concave patches and free
   // circles; convex patches and tori): of the fresh output, and of the spliced arrays.
   std::array<std::vector<std::uint32_t>, 2> freshBegin, newBegin;
-  std::vector<std::uint8_t> mark;
-  // detail::Scratch of partialUpdate, kept so that a trajectory does not allocate per frame.
-  struct UpdateTmp {
-    std::vector<glm::dvec3> v3, removed;
-    std::vector<double> f64;
-    std::vector<std::uint32_t> u32, oldConcaveBegin, oldClipBegin, oldClipCount, clipCount, clipBegin;
-    std::vector<std::uint8_t> u8, dirty;
-    std::vector<Plane> planes;
-    std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexNode;
+
+  // What partialUpdate keeps between its steps.
+  static constexpr std::uint8_t kNear = 1, kOwner = 2, kContour = 4;
+  std::vector<std::uint8_t> marks;            // per atom: kNear | kOwner | kContour
+  std::vector<std::uint32_t> changedOwners;   // owners whose vertex-pass output changed
+  struct UpdateScratch {
+    // The buffers a splice of an array of T goes through (spliceBuffer).
+    std::vector<glm::dvec3> spliceVec3;
+    std::vector<double> spliceDouble;
+    std::vector<std::uint32_t> spliceU32;
+    std::vector<std::uint8_t> spliceU8;
+    std::vector<glm::dvec3> removedProbes;  // the old probes of the changed owners
+    // The arrays as they were before the splice.
+    std::vector<std::uint32_t> oldConcaveBegin, oldClipBegin, oldClipCount;
     std::vector<std::uint32_t> oldIncVertexBegin, oldIncVertexFace, oldIncFreeBegin, oldIncFreeFace;
-    // The buffer a splice of an array of T goes through.
+    // The clipping planes rebuilt: which probes get fresh ones, the old index of the others
+    // (~0u for the new probes), the new counts, starts and planes.
+    std::vector<std::uint8_t> dirtyProbes;
+    std::vector<std::uint32_t> oldProbeIndex, newClipCount, newClipBegin;
+    std::vector<Plane> newPlanes;
+
     template <class T> std::vector<T>& spliceBuffer() {
-      if constexpr (std::is_same_v<T, glm::dvec3>) return v3;
-      else if constexpr (std::is_same_v<T, double>) return f64;
-      else if constexpr (std::is_same_v<T, std::uint32_t>) return u32;
+      if constexpr (std::is_same_v<T, glm::dvec3>) return spliceVec3;
+      else if constexpr (std::is_same_v<T, double>) return spliceDouble;
+      else if constexpr (std::is_same_v<T, std::uint32_t>) return spliceU32;
       else {
         static_assert(std::is_same_v<T, std::uint8_t>);
-        return u8;
+        return spliceU8;
       }
     }
-  } tmp;
+  } update;
+  // labelComponents' union-find over the faces (ses_components.cpp).
+  struct ComponentScratch {
+    std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexFace;
+  } componentScratch;
 
   detail::Atoms atoms() const { return {centers, radii, R, buried, params.probeRadius}; }
   detail::Incidence incidence() {
@@ -149,18 +165,24 @@ struct SesBuilder::State {
   // groups and gets the new ones.
   template <class Fresh, class ForEachArray>
   void spliceFresh(const Fresh& fresh, ForEachArray&& forEachArray, std::array<std::vector<std::uint32_t>*, 2> begin) {
-    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], list, freshBegin[g], newBegin[g]);
-    const detail::Splice splice[2] = {{*begin[0], newBegin[0], list, freshBegin[0]},
-                                      {*begin[1], newBegin[1], list, freshBegin[1]}};
+    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], selection, freshBegin[g], newBegin[g]);
+    const detail::Splice splice[2] = {{*begin[0], newBegin[0], selection, freshBegin[0]},
+                                      {*begin[1], newBegin[1], selection, freshBegin[1]}};
     forEachArray([&](auto member, auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
-      splice[g](kept, fresh.*member, tmp.spliceBuffer<T>());
+      splice[g](kept, fresh.*member, update.spliceBuffer<T>());
     });
     for (std::size_t g = 0; g < 2; ++g) begin[g]->swap(newBegin[g]);
   }
 
   void fullBuild();
   void partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters);
+  // partialUpdate's steps, in order.
+  void markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters);
+  void selectOwners();
+  void updateVertices();
+  void updateContours();
+  void updatePlanes();
   void vertexPassOf(std::span<const std::uint32_t> owners);
   void contourPassOf(std::span<const std::uint32_t> atoms);
   void planesOf(std::span<const std::uint32_t> probes);

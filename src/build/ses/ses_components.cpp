@@ -75,10 +75,10 @@ void SesBuilder::State::findExtremeAtom() {
 void SesBuilder::State::labelComponents() {
   const std::size_t n = centers.size();
   auto& cv = out.concave;
-  std::vector<std::uint32_t>& faceBegin = tmp.faceBegin;
+  std::vector<std::uint32_t>& faceBegin = componentScratch.faceBegin;
   prefix(std::span<const std::uint32_t>(faceCount.data(), n), faceBegin);
   const std::size_t faces = n == 0 ? 0 : faceBegin[n];
-  std::vector<std::uint32_t>& parent = tmp.faceParent;
+  std::vector<std::uint32_t>& parent = componentScratch.faceParent;
   parent.resize(faces);
   for (std::size_t f = 0; f < faces; ++f) parent[f] = static_cast<std::uint32_t>(f);
   auto find = [&](std::uint32_t f) {
@@ -90,7 +90,7 @@ void SesBuilder::State::labelComponents() {
     g = find(g);
     if (f != g) parent[std::max(f, g)] = std::min(f, g);
   };
-  std::vector<std::uint32_t>& vertexFace = tmp.vertexNode;
+  std::vector<std::uint32_t>& vertexFace = componentScratch.vertexFace;
   vertexFace.assign(cv.size(), ~0u);
   for (std::size_t x = 0; x < n; ++x) {
     if (faceCount[x] == 0) continue;
@@ -118,7 +118,7 @@ void SesBuilder::State::labelComponents() {
   }
   for (std::size_t v = 0; v < cv.size(); ++v)
     if (vertexGroup[v] != 0) vertexFace[v] = vertexFace[v - vertexGroup[v]];
-  std::vector<std::uint32_t>& label = tmp.faceLabel;
+  std::vector<std::uint32_t>& label = componentScratch.faceLabel;
   label.assign(faces, ~0u);
   std::uint32_t components = 0;
   auto labelOf = [&](std::uint32_t f) {

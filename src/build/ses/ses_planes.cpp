@@ -19,7 +19,7 @@ using namespace detail;
 // a concave patch unless it provably clips nothing of it (the cap it removes from the
 // probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
 // keeps 1 plane in 20: the rest only cost memory here and a test per hit in every renderer.
-// Fills fpPlanes and fpCount with the planes of the probes listed (ascending).
+// Fills freshPlanes and freshPlaneCount with the planes of the probes listed (ascending).
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
   const auto& cv = out.concave;
   const double twoRp = 2.0 * params.probeRadius;
@@ -44,11 +44,11 @@ void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
               }
               buf.count.push_back(count);
             });
-  gatherPieces(planePieces, offsets, [&](auto&& field) {
-    field(Field{&PlaneBuf::plane, &fpPlanes, 0});
-    field(Field{&PlaneBuf::count, &fpCount, 2});
+  gatherPieces(planePieces, gatherOffsets, [&](auto&& field) {
+    field(Field{&PlaneBuf::plane, &freshPlanes, 0});
+    field(Field{&PlaneBuf::count, &freshPlaneCount, 2});
   });
-  prefix(fpCount, fpBegin);
+  prefix(freshPlaneCount, freshPlaneBegin);
 }
 
 }  // namespace surftrace::build
