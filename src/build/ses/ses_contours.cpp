@@ -187,21 +187,24 @@ std::uint32_t faceContaining(Scratch& s, int cycles, const glm::dvec3& u) {
   return 0;
 }
 
-}  // namespace
 
-void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch& s, ContourBuf& out) {
-  std::uint32_t toriCount = 0, convexCount = 0;
-  const glm::dvec3 cx = a.c[x];
-  const double Rx = a.R[x];
+// Whether concave patch v is a triangle of a merged vertex (ORACLES E.6): some edge is not
+// a boundary edge, or it is not alone in its group.
+bool ofMergedVertex(const Incidence& inc, std::uint32_t v) {
+  return inc.edges[v] != 7 || inc.group[v] != 0 || (v + 1 < inc.group.size() && inc.group[v + 1] == 1);
+}
 
-  // Each vertex {x, o1, o2} lies on circles (x, o1) and (x, o2).
+// The entries of atom x's circles into s.entries, sorted by circle and vertex: each vertex
+// {x, o1, o2} twice (on circles (x, o1) and (x, o2)), a merged vertex twice at its first
+// triangle that has x, a free circle once. Returns whether x has a merged vertex.
+bool gatherEntries(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch& s) {
   auto& entries = s.entries;
   entries.clear();
   bool anyMerged = false;
   for (std::uint32_t k = inc.vertexBegin[x]; k < inc.vertexBegin[x + 1]; ++k) {
     const std::uint32_t v = inc.vertex[k];
     const std::uint32_t i = inc.atomI[v], j = inc.atomJ[v], l = inc.atomK[v];
-    if (inc.edges[v] != 7 || inc.group[v] != 0 || (v + 1 < inc.group.size() && inc.group[v + 1] == 1)) {
+    if (ofMergedVertex(inc, v)) {
       // A triangle of a merged vertex (ORACLES E.6): x's arcs end there on the circles of
       // its two boundary edges; the sphere entered is the other boundary neighbour. Once
       // per merged vertex, at its first triangle that has x.
@@ -248,9 +251,28 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
     return u.other < v.other || (u.other == v.other && u.vertex < v.vertex);
   });
 
-  double turning = 0.0;  // Σ geodesic-curvature terms − Σ exterior angles
-  glm::dvec3 vectorArea(0.0);
+  return anyMerged;
+}
+
+// What the arcs of x's region add up to (ORACLES D.2): the turning of its boundary
+// (Σ geodesic-curvature terms − Σ exterior angles), its vector area, and the largest cap.
+struct RegionSums {
+  double turning = 0.0;
+  glm::dvec3 vectorArea{0.0};
   double maxCapArea = 0.0;
+};
+
+// The exposed arcs of each circle of x into s.arcs, each with its torus (x the lower atom)
+// into out; returns the number of tori.
+std::uint32_t traceArcs(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch& s, ContourBuf& out,
+                        RegionSums& sums) {
+  std::uint32_t toriCount = 0;
+  const glm::dvec3 cx = a.c[x];
+  const double Rx = a.R[x];
+  auto& entries = s.entries;
+  double& turning = sums.turning;
+  glm::dvec3& vectorArea = sums.vectorArea;
+  double& maxCapArea = sums.maxCapArea;
   s.arcs.clear();
   s.torusArc.clear();
 
@@ -338,8 +360,13 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
     });
   }
 
-  // Boundary cycles: the arc that ends at a vertex continues, on the other circle through
-  // it, with the arc that starts there. A free circle is a cycle of its own.
+  return toriCount;
+}
+
+// The boundary cycles of x's region: the arc that ends at a vertex continues, on the
+// other circle through it, with the arc that starts there; a free circle is a cycle of its
+// own. Sets s.cycleOf per arc; returns the number of cycles.
+int linkCycles(Scratch& s) {
   const std::size_t arcs = s.arcs.size();
   s.parent.resize(arcs);
   for (std::size_t k = 0; k < arcs; ++k) s.parent[k] = static_cast<int>(k);
@@ -359,7 +386,15 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
   }
   for (std::size_t k = 0; k < arcs; ++k) s.cycleOf[k] = s.cycleOf[static_cast<std::size_t>(findRoot(s.parent, static_cast<int>(k)))];
 
-  // Faces (connected components of the exposed region), for the SES components.
+  return cycles;
+}
+
+// The faces of x's region (connected components of the exposed region, for the SES
+// components): the face of each torus, incident vertex and free circle, x's face count,
+// and the face facing +x if x is the extreme atom.
+void assignFaces(const Incidence& inc, std::uint32_t x, Scratch& s, int cycles, bool anyMerged, ContourBuf& out) {
+  const auto& entries = s.entries;
+  const std::size_t arcs = s.arcs.size();
   const int faces = groupCyclesIntoFaces(s, cycles);
   for (std::size_t k = 0; k < s.torusArc.size(); ++k)
     out.torusFace.push_back(static_cast<std::uint32_t>(s.cycleFace[static_cast<std::size_t>(s.cycleOf[s.torusArc[k]])]));
@@ -382,7 +417,7 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
     // (~0u) where x has no arc there.
     for (std::uint32_t k = inc.vertexBegin[x]; k < inc.vertexBegin[x + 1]; ++k) {
       const std::uint32_t v = inc.vertex[k];
-      if (inc.edges[v] == 7 && inc.group[v] == 0 && !(v + 1 < inc.group.size() && inc.group[v + 1] == 1)) continue;
+      if (!ofMergedVertex(inc, v)) continue;
       const std::uint32_t first = v - inc.group[v];
       std::uint32_t face = ~0u;
       for (std::size_t m = 0; m < arcs; ++m) {
@@ -397,6 +432,16 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
   }
   if (x == inc.extremeAtom) *inc.extremeFace = faceContaining(s, cycles, glm::dvec3(1.0, 0.0, 0.0));
 
+}
+
+// x's convex patch, if its region is not empty: the area from Gauss–Bonnet. Returns the
+// number of convex patches (0 or 1).
+std::uint32_t pushConvexPatch(const Atoms& a, const Incidence& inc, std::uint32_t x, const RegionSums& sums, int cycles,
+                              ContourBuf& out) {
+  std::uint32_t convexCount = 0;
+  const glm::dvec3 cx = a.c[x];
+  const double turning = sums.turning, maxCapArea = sums.maxCapArea;
+  glm::dvec3 vectorArea = sums.vectorArea;
   double area = 0.0;
   const CapState caps = inc.capState[x];
   if (caps == CapState::None) {
@@ -422,6 +467,17 @@ void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch&
     out.convexVectorArea.push_back(vectorArea);
     ++convexCount;
   }
+  return convexCount;
+}
+}  // namespace
+
+void contourPass(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch& s, ContourBuf& out) {
+  const bool anyMerged = gatherEntries(a, inc, x, s);
+  RegionSums sums;
+  const std::uint32_t toriCount = traceArcs(a, inc, x, s, out, sums);
+  const int cycles = linkCycles(s);
+  assignFaces(inc, x, s, cycles, anyMerged, out);
+  const std::uint32_t convexCount = pushConvexPatch(a, inc, x, sums, cycles, out);
   out.convexCount.push_back(convexCount);
   out.toriCount.push_back(toriCount);
 }
