@@ -252,40 +252,33 @@ void buildPolygon(const Atoms& a, std::span<const std::uint32_t> atoms, Polygon&
                                                    (count(t[2], t[0]) == 1 ? 4 : 0)));
 }
 
-}  // namespace
 
-void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> row, Scratch& s, VertexBuf& out,
-                CapState& capState) {
-  std::uint32_t concaveCount = 0, freeCount = 0;
-  capState = gatherNeighbourhood(a, x, row, s);
+// The circle (x, j) of neighbourhood position ai, computed when first needed; nothing
+// when the extended spheres do not cut (then the circle contributes nothing).
+const SasCircle* circleOf(const Atoms& a, std::uint32_t x, Scratch& s, std::size_t ai) {
+  if (!s.hasCircle[ai]) {
+    const std::uint32_t j = s.nb.atom[ai];
+    const auto circle = sasCircle(a.c[x], a.R[x], a.c[j], a.R[j]);
+    if (!circle) {
+      s.state[ai] = CircleState::NoCircle;
+      return nullptr;
+    }
+    s.circle[ai] = *circle;
+    s.hasCircle[ai] = 1;
+  }
+  return &s.circle[ai];
+}
+
+// Every circle (x, j > x) first, so that settleCircles knows which circles are clearly
+// buried; above[t]: the positions of the atoms after upper[t] in atom order (k > j).
+void classifyCircles(Scratch& s, std::size_t words) {
   const auto& nb = s.nb;
   const std::size_t n = nb.atom.size();
-  const std::size_t words = (n + kWordBits - 1) / kWordBits;
-  const glm::dvec3 cx = a.c[x];
-  const double Rx = a.R[x];
-
   s.state.assign(n, CircleState::Open);
   s.cand.resize(n * words);
   s.cross.resize(n * words);
   s.circle.resize(n);
   s.hasCircle.assign(n, 0);
-  // The circle (x, j) of a neighbourhood position, computed when first needed; nothing
-  // when the extended spheres do not cut (then the circle contributes nothing).
-  auto circleOf = [&](std::size_t ai) -> const SasCircle* {
-    if (!s.hasCircle[ai]) {
-      const std::uint32_t j = nb.atom[ai];
-      const auto circle = sasCircle(cx, Rx, a.c[j], a.R[j]);
-      if (!circle) {
-        s.state[ai] = CircleState::NoCircle;
-        return nullptr;
-      }
-      s.circle[ai] = *circle;
-      s.hasCircle[ai] = 1;
-    }
-    return &s.circle[ai];
-  };
-  // Every circle (x, j > x) first, so that the vertex step below knows which circles are
-  // clearly buried.
   s.buriedMask.assign(words, 0);
   for (const std::size_t ai : nb.upper) {
     if (!classifyCircle(nb, ai, &s.cand[ai * words], &s.cross[ai * words], words)) {
@@ -293,7 +286,6 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
       setBit(s.buriedMask.data(), ai);
     }
   }
-  // above[t]: the positions of the atoms after upper[t] in atom order (k > j).
   const std::size_t uppers = nb.upper.size();
   s.polys.clear();
   s.above.assign((uppers + 1) * words, 0);
@@ -301,7 +293,15 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
     std::copy_n(&s.above[(t + 1) * words], words, &s.above[t * words]);
     if (t + 1 < uppers) setBit(&s.above[t * words], nb.upper[t + 1]);
   }
+}
 
+// The exact state of each open circle (x, j > x): buried, crossed by other spheres (it
+// has vertices), or free (into out.freeOther). Returns the number of free circles.
+std::uint32_t settleCircles(const Atoms& a, std::uint32_t x, Scratch& s, std::size_t words, VertexBuf& out) {
+  std::uint32_t freeCount = 0;
+  const auto& nb = s.nb;
+  const glm::dvec3 cx = a.c[x];
+  const double Rx = a.R[x];
   for (const std::size_t ai : nb.upper) {
     if (s.state[ai] != CircleState::Open) continue;
     const std::uint32_t j = nb.atom[ai];
@@ -316,7 +316,7 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
         const std::size_t b = w * kWordBits + static_cast<std::size_t>(std::countr_zero(undecided));
         undecided &= undecided - 1;
         const std::uint32_t k = nb.atom[b];
-        if (!circleOf(ai)) break;
+        if (!circleOf(a, x, s, ai)) break;
         if (!spheresCut(a.c[j], a.R[j], a.c[k], a.R[k])) {
           // Sphere k misses sphere j (or touches it), so it misses the circle, which lies on
           // j; it cannot contain j either, or j would be buried.
@@ -338,130 +338,174 @@ void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> 
       s.state[ai] = CircleState::BuriedExact;
     } else if (crossed) {
       s.state[ai] = CircleState::Crossed;
-    } else if (circleOf(ai)) {
+    } else if (circleOf(a, x, s, ai)) {
       s.state[ai] = CircleState::Free;
       out.freeOther.push_back(j);
       ++freeCount;
     }
   }
 
-  // Order along a circle. Two distinct vertices on one circle, p of sphere k and p' of
-  // sphere l, are apart by more than p's distance to sphere l, which is more than
-  // (√(1 + kTie) − 1) R_l ≥ 1e-10 rp unless p ties with l (then they merge). Positions from
-  // double are within eMax of the exact ones (probePositions), which is far less in real
-  // data, but not in every input; so a position closer than 8 eMax to another sphere is
-  // placed to an ulp: p and p' can only be confused if each lies that close to the other's
-  // sphere, and then both are placed exactly enough for atan2 to order them.
+  return freeCount;
+}
+
+// Order along a circle. Two distinct vertices on one circle, p of sphere k and p' of
+// sphere l, are apart by more than p's distance to sphere l, which is more than
+// (√(1 + kTie) − 1) R_l ≥ 1e-10 rp unless p ties with l (then they merge). Positions from
+// double are within eMax of the exact ones (probePositions), which is far less in real
+// data, but not in every input; so a position closer than 8 eMax to another sphere is
+// placed to an ulp: p and p' can only be confused if each lies that close to the other's
+// sphere, and then both are placed exactly enough for atan2 to order them. Returns that
+// band, relative.
+double nearBandOf(const Atoms& a, std::uint32_t x, const Neighbourhood& nb) {
+  const glm::dvec3 cx = a.c[x];
+  const double Rx = a.R[x];
   const double coords = std::max({std::abs(cx.x), std::abs(cx.y), std::abs(cx.z)}) + Rx + 2.0 * nb.maxRadius;
   const double eMax = kMaxProbeError * std::max(Rx, nb.maxRadius) + 64.0 * kUnitRoundoff * coords;
   const double nearDist = 8.0 * eMax / a.rp;  // relative to the smallest possible R = rp
   const double nearBand = nearDist * (2.0 + nearDist);
 
-  // The vertices x < j < k on each crossed circle (x, j): valid iff inside no other sphere.
-  // A sphere that contains a vertex meets both its circles (x, j) and (x, k), so it is a
-  // candidate of both; the others clearly miss one of the circles.
-  for (std::size_t t = 0; t < uppers; ++t) {
+  return nearBand;
+}
+
+// The valid vertices {x, j, k}, k > j, of the crossed circle upper[t] = (x, j) into
+// s.verts (a merged vertex once, with its polygon in s.polys): a vertex is valid iff inside
+// no other sphere. A sphere that contains a vertex meets both its circles (x, j) and (x, k),
+// so it is a candidate of both; the others clearly miss one of the circles.
+void findVertices(const Atoms& a, std::uint32_t x, Scratch& s, std::size_t t, std::size_t words, double nearBand) {
+  const auto& nb = s.nb;
+  const glm::dvec3 cx = a.c[x];
+  const double Rx = a.R[x];
+  const std::size_t ai = nb.upper[t];
+  const std::uint32_t j = nb.atom[ai];
+  const Word* candA = &s.cand[ai * words];
+  const Word* crossA = &s.cross[ai * words];
+  const Word* above = &s.above[t * words];
+  s.verts.clear();
+  for (std::size_t w = 0; w < words; ++w) {
+    // Circles (x, k), k > j, not clearly buried (or so would be the vertex); a vertex
+    // {x, k, j} with k < j is emitted from circle (x, k).
+    Word bits = crossA[w] & above[w] & ~s.buriedMask[w];
+    while (bits) {
+      const std::size_t bi = w * kWordBits + static_cast<std::size_t>(std::countr_zero(bits));
+      bits &= bits - 1;
+      const std::uint32_t k = nb.atom[bi];
+      const Word* candB = &s.cand[bi * words];
+      // Most vertices lie deep inside some other sphere: a single-precision look first,
+      // then the exact probe positions and tests for what it cannot settle.
+      if (clearlyInsideBoth(nb, ai, bi)) continue;
+      auto probes = probePositions(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]);
+      if (!probes) continue;
+      // Both probe positions against each sphere at once: bit 0 plus, bit 1 minus.
+      const ProbeTriple triple{cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]};
+      const double slack = sideSlack(probes->error, nb.maxRadius);
+      const int inside = insideMask(nb, candA, candB, words, ai, bi, triple, probes->plus, probes->minus, slack, nearBand);
+      // A valid position (inside nothing, tied to nothing) near another sphere may be near
+      // that sphere's own vertex on this circle: placed to within an ulp, so that their
+      // order along it is the exact one. Bit 0 plus, bit 1 minus.
+      if (const int nearOnly = (inside >> 4) & ~(inside >> 2) & ~inside & 3) {
+        if (const auto precise = preciseProbePair(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k])) {
+          if (nearOnly & 1) probes->plus = precise->plus;
+          if (nearOnly & 2) probes->minus = precise->minus;
+        }
+      }
+      for (const bool plus : {true, false}) {
+        const glm::dvec3 p = plus ? probes->plus : probes->minus;
+        if (inside & (plus ? 1 : 2)) continue;
+        if (inside & (plus ? 4 : 8)) {
+          // Further spheres pass through p (cospherical atoms, ORACLES E.6): one merged
+          // vertex, emitted by the lowest of its atoms from the first triple that finds it.
+          if (!tiesAt(nb, x, {p, triple, plus, slack}, s.tied) || s.tied.size() < 4) continue;
+          const auto merged = mergedProbe(a, s.tied, p, nb.maxRadius);
+          if (!merged || !tiesAt(nb, x, *merged, s.tied) || s.tied.size() < 4 || s.tied[0] != x) continue;
+          bool seen = false;
+          for (const Polygon& poly : s.polys) seen = seen || std::memcmp(&poly.p, &merged->p, sizeof(glm::dvec3)) == 0;
+          if (seen) continue;
+          s.polys.emplace_back();
+          s.polys.back().p = merged->p;
+          buildPolygon(a, s.tied, s.polys.back());
+          s.verts.push_back({0.0, k, plus, merged->p, static_cast<std::uint32_t>(s.polys.size() - 1)});
+          continue;
+        }
+        s.verts.push_back({0.0, k, plus, p});
+      }
+    }
+  }
+}
+
+// s.verts in order of φ along the circle (ties by third atom, plus first).
+void orderAlongCircle(const SasCircle& circle, std::vector<Vertex>& verts) {
+  for (Vertex& v : verts) {
+    const glm::dvec3 wv = v.p - circle.center;
+    v.phi = std::atan2(glm::dot(wv, circle.e2), glm::dot(wv, circle.e1));
+  }
+  if (verts.size() > 1) {
+    std::sort(verts.begin(), verts.end(), [](const Vertex& u, const Vertex& v) {
+      if (u.phi != v.phi) return u.phi < v.phi;
+      if (u.third != v.third) return u.third < v.third;
+      return u.plus > v.plus;
+    });
+  }
+}
+
+// The concave patches of the ordered vertices on circle (x, j) into out: one per simple
+// vertex, the triangles of a merged vertex's polygon. Returns their number.
+std::uint32_t emitVertices(const Atoms& a, std::uint32_t x, std::uint32_t j, const Scratch& s, VertexBuf& out) {
+  std::uint32_t concaveCount = 0;
+  const glm::dvec3 cx = a.c[x];
+  for (const Vertex& v : s.verts) {
+    if (v.poly != ~0u) {
+      const Polygon& poly = s.polys[v.poly];
+      for (std::size_t f = 0; f < poly.tri.size(); ++f) {
+        const auto& tri = poly.tri[f];
+        out.probe.push_back(poly.p);
+        out.dirI.push_back(glm::normalize(a.c[tri[0]] - poly.p));
+        out.dirJ.push_back(glm::normalize(a.c[tri[1]] - poly.p));
+        out.dirK.push_back(glm::normalize(a.c[tri[2]] - poly.p));
+        out.atomI.push_back(tri[0]);
+        out.atomJ.push_back(tri[1]);
+        out.atomK.push_back(tri[2]);
+        out.plus.push_back(plusSideOf(a, tri[0], tri[1], tri[2], poly.p) ? 1 : 0);
+        out.edges.push_back(poly.edges[f]);
+        out.group.push_back(static_cast<std::uint32_t>(f));
+        ++concaveCount;
+      }
+      continue;
+    }
+    out.probe.push_back(v.p);
+    out.dirI.push_back(glm::normalize(cx - v.p));
+    out.dirJ.push_back(glm::normalize(a.c[j] - v.p));
+    out.dirK.push_back(glm::normalize(a.c[v.third] - v.p));
+    out.atomI.push_back(x);
+    out.atomJ.push_back(j);
+    out.atomK.push_back(v.third);
+    out.plus.push_back(v.plus ? 1 : 0);
+    out.edges.push_back(7);
+    out.group.push_back(0);
+    ++concaveCount;
+  }
+  return concaveCount;
+}
+
+}  // namespace
+
+void vertexPass(const Atoms& a, std::uint32_t x, std::span<const std::uint32_t> row, Scratch& s, VertexBuf& out,
+                CapState& capState) {
+  std::uint32_t concaveCount = 0;
+  capState = gatherNeighbourhood(a, x, row, s);
+  const auto& nb = s.nb;
+  const std::size_t words = (nb.atom.size() + kWordBits - 1) / kWordBits;
+  classifyCircles(s, words);
+  const std::uint32_t freeCount = settleCircles(a, x, s, words, out);
+  const double nearBand = nearBandOf(a, x, nb);
+  for (std::size_t t = 0; t < nb.upper.size(); ++t) {
     const std::size_t ai = nb.upper[t];
     if (s.state[ai] != CircleState::Crossed) continue;
-    const std::uint32_t j = nb.atom[ai];
-    const Word* candA = &s.cand[ai * words];
-    const Word* crossA = &s.cross[ai * words];
-    const Word* above = &s.above[t * words];
-    s.verts.clear();
-    for (std::size_t w = 0; w < words; ++w) {
-      // Circles (x, k), k > j, not clearly buried (or so would be the vertex); a vertex
-      // {x, k, j} with k < j is emitted from circle (x, k).
-      Word bits = crossA[w] & above[w] & ~s.buriedMask[w];
-      while (bits) {
-        const std::size_t bi = w * kWordBits + static_cast<std::size_t>(std::countr_zero(bits));
-        bits &= bits - 1;
-        const std::uint32_t k = nb.atom[bi];
-        const Word* candB = &s.cand[bi * words];
-        // Most vertices lie deep inside some other sphere: a single-precision look first,
-        // then the exact probe positions and tests for what it cannot settle.
-        if (clearlyInsideBoth(nb, ai, bi)) continue;
-        auto probes = probePositions(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k]);
-        if (!probes) continue;
-        // Both probe positions against each sphere at once: bit 0 plus, bit 1 minus.
-        const ProbeTriple triple{cx, a.c[j], a.c[k], Rx, a.R[j], a.R[k]};
-        const double slack = sideSlack(probes->error, nb.maxRadius);
-        const int inside = insideMask(nb, candA, candB, words, ai, bi, triple, probes->plus, probes->minus, slack, nearBand);
-        // A valid position (inside nothing, tied to nothing) near another sphere may be near
-        // that sphere's own vertex on this circle: placed to within an ulp, so that their
-        // order along it is the exact one. Bit 0 plus, bit 1 minus.
-        if (const int nearOnly = (inside >> 4) & ~(inside >> 2) & ~inside & 3) {
-          if (const auto precise = preciseProbePair(cx, Rx, a.c[j], a.R[j], a.c[k], a.R[k])) {
-            if (nearOnly & 1) probes->plus = precise->plus;
-            if (nearOnly & 2) probes->minus = precise->minus;
-          }
-        }
-        for (const bool plus : {true, false}) {
-          const glm::dvec3 p = plus ? probes->plus : probes->minus;
-          if (inside & (plus ? 1 : 2)) continue;
-          if (inside & (plus ? 4 : 8)) {
-            // Further spheres pass through p (cospherical atoms, ORACLES E.6): one merged
-            // vertex, emitted by the lowest of its atoms from the first triple that finds it.
-            if (!tiesAt(nb, x, {p, triple, plus, slack}, s.tied) || s.tied.size() < 4) continue;
-            const auto merged = mergedProbe(a, s.tied, p, nb.maxRadius);
-            if (!merged || !tiesAt(nb, x, *merged, s.tied) || s.tied.size() < 4 || s.tied[0] != x) continue;
-            bool seen = false;
-            for (const Polygon& poly : s.polys) seen = seen || std::memcmp(&poly.p, &merged->p, sizeof(glm::dvec3)) == 0;
-            if (seen) continue;
-            s.polys.emplace_back();
-            s.polys.back().p = merged->p;
-            buildPolygon(a, s.tied, s.polys.back());
-            s.verts.push_back({0.0, k, plus, merged->p, static_cast<std::uint32_t>(s.polys.size() - 1)});
-            continue;
-          }
-          s.verts.push_back({0.0, k, plus, p});
-        }
-      }
-    }
+    findVertices(a, x, s, t, words, nearBand);
     if (s.verts.empty()) continue;
-    const SasCircle* circle = circleOf(ai);
+    const SasCircle* circle = circleOf(a, x, s, ai);
     if (!circle) continue;
-    for (Vertex& v : s.verts) {
-      const glm::dvec3 wv = v.p - circle->center;
-      v.phi = std::atan2(glm::dot(wv, circle->e2), glm::dot(wv, circle->e1));
-    }
-    if (s.verts.size() > 1) {
-      std::sort(s.verts.begin(), s.verts.end(), [](const Vertex& u, const Vertex& v) {
-        if (u.phi != v.phi) return u.phi < v.phi;
-        if (u.third != v.third) return u.third < v.third;
-        return u.plus > v.plus;
-      });
-    }
-    for (const Vertex& v : s.verts) {
-      if (v.poly != ~0u) {
-        const Polygon& poly = s.polys[v.poly];
-        for (std::size_t f = 0; f < poly.tri.size(); ++f) {
-          const auto& tri = poly.tri[f];
-          out.probe.push_back(poly.p);
-          out.dirI.push_back(glm::normalize(a.c[tri[0]] - poly.p));
-          out.dirJ.push_back(glm::normalize(a.c[tri[1]] - poly.p));
-          out.dirK.push_back(glm::normalize(a.c[tri[2]] - poly.p));
-          out.atomI.push_back(tri[0]);
-          out.atomJ.push_back(tri[1]);
-          out.atomK.push_back(tri[2]);
-          out.plus.push_back(plusSideOf(a, tri[0], tri[1], tri[2], poly.p) ? 1 : 0);
-          out.edges.push_back(poly.edges[f]);
-          out.group.push_back(static_cast<std::uint32_t>(f));
-          ++concaveCount;
-        }
-        continue;
-      }
-      out.probe.push_back(v.p);
-      out.dirI.push_back(glm::normalize(cx - v.p));
-      out.dirJ.push_back(glm::normalize(a.c[j] - v.p));
-      out.dirK.push_back(glm::normalize(a.c[v.third] - v.p));
-      out.atomI.push_back(x);
-      out.atomJ.push_back(j);
-      out.atomK.push_back(v.third);
-      out.plus.push_back(v.plus ? 1 : 0);
-      out.edges.push_back(7);
-      out.group.push_back(0);
-      ++concaveCount;
-    }
+    orderAlongCircle(*circle, s.verts);
+    concaveCount += emitVertices(a, x, nb.atom[ai], s, out);
   }
   out.concaveCount.push_back(concaveCount);
   out.freeCount.push_back(freeCount);
