@@ -96,6 +96,35 @@ double median(std::vector<double> v) {
   return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The per-frame block (GpuFrame): camera, shading, the kinds' colours and first ids, the
+// depth mapping from the patches' bounding sphere.
+GpuFrame frameBlock(const view::RenderOptions& o, const GlOptions& gl, std::size_t atomColorCount, const glm::dvec3& origin,
+                    const glm::dvec3& boundsCenter, double boundsRadius, const view::PatchIdOrder& ids) {
+  const view::Camera& cam = o.camera;
+  GpuFrame f{};
+  const bool ortho = cam.projection == view::Projection::Orthographic;
+  f.eyeProjection = vec4Of(cam.eye - origin, ortho ? 1.0 : 0.0);
+  f.forwardTan = vec4Of(cam.forward(), std::tan(0.5 * cam.fovY * kPi / 180.0));
+  f.rightAspect = vec4Of(cam.right(), static_cast<double>(cam.width) / cam.height);
+  f.upHalfHeight = vec4Of(cam.trueUp(), 0.5 * cam.orthoHeight);
+  const double reach = glm::length(cam.eye - boundsCenter) + boundsRadius;
+  f.viewport = glm::vec4(static_cast<float>(cam.width), static_cast<float>(cam.height),
+                         static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
+  f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
+  f.background = glm::vec4(o.background, 0.0f);
+  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
+    const view::PatchKind kind = view::kPatchKinds[row].kind;
+    f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
+    f.kinds[row].first = glm::uvec4(ids.first(kind), 0u, 0u, 0u);
+  }
+  f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColorCount), 0u, 0u);
+  f.torusTrace = glm::uvec4(gl.torus == TorusMethod::Quartic ? 0u : 1u, static_cast<unsigned>(gl.maxSteps),
+                            gl.probeBallJumps ? 0u : 1u, 0u);
+  f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
+                            gl.countFragments ? 1.0f : 0.0f, 0.0f);
+  return f;
+}
+
 }  // namespace
 
 TorusMethod parseTorusMethod(const std::string& name) {
@@ -249,27 +278,7 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   if (!(gl.traceEpsilon > 0.0)) throw std::invalid_argument("gl engine: sphere-tracing epsilon must be > 0");
   m.ensureTargets(cam.width, cam.height);
 
-  GpuFrame f{};
-  const bool ortho = cam.projection == view::Projection::Orthographic;
-  f.eyeProjection = vec4Of(cam.eye - m.origin, ortho ? 1.0 : 0.0);
-  f.forwardTan = vec4Of(cam.forward(), std::tan(0.5 * cam.fovY * kPi / 180.0));
-  f.rightAspect = vec4Of(cam.right(), static_cast<double>(cam.width) / cam.height);
-  f.upHalfHeight = vec4Of(cam.trueUp(), 0.5 * cam.orthoHeight);
-  const double reach = glm::length(cam.eye - m.boundsCenter) + m.boundsRadius;
-  f.viewport = glm::vec4(static_cast<float>(cam.width), static_cast<float>(cam.height),
-                         static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
-  f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
-  f.background = glm::vec4(o.background, 0.0f);
-  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
-    const view::PatchKind kind = view::kPatchKinds[row].kind;
-    f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
-    f.kinds[row].first = glm::uvec4(m.ids.first(kind), 0u, 0u, 0u);
-  }
-  f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColors.size()), 0u, 0u);
-  f.torusTrace = glm::uvec4(gl.torus == TorusMethod::Quartic ? 0u : 1u, static_cast<unsigned>(gl.maxSteps),
-                            gl.probeBallJumps ? 0u : 1u, 0u);
-  f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
-                            gl.countFragments ? 1.0f : 0.0f, 0.0f);
+  const GpuFrame f = frameBlock(o, gl, atomColors.size(), m.origin, m.boundsCenter, m.boundsRadius, m.ids);
   glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
   std::vector<glm::vec4> colors;
   colors.reserve(atomColors.size());
