@@ -262,17 +262,99 @@ struct RegionSums {
   double maxCapArea = 0.0;
 };
 
+// The exposed arcs of circle (x, o) from its entries (ordered along it here) into s.arcs,
+// with their tori (x the lower atom) into out, and what they add to the region's sums.
+// Returns the number of tori.
+std::uint32_t traceCircle(const Atoms& a, const Incidence& inc, std::uint32_t x, std::uint32_t o, std::span<Entry> list,
+                          Scratch& s, ContourBuf& out, RegionSums& sums) {
+  std::uint32_t toriCount = 0;
+  const glm::dvec3 cx = a.c[x];
+  const double Rx = a.R[x];
+  double& turning = sums.turning;
+  glm::dvec3& vectorArea = sums.vectorArea;
+  double& maxCapArea = sums.maxCapArea;
+
+  // The cap of o on x's unit sphere, as the convex patch sees it.
+  const double d = glm::distance(cx, a.c[o]);
+  const double t = (d * d + Rx * Rx - a.R[o] * a.R[o]) / (2.0 * d);
+  const glm::dvec3 axis = (a.c[o] - cx) / d;
+  const double cosA = t / Rx;
+  const double sinA = std::sqrt(std::max(0.0, 1.0 - cosA * cosA));
+  maxCapArea = std::max(maxCapArea, kTwoPi * (1.0 - cosA));
+
+  // For x < o the cap's frame is the circle's own (same axis and e1, bit for bit).
+  std::optional<SasCircle> circle;
+  glm::dvec3 e1, e2;
+  if (x < o) {
+    circle = sasCircle(cx, Rx, a.c[o], a.R[o]);
+    if (!circle) return 0;
+    e1 = circle->e1;
+    e2 = circle->e2;
+  } else {
+    e1 = perpendicularTo(axis);
+    e2 = glm::cross(axis, e1);
+  }
+  // The region lies outside the cap, so its boundary runs with decreasing φ about the
+  // axis; with the region on the left, an arc φ0→φ1 adds −½[...] to W (ORACLES D.2).
+  // (The sines and cosines of the ends are the vertices' own, so no trigonometry.)
+  auto addArc = [&](double extent, double cos0, double sin0, double cos1, double sin1) {
+    turning += cosA * extent;
+    vectorArea -= 0.5 * (sinA * sinA * extent * axis - cosA * sinA * ((sin1 - sin0) * e1 + (cos0 - cos1) * e2));
+  };
+
+  if (list[0].vertex == ~0u) {  // a free circle
+    addArc(kTwoPi, 1.0, 0.0, 1.0, 0.0);
+    s.arcs.push_back({~0u, ~0u, o, axis, e1, e2, cosA, sinA, 0.0, kTwoPi});
+    if (circle) {
+      pushTorus(out, *circle, 0.0, kTwoPi, x, o);
+      s.torusArc.push_back(static_cast<std::uint32_t>(s.arcs.size() - 1));
+      ++toriCount;
+    }
+    return toriCount;
+  }
+
+  for (Entry& e : list) {
+    const glm::dvec3 p = inc.probe[e.vertex];
+    double px, py;
+    if (circle) {
+      const glm::dvec3 w = p - circle->center;
+      px = glm::dot(w, circle->e1);
+      py = glm::dot(w, circle->e2);
+      e.leaves = e.plus == plusLeavesSphere(x, o, e.third);
+    } else {
+      // Seen from x > o the circle of (o, x) runs backwards (axis −n, e1 −e1, e2 e2).
+      const glm::dvec3 u = p - cx;
+      px = glm::dot(u, e1);
+      py = glm::dot(u, e2);
+      e.leaves = e.plus != plusLeavesSphere(o, x, e.third);
+    }
+    e.phi = std::atan2(py, px);
+    const double len = std::sqrt(px * px + py * py);
+    e.cosPhi = len > 0.0 ? px / len : 1.0;
+    e.sinPhi = len > 0.0 ? py / len : 0.0;
+  }
+  sortAlongCircle(list);
+  sweepArcs(list, [&](const Entry& from, const Entry& to, double extent) {
+    s.arcs.push_back({from.vertex, to.vertex, o, axis, e1, e2, cosA, sinA, from.phi, extent});
+    if (circle) {
+      pushTorus(out, *circle, from.phi, extent, x, o);
+      s.torusArc.push_back(static_cast<std::uint32_t>(s.arcs.size() - 1));
+      ++toriCount;
+    }
+    addArc(extent, from.cosPhi, from.sinPhi, to.cosPhi, to.sinPhi);
+    const glm::dvec3 u1 = (inc.probe[to.vertex] - cx) / Rx;
+    const glm::dvec3 entered = glm::normalize(a.c[to.third] - cx);
+    turning -= exteriorAngle(axis, entered, u1);
+  });
+  return toriCount;
+}
+
 // The exposed arcs of each circle of x into s.arcs, each with its torus (x the lower atom)
 // into out; returns the number of tori.
 std::uint32_t traceArcs(const Atoms& a, const Incidence& inc, std::uint32_t x, Scratch& s, ContourBuf& out,
                         RegionSums& sums) {
   std::uint32_t toriCount = 0;
-  const glm::dvec3 cx = a.c[x];
-  const double Rx = a.R[x];
   auto& entries = s.entries;
-  double& turning = sums.turning;
-  glm::dvec3& vectorArea = sums.vectorArea;
-  double& maxCapArea = sums.maxCapArea;
   s.arcs.clear();
   s.torusArc.clear();
 
@@ -285,81 +367,8 @@ std::uint32_t traceArcs(const Atoms& a, const Incidence& inc, std::uint32_t x, S
     // Free-circle entries sort last; beside vertices (only conceivable at exact tangency)
     // the vertices win.
     while (list.size() > 1 && list.back().vertex == ~0u && list.front().vertex != ~0u) list = list.first(list.size() - 1);
-
-    // The cap of o on x's unit sphere, as the convex patch sees it.
-    const double d = glm::distance(cx, a.c[o]);
-    const double t = (d * d + Rx * Rx - a.R[o] * a.R[o]) / (2.0 * d);
-    const glm::dvec3 axis = (a.c[o] - cx) / d;
-    const double cosA = t / Rx;
-    const double sinA = std::sqrt(std::max(0.0, 1.0 - cosA * cosA));
-    maxCapArea = std::max(maxCapArea, kTwoPi * (1.0 - cosA));
-
-    // For x < o the cap's frame is the circle's own (same axis and e1, bit for bit).
-    std::optional<SasCircle> circle;
-    glm::dvec3 e1, e2;
-    if (x < o) {
-      circle = sasCircle(cx, Rx, a.c[o], a.R[o]);
-      if (!circle) continue;
-      e1 = circle->e1;
-      e2 = circle->e2;
-    } else {
-      e1 = perpendicularTo(axis);
-      e2 = glm::cross(axis, e1);
-    }
-    // The region lies outside the cap, so its boundary runs with decreasing φ about the
-    // axis; with the region on the left, an arc φ0→φ1 adds −½[...] to W (ORACLES D.2).
-    // (The sines and cosines of the ends are the vertices' own, so no trigonometry.)
-    auto addArc = [&](double extent, double cos0, double sin0, double cos1, double sin1) {
-      turning += cosA * extent;
-      vectorArea -= 0.5 * (sinA * sinA * extent * axis - cosA * sinA * ((sin1 - sin0) * e1 + (cos0 - cos1) * e2));
-    };
-
-    if (list[0].vertex == ~0u) {  // a free circle
-      addArc(kTwoPi, 1.0, 0.0, 1.0, 0.0);
-      s.arcs.push_back({~0u, ~0u, o, axis, e1, e2, cosA, sinA, 0.0, kTwoPi});
-      if (circle) {
-        pushTorus(out, *circle, 0.0, kTwoPi, x, o);
-        s.torusArc.push_back(static_cast<std::uint32_t>(s.arcs.size() - 1));
-        ++toriCount;
-      }
-      continue;
-    }
-
-    for (Entry& e : list) {
-      const glm::dvec3 p = inc.probe[e.vertex];
-      double px, py;
-      if (circle) {
-        const glm::dvec3 w = p - circle->center;
-        px = glm::dot(w, circle->e1);
-        py = glm::dot(w, circle->e2);
-        e.leaves = e.plus == plusLeavesSphere(x, o, e.third);
-      } else {
-        // Seen from x > o the circle of (o, x) runs backwards (axis −n, e1 −e1, e2 e2).
-        const glm::dvec3 u = p - cx;
-        px = glm::dot(u, e1);
-        py = glm::dot(u, e2);
-        e.leaves = e.plus != plusLeavesSphere(o, x, e.third);
-      }
-      e.phi = std::atan2(py, px);
-      const double len = std::sqrt(px * px + py * py);
-      e.cosPhi = len > 0.0 ? px / len : 1.0;
-      e.sinPhi = len > 0.0 ? py / len : 0.0;
-    }
-    sortAlongCircle(list);
-    sweepArcs(list, [&](const Entry& from, const Entry& to, double extent) {
-      s.arcs.push_back({from.vertex, to.vertex, o, axis, e1, e2, cosA, sinA, from.phi, extent});
-      if (circle) {
-        pushTorus(out, *circle, from.phi, extent, x, o);
-        s.torusArc.push_back(static_cast<std::uint32_t>(s.arcs.size() - 1));
-        ++toriCount;
-      }
-      addArc(extent, from.cosPhi, from.sinPhi, to.cosPhi, to.sinPhi);
-      const glm::dvec3 u1 = (inc.probe[to.vertex] - cx) / Rx;
-      const glm::dvec3 entered = glm::normalize(a.c[to.third] - cx);
-      turning -= exteriorAngle(axis, entered, u1);
-    });
+    toriCount += traceCircle(a, inc, x, o, list, s, out, sums);
   }
-
   return toriCount;
 }
 
