@@ -68,10 +68,20 @@ struct Element {
   std::uint32_t upBegin, upCount;
 };
 
+// A neighbour whose power plane comes within ρ_i: the plane's distance from the atom and
+// its unit normal. Ordered by distance, then atom.
+struct Candidate {
+  double dist;
+  std::uint32_t atom;
+  glm::dvec3 unit;
+
+  bool operator<(const Candidate& o) const { return dist < o.dist || (dist == o.dist && atom < o.atom); }
+};
+
 struct Scratch {
   PowerCell cell;
   std::vector<std::uint32_t> near;
-  std::vector<std::pair<double, std::uint32_t>> candidates;
+  std::vector<Candidate> candidates;
   std::vector<Element> elements;
   std::vector<std::uint32_t> ups;
 };
@@ -183,16 +193,17 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
       continue;
     }
     const double dist = (dd - p.w[j] + wi) / (2.0 * std::sqrt(dd));
-    if (dist < g.rho[i]) sc.candidates.emplace_back(dist, j);
+    if (dist < g.rho[i]) sc.candidates.push_back({dist, j, d / std::sqrt(dd)});
   }
   std::sort(sc.candidates.begin(), sc.candidates.end());
 
   PowerCell& cell = sc.cell;
   cell.reset(p, i, g.rho[i] * 1.0625);
-  for (const auto& [dist, j] : sc.candidates) {
+  for (const Candidate& c : sc.candidates) {
     // Sorted by distance: once a plane lies beyond every vertex, so do the rest.
-    if (dist > 0.0 && dist * dist > cell.maxVertexNorm2() * (1.0 + 1e-6)) break;
-    if (cell.clip(j) == PowerCell::Clip::Empty) return;
+    if (c.dist > 0.0 && c.dist * c.dist > cell.maxVertexNorm2() * (1.0 + 1e-6)) break;
+    if (cell.surelyRedundant(c.unit, c.dist)) continue;
+    if (cell.clip(c.atom) == PowerCell::Clip::Empty) return;
   }
 
   // Only the part of the cell within ρ_i can bound skin (and only it is exact): a coface's
@@ -503,12 +514,16 @@ const PatchList& MssBuilder::update(std::span<const glm::dvec3> centers) {
 }
 
 const PatchList& MssBuilder::patches() const { return s_->list; }
+PatchList MssBuilder::takePatches() {
+  s_->built = false;
+  return std::move(s_->list);
+}
 const MssUpdateStats& MssBuilder::lastUpdate() const { return s_->stats; }
 
 PatchList buildMss(std::span<const glm::dvec3> centers, std::span<const double> radii, const MssParams& params) {
   MssBuilder builder;
   builder.build(centers, radii, params);
-  return PatchList(builder.patches());
+  return builder.takePatches();
 }
 
 }  // namespace surftrace::build
