@@ -138,8 +138,8 @@ void runMssArea(const AreaOptions& o, const Built& b) {
     j["shrink_factor"] = o.shrink;
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
-    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_bound", a.areaErrorBound},
-                          {"volume_error_bound", a.volumeErrorBound}, {"per_atom", a.perAtom}};
+    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_estimate", a.areaErrorEstimate},
+                          {"volume_error_estimate", a.volumeErrorEstimate}, {"per_atom", a.perAtom}};
     for (int k = 0; k < 4; ++k) mss[kinds[k]] = a.byKind[k];
     j["mss"] = mss;
     std::printf("%s\n", j.dump(1).c_str());
@@ -156,7 +156,7 @@ void runMssArea(const AreaOptions& o, const Built& b) {
   }
   std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.shrink,
               o.shrink >= 1.0 ? ": the union of the van der Waals balls" : "");
-  std::printf("MSS area        %14.4f Å²  (quadrature error <= %.1e)\n", a.total(), a.areaErrorBound);
+  std::printf("MSS area        %14.4f Å²  (quadrature error estimate %.1e)\n", a.total(), a.areaErrorEstimate);
   std::printf("  convex        %14.4f Å²  (atom spheres)\n", a.byKind[0]);
   std::printf("  edge          %14.4f Å²  (hyperboloids of Delaunay edges)\n", a.byKind[1]);
   std::printf("  face          %14.4f Å²  (hyperboloids of Delaunay triangles)\n", a.byKind[2]);

@@ -103,6 +103,33 @@ TEST(MssBuilder, TwoAtomsPinchWhereTheGrownBallsTouch) {
   EXPECT_NEAR(areas[2], areas[1], 1e-2 * areas[1]);
 }
 
+// Two overlapping atoms: two spheres with a cap cut off each, joined by a one-sheet neck,
+// all in closed form (ORACLES C.2, C.3): the caps sit at distance s·|z_X − z_a| from each
+// centre, and the neck ρ² = s h²/(1 − s) − s w_X between h_i = −(1 − s)|z_X − z_i| and
+// h_j = (1 − s)|z_j − z_X| has area 2π ∫ √(a h² + b) dh with a = s/(1 − s) + (s/(1 − s))²,
+// b = −s w_X. Checks the quadrature, the caps and the volume's closure.
+TEST(MssBuilder, TwoAtomNeckAreaMatchesTheClosedForm) {
+  const double ri = 1.6, rj = 1.2, d = 3.1;
+  for (double s : {0.3, 0.5, 0.7}) {
+    const std::vector<glm::dvec3> c{{0.5, 0.25, -1.0}, {0.5 + d, 0.25, -1.0}};
+    const std::vector<double> r{ri, rj};
+    const PatchList p = buildMss(c, r, {s});
+    const double wi = ri * ri / s, wj = rj * rj / s;
+    const double alpha = 0.5 + (wi - wj) / (2 * d * d), wX = alpha * alpha * d * d - wi;
+    ASSERT_LT(wX, 0.0);
+    const double a = s / (1 - s) + (s / (1 - s)) * (s / (1 - s)), b = -s * wX;
+    auto F = [&](double h) { return 0.5 * h * std::sqrt(a * h * h + b) + b / (2 * std::sqrt(a)) * std::asinh(h * std::sqrt(a / b)); };
+    const double neck = 2 * std::numbers::pi * (F((1 - s) * (1 - alpha) * d) - F(-(1 - s) * alpha * d));
+    auto sphere = [&](double radius, double cut) { return 4 * std::numbers::pi * radius * radius - 2 * std::numbers::pi * radius * (radius - cut); };
+    const double convex = sphere(ri, s * alpha * d) + sphere(rj, s * (1 - alpha) * d);
+    const MssAreas areas = computeMssAreas(p, c);
+    EXPECT_NEAR(areas.byKind[1], neck, 1e-9 * neck) << s;
+    EXPECT_NEAR(areas.byKind[0], convex, 1e-11 * convex) << s;
+    EXPECT_LT(areas.areaErrorEstimate, 1e-8) << s;
+    EXPECT_LT(areas.closure, 1e-9) << s;
+  }
+}
+
 // s → 1: the skin approaches the union of the van der Waals balls, whose area FreeSASA
 // (Lee & Richards, probe 0) gives independently.
 TEST(MssBuilder, ApproachesTheVanDerWaalsAreaAsShrinkTendsToOne) {
