@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -35,31 +36,11 @@ constexpr std::uint32_t kBlockAtoms = 16;
 // whatever the rounding of the distances that select it.
 constexpr double kReachSlack = 1e-9;
 
-// Every array of MssQuadrics, visited in lockstep in two lists (a block's and the whole's).
-template <class A, class B, class Visit>
-void forEachQuadricArray(A& a, B& b, Visit&& visit) {
-  visit(a.kind, b.kind);
-  visit(a.center, b.center);
-  visit(a.axis, b.axis);
-  visit(a.radialCoeff, b.radialCoeff);
-  visit(a.axialCoeff, b.axialCoeff);
-  visit(a.constant, b.constant);
-  visit(a.boundRadius, b.boundRadius);
-  visit(a.atoms, b.atoms);
-  visit(a.cellBegin, b.cellBegin);
-  visit(a.cellCount, b.cellCount);
-}
+// One block's patches (the MSS arrays of a patch list), with cell-plane indices relative to
+// the block.
+using Chunk = PatchList;
 
-// One block's patches, with cell-plane indices relative to the block.
-struct Chunk {
-  MssQuadrics q;
-  std::vector<Plane> planes;
-
-  void clear() {
-    forEachQuadricArray(q, q, [](auto& v, auto&) { v.clear(); });
-    planes.clear();
-  }
-};
+bool isMssGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
 
 // A Delaunay simplex owned by the current atom whose mixed cell holds skin, with the atoms
 // a of its cofaces X ∪ {a} (the facets on the Voronoi side) in ups[upBegin, upBegin + upCount).
@@ -146,29 +127,31 @@ bool holdsSkin(const WeightedPoints& p, const Simplex& x, const mss::Orthocentre
   return minG <= tol && maxG >= -tol;
 }
 
-void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& out) {
+void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& chunk) {
+  MssQuadrics& out = chunk.mss;
   const mss::SkinQuadric q = mss::skinQuadric(p, x, mss::orthocentre(p, x));
   const double bound = mss::skinBoundRadius(p, x, q.weight);
-  const auto begin = static_cast<std::uint32_t>(out.planes.size());
+  std::vector<Plane>& planes = chunk.cellPlanes;
+  const auto begin = static_cast<std::uint32_t>(planes.size());
   // A plane is kept unless the whole ball of the patch's skin lies on its inner side.
   const double cull = -(bound * (1.0 + 1e-9) + 1e-12);
   auto keep = [&](const glm::dvec4& plane) {
-    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) out.planes.push_back(plane);
+    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) planes.push_back(plane);
   };
   for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(-mss::facetPlane(p, x.without(k), x[k], q.center));
   for (std::uint32_t a : ups) keep(mss::facetPlane(p, x, a));
   glm::uvec4 atoms(~0u);
   for (int k = 0; k < x.size; ++k) atoms[k] = x[k];
-  out.q.kind.push_back(static_cast<std::uint32_t>(x.size - 1));
-  out.q.center.push_back(q.center);
-  out.q.axis.push_back(q.axis);
-  out.q.radialCoeff.push_back(q.radial);
-  out.q.axialCoeff.push_back(q.axial);
-  out.q.constant.push_back(q.constant);
-  out.q.boundRadius.push_back(bound);
-  out.q.atoms.push_back(atoms);
-  out.q.cellBegin.push_back(begin);
-  out.q.cellCount.push_back(static_cast<std::uint32_t>(out.planes.size()) - begin);
+  out.kind.push_back(static_cast<std::uint32_t>(x.size - 1));
+  out.center.push_back(q.center);
+  out.axis.push_back(q.axis);
+  out.radialCoeff.push_back(q.radial);
+  out.axialCoeff.push_back(q.axial);
+  out.constant.push_back(q.constant);
+  out.boundRadius.push_back(bound);
+  out.atoms.push_back(atoms);
+  out.cellBegin.push_back(begin);
+  out.cellCount.push_back(static_cast<std::uint32_t>(planes.size()) - begin);
 }
 
 bool isAtom(const CellPlane& plane) { return plane.atom < kBoxPlane; }
@@ -350,7 +333,7 @@ struct MssBuilder::State {
     tbb::parallel_for(std::size_t{0}, which.size(), [&](std::size_t n) {
       const std::uint32_t b = which[n];
       Chunk& chunk = blocks[b];
-      chunk.clear();
+      chunk.clearKeepingMemory();
       Scratch& sc = scratch.local();
       const auto end = static_cast<std::uint32_t>(std::min<std::size_t>(centers.size(), (b + 1) * std::size_t{kBlockAtoms}));
       for (std::uint32_t i = b * kBlockAtoms; i < end; ++i) {
@@ -372,19 +355,22 @@ struct MssBuilder::State {
     patchOffset.assign(count + 1, 0);
     planeOffset.assign(count + 1, 0);
     for (std::size_t b = 0; b < count; ++b) {
-      patchOffset[b + 1] = patchOffset[b] + blocks[b].q.size();
-      planeOffset[b + 1] = planeOffset[b] + blocks[b].planes.size();
+      patchOffset[b + 1] = patchOffset[b] + blocks[b].mss.size();
+      planeOffset[b + 1] = planeOffset[b] + blocks[b].cellPlanes.size();
     }
-    forEachQuadricArray(list.mss, list.mss, [&](auto& v, auto&) { v.resize(patchOffset[count]); });
-    list.cellPlanes.resize(planeOffset[count]);
+    auto offsets = [&](const char* group) -> const std::vector<std::size_t>& {
+      return std::strcmp(group, "cellPlanes") == 0 ? planeOffset : patchOffset;
+    };
+    forEachArray([&](const char* group, const char*, auto& v) {
+      if (isMssGroup(group)) v.resize(offsets(group)[count]);
+    }, list);
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
-      const Chunk& c = blocks[b];
-      forEachQuadricArray(list.mss, c.q, [&](auto& dst, const auto& src) {
-        std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(patchOffset[b]));
-      });
+      forEachArray([&](const char* group, const char*, auto& dst, const auto& src) {
+        if (isMssGroup(group))
+          std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(offsets(group)[b]));
+      }, list, std::as_const(blocks[b]));
       const auto base = static_cast<std::uint32_t>(planeOffset[b]);
       for (std::size_t k = patchOffset[b]; k < patchOffset[b + 1]; ++k) list.mss.cellBegin[k] += base;
-      std::copy(c.planes.begin(), c.planes.end(), list.cellPlanes.begin() + static_cast<std::ptrdiff_t>(planeOffset[b]));
     });
   }
 
