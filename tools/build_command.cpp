@@ -1,5 +1,6 @@
 // `surftrace build` (write a patch list) and `surftrace area` (exact areas and volume).
 #include <chrono>
+#include <initializer_list>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -123,6 +124,21 @@ struct AreaOptions : SurfaceOptions {
   std::string format = "table";
 };
 
+// One CSV row per atom: who it is, its radius, then the named per-atom columns (Å²).
+void printPerAtomCsv(const build::Molecule& m,
+                     std::initializer_list<std::pair<const char*, const std::vector<double>*>> columns) {
+  std::printf("atom,serial,chain,residue,residue_number,name,element,radius");
+  for (const auto& [name, values] : columns) std::printf(",%s", name);
+  std::printf("\n");
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const auto& r = m.atoms[i];
+    std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f", i, r.serial, r.chain.c_str(), r.residue.c_str(), r.residueNumber,
+                r.name.c_str(), r.element.c_str(), m.radii[i]);
+    for (const auto& [name, values] : columns) std::printf(",%.6f", (*values)[i]);
+    std::printf("\n");
+  }
+}
+
 // The skin's areas: by patch kind, per atom (each skin point shared by its simplex's atoms in
 // proportion to its convex weights), and the volume.
 void runMssArea(const AreaOptions& o, const Built& b) {
@@ -146,12 +162,7 @@ void runMssArea(const AreaOptions& o, const Built& b) {
     return;
   }
   if (o.format == "csv") {
-    std::printf("atom,serial,chain,residue,residue_number,name,element,radius,mss\n");
-    for (std::size_t i = 0; i < m.size(); ++i) {
-      const auto& r = m.atoms[i];
-      std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f,%.6f\n", i, r.serial, r.chain.c_str(), r.residue.c_str(),
-                  r.residueNumber, r.name.c_str(), r.element.c_str(), m.radii[i], a.perAtom[i]);
-    }
+    printPerAtomCsv(m, {{"mss", &a.perAtom}});
     return;
   }
   std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.shrink,
@@ -190,12 +201,7 @@ void runArea(const AreaOptions& o) {
     return;
   }
   if (o.format == "csv") {
-    std::printf("atom,serial,chain,residue,residue_number,name,element,radius,sas,ses\n");
-    for (std::size_t i = 0; i < m.size(); ++i) {
-      const auto& r = m.atoms[i];
-      std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f,%.6f,%.6f\n", i, r.serial, r.chain.c_str(), r.residue.c_str(),
-                  r.residueNumber, r.name.c_str(), r.element.c_str(), m.radii[i], a.sasPerAtom[i], a.sesPerAtom[i]);
-    }
+    printPerAtomCsv(m, {{"sas", &a.sasPerAtom}, {"ses", &a.sesPerAtom}});
     return;
   }
   std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), o.probe);

@@ -18,6 +18,7 @@
 
 #include "build/mss/power_cell.hpp"
 #include "build/mss/skin_geometry.hpp"
+#include "build/moved_atoms.hpp"
 #include "build/neighbour_grid.hpp"
 
 namespace surftrace::build {
@@ -490,12 +491,7 @@ const PatchList& MssBuilder::update(std::span<const glm::dvec3> centers) {
   if (centers.size() != s_->centers.size()) throw std::invalid_argument("MssBuilder::update: the frame has a different atom count");
   std::vector<std::uint32_t> moved;
   std::vector<glm::dvec3> places;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    if (std::memcmp(&centers[i], &s_->centers[i], sizeof(glm::dvec3)) != 0) {
-      moved.push_back(static_cast<std::uint32_t>(i));
-      places.push_back(centers[i]);
-    }
-  }
+  movedAtoms(s_->centers, centers, moved, places);
   return update(moved, places);
 }
 
