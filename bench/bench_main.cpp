@@ -1,7 +1,6 @@
 // Benchmarks of the build stages on the molecules of Lindow et al. 2010 (tests/data/paper);
 // this file holds BENCHMARK_MAIN and the neighbour grid's benchmarks.
 #include <cstdint>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -9,6 +8,7 @@
 
 #include "build/io/molecule.hpp"
 #include "build/neighbour_grid.hpp"
+#include "paper_molecules.hpp"
 
 namespace {
 
@@ -17,15 +17,9 @@ using surftrace::build::NeighbourGrid;
 constexpr double kProbeRadius = 1.4;
 
 // The molecules as the tools read them (first model, no water, Bondi radii), so that these
-// timings and the SES benchmark's are for the same atoms.
+// timings and the SES and MSS benchmarks' are for the same atoms.
 const surftrace::build::Molecule& molecule(const std::string& name) {
-  static std::map<std::string, surftrace::build::Molecule> cache;
-  auto it = cache.find(name);
-  if (it == cache.end()) {
-    const std::string path = std::string(SURFTRACE_TEST_DATA) + "/paper/" + name + ".pdb.gz";
-    it = cache.emplace(name, surftrace::build::readMolecule(path)).first;
-  }
-  return it->second;
+  return surftrace::bench::paperMolecule(name + ".pdb.gz");
 }
 
 void BM_GridBuild(benchmark::State& state, const std::string& name) {

@@ -1,7 +1,6 @@
 // MSS construction time on the paper's molecules at 1 and 2 threads and s = 0.3, 0.5
 // (Lindow et al. 2010, Table 1: 1VIS 451 ms, 1AF6 2113, 1AON 9924 on one 2.53 GHz core), frame
 // after frame with one builder, and the partial update of a few moved atoms.
-#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -11,6 +10,7 @@
 #include <tbb/global_control.h>
 
 #include "build/io/molecule.hpp"
+#include "paper_molecules.hpp"
 #include "build/mss/mss_builder.hpp"
 
 namespace {
@@ -18,13 +18,7 @@ namespace {
 using surftrace::build::MssBuilder;
 using surftrace::build::MssParams;
 
-const surftrace::build::Molecule& molecule(const std::string& name) {
-  static std::map<std::string, surftrace::build::Molecule> cache;
-  auto it = cache.find(name);
-  if (it == cache.end())
-    it = cache.emplace(name, surftrace::build::readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/" + name)).first;
-  return it->second;
-}
+using surftrace::bench::paperMolecule;
 
 void countKinds(benchmark::State& state, const surftrace::build::PatchList& p) {
   double count[4] = {0, 0, 0, 0};
@@ -37,7 +31,7 @@ void countKinds(benchmark::State& state, const surftrace::build::PatchList& p) {
 
 // One build from scratch: range(0) threads, range(1) = 100 s.
 void BM_BuildMss(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   const MssParams params{static_cast<double>(state.range(1)) / 100.0};
   surftrace::build::PatchList last;
@@ -52,7 +46,7 @@ void BM_BuildMss(benchmark::State& state, const std::string& name) {
 
 // Frame after frame, every atom moved (up to 0.3 Å), one builder that keeps its memory.
 void BM_TrajectoryMss(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   const MssParams params{static_cast<double>(state.range(1)) / 100.0};
   std::mt19937_64 rng(7);
@@ -72,7 +66,7 @@ void BM_TrajectoryMss(benchmark::State& state, const std::string& name) {
 
 // 1% of the atoms, consecutive (a few flexible residues), move back and forth by up to 0.3 Å.
 void BM_UpdateMss(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   const std::size_t count = m.size() / 100, start = m.size() / 3;
   std::vector<std::uint32_t> moved;

@@ -1,7 +1,6 @@
 // SES construction time on the paper's molecules at 1 and 2 threads (Lindow et al. 2010,
 // Table 1 reports contour-buildup times for 1VIS, 1AF6 and 1AON), and the partial update
 // of a few moved atoms against a full rebuild.
-#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -12,22 +11,17 @@
 
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
+#include "paper_molecules.hpp"
 
 namespace {
 
 using surftrace::build::SesBuilder;
 using surftrace::build::SesParams;
 
-const surftrace::build::Molecule& molecule(const std::string& name) {
-  static std::map<std::string, surftrace::build::Molecule> cache;
-  auto it = cache.find(name);
-  if (it == cache.end())
-    it = cache.emplace(name, surftrace::build::readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/" + name)).first;
-  return it->second;
-}
+using surftrace::bench::paperMolecule;
 
 void BM_BuildSes(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   std::size_t patches = 0;
   for (auto _ : state) {
@@ -44,7 +38,7 @@ void BM_BuildSes(benchmark::State& state, const std::string& name) {
 // with one SesBuilder that keeps its memory: the MD use case. Frames alternate between the
 // structure and a copy with every atom moved by up to 0.3 Å.
 void BM_TrajectorySes(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
@@ -68,7 +62,7 @@ void BM_TrajectorySes(benchmark::State& state, const std::string& name) {
 // and the next one moves them back, so every iteration is an update of the same size.
 // Compare with BM_BuildSes on the same molecule (a full rebuild per frame).
 void BM_UpdateSes(benchmark::State& state, const std::string& name) {
-  const auto& m = molecule(name);
+  const auto& m = paperMolecule(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   const std::size_t count = m.size() / 100;
   std::mt19937_64 rng(1);

@@ -1,5 +1,6 @@
 // `surftrace build` (write a patch list) and `surftrace area` (exact areas and volume).
 #include <chrono>
+#include <initializer_list>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -123,6 +124,21 @@ struct AreaOptions : SurfaceOptions {
   std::string format = "table";
 };
 
+// One CSV row per atom: who it is, its radius, then the named per-atom columns (Å²).
+void printPerAtomCsv(const build::Molecule& m,
+                     std::initializer_list<std::pair<const char*, const std::vector<double>*>> columns) {
+  std::printf("atom,serial,chain,residue,residue_number,name,element,radius");
+  for (const auto& [name, values] : columns) std::printf(",%s", name);
+  std::printf("\n");
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const auto& r = m.atoms[i];
+    std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f", i, r.serial, r.chain.c_str(), r.residue.c_str(), r.residueNumber,
+                r.name.c_str(), r.element.c_str(), m.radii[i]);
+    for (const auto& [name, values] : columns) std::printf(",%.6f", (*values)[i]);
+    std::printf("\n");
+  }
+}
+
 // The skin's areas: by patch kind, per atom (each skin point shared by its simplex's atoms in
 // proportion to its convex weights), and the volume.
 void runMssArea(const AreaOptions& o, const Built& b) {
@@ -138,25 +154,20 @@ void runMssArea(const AreaOptions& o, const Built& b) {
     j["shrink_factor"] = o.shrink;
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
-    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_bound", a.areaErrorBound},
-                          {"volume_error_bound", a.volumeErrorBound}, {"per_atom", a.perAtom}};
+    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_estimate", a.areaErrorEstimate},
+                          {"volume_error_estimate", a.volumeErrorEstimate}, {"per_atom", a.perAtom}};
     for (int k = 0; k < 4; ++k) mss[kinds[k]] = a.byKind[k];
     j["mss"] = mss;
     std::printf("%s\n", j.dump(1).c_str());
     return;
   }
   if (o.format == "csv") {
-    std::printf("atom,serial,chain,residue,residue_number,name,element,radius,mss\n");
-    for (std::size_t i = 0; i < m.size(); ++i) {
-      const auto& r = m.atoms[i];
-      std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f,%.6f\n", i, r.serial, r.chain.c_str(), r.residue.c_str(),
-                  r.residueNumber, r.name.c_str(), r.element.c_str(), m.radii[i], a.perAtom[i]);
-    }
+    printPerAtomCsv(m, {{"mss", &a.perAtom}});
     return;
   }
   std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.shrink,
               o.shrink >= 1.0 ? ": the union of the van der Waals balls" : "");
-  std::printf("MSS area        %14.4f Å²  (quadrature error <= %.1e)\n", a.total(), a.areaErrorBound);
+  std::printf("MSS area        %14.4f Å²  (quadrature error estimate %.1e)\n", a.total(), a.areaErrorEstimate);
   std::printf("  convex        %14.4f Å²  (atom spheres)\n", a.byKind[0]);
   std::printf("  edge          %14.4f Å²  (hyperboloids of Delaunay edges)\n", a.byKind[1]);
   std::printf("  face          %14.4f Å²  (hyperboloids of Delaunay triangles)\n", a.byKind[2]);
@@ -190,12 +201,7 @@ void runArea(const AreaOptions& o) {
     return;
   }
   if (o.format == "csv") {
-    std::printf("atom,serial,chain,residue,residue_number,name,element,radius,sas,ses\n");
-    for (std::size_t i = 0; i < m.size(); ++i) {
-      const auto& r = m.atoms[i];
-      std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f,%.6f,%.6f\n", i, r.serial, r.chain.c_str(), r.residue.c_str(),
-                  r.residueNumber, r.name.c_str(), r.element.c_str(), m.radii[i], a.sasPerAtom[i], a.sesPerAtom[i]);
-    }
+    printPerAtomCsv(m, {{"sas", &a.sasPerAtom}, {"ses", &a.sesPerAtom}});
     return;
   }
   std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), o.probe);

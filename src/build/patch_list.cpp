@@ -27,51 +27,6 @@ const char* surfaceKindName(SurfaceKind kind) {
 
 namespace {
 
-// Every array of the patch list, by name. Writing, reading and validation all walk this
-// one list, so a field added to patch_list.hpp and here is stored, loaded and checked.
-// `group` names the kind whose arrays must share one length.
-template <class List, class Visit>
-void forEachArray(List& p, Visit&& visit) {
-  visit("convex", "center", p.convex.center);
-  visit("convex", "radius", p.convex.radius);
-  visit("convex", "atom", p.convex.atom);
-  visit("convex", "component", p.convex.component);
-  visit("convex", "area", p.convex.area);
-  visit("convex", "vectorArea", p.convex.vectorArea);
-  visit("tori", "center", p.tori.center);
-  visit("tori", "axis", p.tori.axis);
-  visit("tori", "e1", p.tori.e1);
-  visit("tori", "bigRadius", p.tori.bigRadius);
-  visit("tori", "thetaI", p.tori.thetaI);
-  visit("tori", "thetaJ", p.tori.thetaJ);
-  visit("tori", "phiExtent", p.tori.phiExtent);
-  visit("tori", "atomI", p.tori.atomI);
-  visit("tori", "atomJ", p.tori.atomJ);
-  visit("tori", "component", p.tori.component);
-  visit("concave", "probe", p.concave.probe);
-  visit("concave", "dirI", p.concave.dirI);
-  visit("concave", "dirJ", p.concave.dirJ);
-  visit("concave", "dirK", p.concave.dirK);
-  visit("concave", "atomI", p.concave.atomI);
-  visit("concave", "atomJ", p.concave.atomJ);
-  visit("concave", "atomK", p.concave.atomK);
-  visit("concave", "clipBegin", p.concave.clipBegin);
-  visit("concave", "clipCount", p.concave.clipCount);
-  visit("concave", "component", p.concave.component);
-  visit("clipPlanes", "plane", p.clipPlanes);
-  visit("mss", "kind", p.mss.kind);
-  visit("mss", "center", p.mss.center);
-  visit("mss", "axis", p.mss.axis);
-  visit("mss", "radialCoeff", p.mss.radialCoeff);
-  visit("mss", "axialCoeff", p.mss.axialCoeff);
-  visit("mss", "constant", p.mss.constant);
-  visit("mss", "boundRadius", p.mss.boundRadius);
-  visit("mss", "atoms", p.mss.atoms);
-  visit("mss", "cellBegin", p.mss.cellBegin);
-  visit("mss", "cellCount", p.mss.cellCount);
-  visit("cellPlanes", "plane", p.cellPlanes);
-}
-
 // Scalar type and component count of an array element, as stored in the file.
 enum class Scalar : std::uint32_t { F64 = 1, U32 = 2 };
 template <class T> struct ElementInfo;
@@ -210,14 +165,14 @@ void checkAtoms(const std::vector<std::uint32_t>& atoms, std::uint32_t atomCount
 void PatchList::clearKeepingMemory() {
   params = SurfaceParams{};
   componentCount = 0;
-  forEachArray(*this, [](const char*, const char*, auto& v) { v.clear(); });
+  forEachArray([](const char*, const char*, auto& v) { v.clear(); }, *this);
 }
 
 void PatchList::validate() const {
   // All arrays of one kind share a length, and every float is finite.
   std::string group;
   std::size_t length = 0;
-  forEachArray(*this, [&](const char* g, const char* name, const auto& v) {
+  forEachArray([&](const char* g, const char* name, const auto& v) {
     if (group != g) {
       group = g;
       length = v.size();
@@ -232,7 +187,7 @@ void PatchList::validate() const {
           throw std::runtime_error(std::string("patch list: ") + g + "." + name + "[" + std::to_string(k) +
                                    "] is not finite");
     }
-  });
+  }, *this);
   checkRange(concave.clipBegin, concave.clipCount, clipPlanes.size(), "clip-plane");
   checkRange(mss.cellBegin, mss.cellCount, cellPlanes.size(), "cell-plane");
   checkAtoms(convex.atom, params.atomCount, "atom");
@@ -266,16 +221,16 @@ void writePatchList(const std::string& path, const PatchList& patches) {
   body.pod(patches.params.atomCount);
   body.pod(patches.componentCount);
   std::uint32_t arrays = 0;
-  forEachArray(patches, [&](const char*, const char*, const auto&) { ++arrays; });
+  forEachArray([&](const char*, const char*, const auto&) { ++arrays; }, patches);
   body.pod(arrays);
-  forEachArray(patches, [&](const char* group, const char* name, const auto& v) {
+  forEachArray([&](const char* group, const char* name, const auto& v) {
     using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
     body.string(std::string(group) + "." + name);
     body.pod(static_cast<std::uint32_t>(Info::kScalar));
     body.pod(Info::kComponents);
     body.pod(static_cast<std::uint64_t>(v.size()));
     body.array(v);
-  });
+  }, patches);
 
   Writer file;
   file.bytes.insert(file.bytes.end(), kMagic, kMagic + sizeof kMagic);
@@ -357,11 +312,11 @@ PatchList readPatchList(const std::string& path) {
   p.componentCount = r.pod<std::uint32_t>("component count");
   const auto arrays = r.pod<std::uint32_t>("array count");
   std::uint32_t expected = 0;
-  forEachArray(p, [&](const char*, const char*, auto&) { ++expected; });
+  forEachArray([&](const char*, const char*, auto&) { ++expected; }, p);
   if (arrays != expected)
     r.fail("holds " + std::to_string(arrays) + " arrays, version " + std::to_string(version) + " has " +
            std::to_string(expected));
-  forEachArray(p, [&](const char* group, const char* name, auto& v) {
+  forEachArray([&](const char* group, const char* name, auto& v) {
     using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
     const std::string want = std::string(group) + "." + name;
     const std::string got = r.string("array name");
@@ -372,7 +327,7 @@ PatchList readPatchList(const std::string& path) {
       r.fail("array " + want + " has the wrong element type");
     const auto count = r.pod<std::uint64_t>("array length");
     r.array(v, count, want.c_str());
-  });
+  }, p);
   if (!r.atEnd()) r.fail("unexpected bytes after the last array");
   try {
     p.validate();
@@ -419,7 +374,7 @@ PatchList outerComponent(const PatchList& in) {
                           in.clipPlanes.begin() + in.concave.clipBegin[k] + in.concave.clipCount[k]);
   }
   // Every array of a kind loses the same entries: the visitor reaches fields added later too.
-  forEachArray(out, [&](const char* group, const char*, auto& v) {
+  forEachArray([&](const char* group, const char*, auto& v) {
     const std::vector<bool>* keep = std::strcmp(group, "convex") == 0    ? &keepConvex
                                     : std::strcmp(group, "tori") == 0    ? &keepTori
                                     : std::strcmp(group, "concave") == 0 ? &keepConcave
@@ -429,7 +384,7 @@ PatchList outerComponent(const PatchList& in) {
     for (std::size_t k = 0; k < v.size(); ++k)
       if ((*keep)[k]) v[kept++] = v[k];
     v.resize(kept);
-  });
+  }, out);
   out.componentCount = in.componentCount > 0 ? 1u : 0u;
   return out;
 }

@@ -131,6 +131,52 @@ struct PatchList {
   void validate() const;
 };
 
+// Every array of the patch list, by kind (`group`, whose arrays share one length) and name,
+// visited in lockstep in one or more lists: visit(group, name, array...). Writing, reading,
+// validation, filtering and the tests' comparisons all walk this one list, so a field added
+// to a kind above and here is stored, loaded, checked and compared.
+template <class Visit, class... Lists>
+void forEachArray(Visit&& visit, Lists&... p) {
+  visit("convex", "center", p.convex.center...);
+  visit("convex", "radius", p.convex.radius...);
+  visit("convex", "atom", p.convex.atom...);
+  visit("convex", "component", p.convex.component...);
+  visit("convex", "area", p.convex.area...);
+  visit("convex", "vectorArea", p.convex.vectorArea...);
+  visit("tori", "center", p.tori.center...);
+  visit("tori", "axis", p.tori.axis...);
+  visit("tori", "e1", p.tori.e1...);
+  visit("tori", "bigRadius", p.tori.bigRadius...);
+  visit("tori", "thetaI", p.tori.thetaI...);
+  visit("tori", "thetaJ", p.tori.thetaJ...);
+  visit("tori", "phiExtent", p.tori.phiExtent...);
+  visit("tori", "atomI", p.tori.atomI...);
+  visit("tori", "atomJ", p.tori.atomJ...);
+  visit("tori", "component", p.tori.component...);
+  visit("concave", "probe", p.concave.probe...);
+  visit("concave", "dirI", p.concave.dirI...);
+  visit("concave", "dirJ", p.concave.dirJ...);
+  visit("concave", "dirK", p.concave.dirK...);
+  visit("concave", "atomI", p.concave.atomI...);
+  visit("concave", "atomJ", p.concave.atomJ...);
+  visit("concave", "atomK", p.concave.atomK...);
+  visit("concave", "clipBegin", p.concave.clipBegin...);
+  visit("concave", "clipCount", p.concave.clipCount...);
+  visit("concave", "component", p.concave.component...);
+  visit("clipPlanes", "plane", p.clipPlanes...);
+  visit("mss", "kind", p.mss.kind...);
+  visit("mss", "center", p.mss.center...);
+  visit("mss", "axis", p.mss.axis...);
+  visit("mss", "radialCoeff", p.mss.radialCoeff...);
+  visit("mss", "axialCoeff", p.mss.axialCoeff...);
+  visit("mss", "constant", p.mss.constant...);
+  visit("mss", "boundRadius", p.mss.boundRadius...);
+  visit("mss", "atoms", p.mss.atoms...);
+  visit("mss", "cellBegin", p.mss.cellBegin...);
+  visit("mss", "cellCount", p.mss.cellCount...);
+  visit("cellPlanes", "plane", p.cellPlanes...);
+}
+
 // The van der Waals (inflate = 0, SurfaceKind::Vdw) or solvent-accessible (inflate = rp,
 // SurfaceKind::Sas) surface as a patch list of whole spheres, one convex patch per atom,
 // so that every renderer draws it through the same contract as the SES. Areas are left 0.

@@ -17,38 +17,14 @@
 #include "build/mss/mss_area.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "oracles/freesasa_oracle.hpp"
+#include "patch_compare.hpp"
 
 namespace surftrace::build {
 namespace {
 
 Molecule molecule(const std::string& file) { return readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file); }
 
-template <class T>
-void expectSameArray(const std::vector<T>& got, const std::vector<T>& want, const char* name, const std::string& where) {
-  ASSERT_EQ(got.size(), want.size()) << name << " (" << where << ")";
-  for (std::size_t i = 0; i < got.size(); ++i) {
-    if (std::memcmp(&got[i], &want[i], sizeof(T)) != 0) {
-      ADD_FAILURE() << name << "[" << i << "] of " << got.size() << " differs (" << where << ")";
-      return;
-    }
-  }
-}
-
-void expectSameMss(const PatchList& got, const PatchList& want, const std::string& where) {
-  EXPECT_EQ(got.params.shrinkFactor, want.params.shrinkFactor);
-  EXPECT_EQ(got.params.atomCount, want.params.atomCount);
-  expectSameArray(got.mss.kind, want.mss.kind, "kind", where);
-  expectSameArray(got.mss.atoms, want.mss.atoms, "atoms", where);
-  expectSameArray(got.mss.center, want.mss.center, "center", where);
-  expectSameArray(got.mss.axis, want.mss.axis, "axis", where);
-  expectSameArray(got.mss.radialCoeff, want.mss.radialCoeff, "radialCoeff", where);
-  expectSameArray(got.mss.axialCoeff, want.mss.axialCoeff, "axialCoeff", where);
-  expectSameArray(got.mss.constant, want.mss.constant, "constant", where);
-  expectSameArray(got.mss.boundRadius, want.mss.boundRadius, "boundRadius", where);
-  expectSameArray(got.mss.cellBegin, want.mss.cellBegin, "cellBegin", where);
-  expectSameArray(got.mss.cellCount, want.mss.cellCount, "cellCount", where);
-  expectSameArray(got.cellPlanes, want.cellPlanes, "cellPlanes", where);
-}
+using test::expectSamePatchLists;
 
 // Radius of a sphere patch from its quadric.
 double sphereRadius(const PatchList& p, std::size_t k) { return std::sqrt(-p.mss.constant[k] / p.mss.radialCoeff[k]); }
@@ -103,6 +79,33 @@ TEST(MssBuilder, TwoAtomsPinchWhereTheGrownBallsTouch) {
   EXPECT_NEAR(areas[2], areas[1], 1e-2 * areas[1]);
 }
 
+// Two overlapping atoms: two spheres with a cap cut off each, joined by a one-sheet neck,
+// all in closed form (ORACLES C.2, C.3): the caps sit at distance s·|z_X − z_a| from each
+// centre, and the neck ρ² = s h²/(1 − s) − s w_X between h_i = −(1 − s)|z_X − z_i| and
+// h_j = (1 − s)|z_j − z_X| has area 2π ∫ √(a h² + b) dh with a = s/(1 − s) + (s/(1 − s))²,
+// b = −s w_X. Checks the quadrature, the caps and the volume's closure.
+TEST(MssBuilder, TwoAtomNeckAreaMatchesTheClosedForm) {
+  const double ri = 1.6, rj = 1.2, d = 3.1;
+  for (double s : {0.3, 0.5, 0.7}) {
+    const std::vector<glm::dvec3> c{{0.5, 0.25, -1.0}, {0.5 + d, 0.25, -1.0}};
+    const std::vector<double> r{ri, rj};
+    const PatchList p = buildMss(c, r, {s});
+    const double wi = ri * ri / s, wj = rj * rj / s;
+    const double alpha = 0.5 + (wi - wj) / (2 * d * d), wX = alpha * alpha * d * d - wi;
+    ASSERT_LT(wX, 0.0);
+    const double a = s / (1 - s) + (s / (1 - s)) * (s / (1 - s)), b = -s * wX;
+    auto F = [&](double h) { return 0.5 * h * std::sqrt(a * h * h + b) + b / (2 * std::sqrt(a)) * std::asinh(h * std::sqrt(a / b)); };
+    const double neck = 2 * std::numbers::pi * (F((1 - s) * (1 - alpha) * d) - F(-(1 - s) * alpha * d));
+    auto sphere = [&](double radius, double cut) { return 4 * std::numbers::pi * radius * radius - 2 * std::numbers::pi * radius * (radius - cut); };
+    const double convex = sphere(ri, s * alpha * d) + sphere(rj, s * (1 - alpha) * d);
+    const MssAreas areas = computeMssAreas(p, c);
+    EXPECT_NEAR(areas.byKind[1], neck, 1e-9 * neck) << s;
+    EXPECT_NEAR(areas.byKind[0], convex, 1e-11 * convex) << s;
+    EXPECT_LT(areas.areaErrorEstimate, 1e-8) << s;
+    EXPECT_LT(areas.closure, 1e-9) << s;
+  }
+}
+
 // s → 1: the skin approaches the union of the van der Waals balls, whose area FreeSASA
 // (Lee & Richards, probe 0) gives independently.
 TEST(MssBuilder, ApproachesTheVanDerWaalsAreaAsShrinkTendsToOne) {
@@ -138,7 +141,7 @@ TEST(MssBuilder, SameListForAnyThreadCount) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
     two = buildMss(m.centers, m.radii, {0.5});
   }
-  expectSameMss(two, one, "1VIS, 1 vs 2 threads");
+  expectSamePatchLists(two, one, "1VIS, 1 vs 2 threads");
 }
 
 // Feasible cells are exact where they matter: whole power cells (every neighbour within
@@ -148,7 +151,7 @@ TEST(MssBuilder, FeasibleCellsGiveTheWholePowerCellsList) {
   for (double s : {0.3, 0.5}) {
     const PatchList feasible = buildMss(m.centers, m.radii, {s});
     const PatchList whole = buildMss(m.centers, m.radii, {s, 3.0});
-    expectSameMss(feasible, whole, "1CRN s = " + std::to_string(s));
+    expectSamePatchLists(feasible, whole, "1CRN s = " + std::to_string(s));
   }
 }
 
@@ -173,11 +176,11 @@ TEST(MssBuilder, PartialUpdatesEqualFreshBuilds) {
     }
     const PatchList& updated = builder.update(moved, places);
     EXPECT_LT(builder.lastUpdate().recomputed, centers.size() / 4);
-    expectSameMss(updated, buildMss(centers, m.radii, {0.5}), "round " + std::to_string(round));
+    expectSamePatchLists(updated, buildMss(centers, m.radii, {0.5}), "round " + std::to_string(round));
   }
   // A whole new frame through the other entry point.
   for (auto& c : centers) c += glm::dvec3(1e-3, -2e-3, 0.5e-3);
-  expectSameMss(builder.update(centers), buildMss(centers, m.radii, {0.5}), "whole frame");
+  expectSamePatchLists(builder.update(centers), buildMss(centers, m.radii, {0.5}), "whole frame");
   EXPECT_TRUE(builder.lastUpdate().full);
 }
 

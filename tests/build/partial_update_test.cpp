@@ -10,6 +10,7 @@
 
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
+#include "patch_compare.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -22,53 +23,7 @@ Molecule model(const std::string& file, int number) {
   return readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file, options);
 }
 
-// Reports the first differing element of each array that differs.
-template <class T>
-void expectSameArray(const std::vector<T>& got, const std::vector<T>& want, const char* name, const std::string& where) {
-  ASSERT_EQ(got.size(), want.size()) << name << " (" << where << ")";
-  for (std::size_t i = 0; i < got.size(); ++i) {
-    if (std::memcmp(&got[i], &want[i], sizeof(T)) != 0) {
-      ADD_FAILURE() << name << "[" << i << "] of " << got.size() << " differs (" << where << ")";
-      return;
-    }
-  }
-}
-
-void expectSamePatches(const PatchList& got, const PatchList& want, const std::string& where) {
-  EXPECT_EQ(got.params.surface, want.params.surface);
-  EXPECT_EQ(got.params.probeRadius, want.params.probeRadius);
-  EXPECT_EQ(got.params.atomCount, want.params.atomCount);
-  EXPECT_EQ(got.componentCount, want.componentCount) << where;
-  expectSameArray(got.convex.center, want.convex.center, "convex.center", where);
-  expectSameArray(got.convex.radius, want.convex.radius, "convex.radius", where);
-  expectSameArray(got.convex.atom, want.convex.atom, "convex.atom", where);
-  expectSameArray(got.convex.component, want.convex.component, "convex.component", where);
-  expectSameArray(got.convex.area, want.convex.area, "convex.area", where);
-  expectSameArray(got.convex.vectorArea, want.convex.vectorArea, "convex.vectorArea", where);
-  expectSameArray(got.tori.center, want.tori.center, "tori.center", where);
-  expectSameArray(got.tori.axis, want.tori.axis, "tori.axis", where);
-  expectSameArray(got.tori.e1, want.tori.e1, "tori.e1", where);
-  expectSameArray(got.tori.bigRadius, want.tori.bigRadius, "tori.bigRadius", where);
-  expectSameArray(got.tori.thetaI, want.tori.thetaI, "tori.thetaI", where);
-  expectSameArray(got.tori.thetaJ, want.tori.thetaJ, "tori.thetaJ", where);
-  expectSameArray(got.tori.phiExtent, want.tori.phiExtent, "tori.phiExtent", where);
-  expectSameArray(got.tori.atomI, want.tori.atomI, "tori.atomI", where);
-  expectSameArray(got.tori.atomJ, want.tori.atomJ, "tori.atomJ", where);
-  expectSameArray(got.tori.component, want.tori.component, "tori.component", where);
-  expectSameArray(got.concave.probe, want.concave.probe, "concave.probe", where);
-  expectSameArray(got.concave.dirI, want.concave.dirI, "concave.dirI", where);
-  expectSameArray(got.concave.dirJ, want.concave.dirJ, "concave.dirJ", where);
-  expectSameArray(got.concave.dirK, want.concave.dirK, "concave.dirK", where);
-  expectSameArray(got.concave.atomI, want.concave.atomI, "concave.atomI", where);
-  expectSameArray(got.concave.atomJ, want.concave.atomJ, "concave.atomJ", where);
-  expectSameArray(got.concave.atomK, want.concave.atomK, "concave.atomK", where);
-  expectSameArray(got.concave.clipBegin, want.concave.clipBegin, "concave.clipBegin", where);
-  expectSameArray(got.concave.clipCount, want.concave.clipCount, "concave.clipCount", where);
-  expectSameArray(got.concave.component, want.concave.component, "concave.component", where);
-  expectSameArray(got.clipPlanes, want.clipPlanes, "clipPlanes", where);
-  EXPECT_EQ(got.mss.size(), want.mss.size());
-  EXPECT_EQ(got.cellPlanes.size(), want.cellPlanes.size());
-}
+using test::expectSamePatchLists;
 
 // Moves `atoms` to their positions in `to` and checks the update against a rebuild.
 void moveAndCheck(SesBuilder& builder, std::vector<glm::dvec3>& current, const std::vector<double>& radii,
@@ -80,7 +35,7 @@ void moveAndCheck(SesBuilder& builder, std::vector<glm::dvec3>& current, const s
   }
   const PatchList& updated = builder.update(atoms, where_);
   updated.validate();
-  expectSamePatches(updated, buildSes(current, radii, SesParams{kRp}), where);
+  expectSamePatchLists(updated, buildSes(current, radii, SesParams{kRp}), where);
 }
 
 // 1D3Z (ubiquitin, NMR, 1231 atoms with hydrogens): residues move, one after another,
@@ -113,7 +68,7 @@ TEST(PartialUpdate, NmrResiduesMoveBetweenModels) {
   // Then the whole of model 5 at once (every atom moves: a full build).
   const Molecule m5 = model("ensembles/1d3z.pdb.gz", 5);
   current = m5.centers;
-  expectSamePatches(builder.update(current), buildSes(current, first.radii, SesParams{kRp}), "model 5");
+  expectSamePatchLists(builder.update(current), buildSes(current, first.radii, SesParams{kRp}), "model 5");
   EXPECT_TRUE(builder.lastUpdate().full);
 }
 
@@ -127,7 +82,7 @@ TEST(PartialUpdate, WholeFramesOneAfterAnother) {
   for (const int frame : {6, 11, 2, 11}) {
     const Molecule m = model("ensembles/1grm_elNemo_mode7.pdb.gz", frame);
     std::vector<glm::dvec3> current = m.centers;
-    expectSamePatches(builder.update(current), buildSes(current, first.radii, SesParams{kRp}),
+    expectSamePatchLists(builder.update(current), buildSes(current, first.radii, SesParams{kRp}),
                       "whole frame " + std::to_string(frame));
     EXPECT_TRUE(builder.lastUpdate().full);
     std::vector<glm::dvec3> to = current;
@@ -198,7 +153,7 @@ TEST(PartialUpdate, AtomFarAwayAndBack) {
     to[atom] = home;
     moveAndCheck(builder, current, m.radii, {atom}, to, "atom " + std::to_string(atom) + " back");
   }
-  expectSamePatches(builder.patches(), original, "all back home");
+  expectSamePatchLists(builder.patches(), original, "all back home");
 }
 
 // Burial by containment changes with the move: a hydrogen moved onto its heavy atom is
@@ -239,7 +194,7 @@ TEST(PartialUpdate, SingleThreadGivesTheSameList) {
   tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
   SesBuilder one;
   one.build(m1.centers, m1.radii, SesParams{kRp});
-  expectSamePatches(one.update(atoms, where), fromAll, "1 thread vs all");
+  expectSamePatchLists(one.update(atoms, where), fromAll, "1 thread vs all");
 }
 
 TEST(PartialUpdate, Contract) {
@@ -259,12 +214,12 @@ TEST(PartialUpdate, Contract) {
   const PatchList before = builder.patches();
   builder.update(c);
   EXPECT_EQ(builder.lastUpdate().moved, 0u);
-  expectSamePatches(builder.patches(), before, "no move");
+  expectSamePatchLists(builder.patches(), before, "no move");
   // A repeated index takes its last position.
   const std::vector<std::uint32_t> twice = {1, 1};
   const std::vector<glm::dvec3> positions = {{9, 9, 9}, {2.5, 0.5, 0}};
   builder.update(twice, positions);
-  expectSamePatches(builder.patches(), buildSes(std::vector<glm::dvec3>{{0, 0, 0}, {2.5, 0.5, 0}}, r, SesParams{kRp}),
+  expectSamePatchLists(builder.patches(), buildSes(std::vector<glm::dvec3>{{0, 0, 0}, {2.5, 0.5, 0}}, r, SesParams{kRp}),
                     "repeated index");
 }
 

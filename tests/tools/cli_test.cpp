@@ -53,6 +53,37 @@ TEST(Cli, BadInputIsAClearErrorNotACrash) {
   EXPECT_NE(probe.output.find("--probe"), std::string::npos) << probe.output;
 }
 
+// The skin from the command line: areas by kind that add up, the per-atom shares that add up
+// to the same total, a patch list that reads back valid, and a clear word on a bad s.
+TEST(Cli, SkinAreaBuildAndShrinkErrors) {
+  const Result r = run("area --surface mss --shrink 0.3 --format json " + data("paper/1grm.pdb.gz"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output)["mss"];
+  const double kinds = double(j["convex"]) + double(j["edge"]) + double(j["face"]) + double(j["concave"]);
+  EXPECT_NEAR(double(j["total"]), kinds, 1e-9 * kinds);
+  double perAtom = 0.0;
+  for (double a : j["per_atom"]) perAtom += a;
+  EXPECT_NEAR(perAtom, kinds, 1e-9 * kinds);
+  EXPECT_GT(double(j["volume"]), 0.0);
+  for (const char* kind : {"convex", "edge", "face", "concave"}) EXPECT_GT(double(j[kind]), 0.0) << kind;
+
+  const std::string stp = (std::filesystem::path(testing::TempDir()) / "1grm_mss.stp").string();
+  const Result b = run("build --surface mss --shrink 0.5 " + data("paper/1grm.pdb.gz") + " -o " + stp);
+  ASSERT_EQ(b.status, 0) << b.output;
+  EXPECT_NE(b.output.find("edge hyperboloids"), std::string::npos) << b.output;
+  const surftrace::build::PatchList p = surftrace::build::readPatchList(stp);
+  EXPECT_EQ(p.params.surface, surftrace::build::SurfaceKind::Mss);
+  EXPECT_EQ(p.params.shrinkFactor, 0.5);
+  EXPECT_GT(p.mss.size(), p.params.atomCount);
+
+  for (const char* bad : {"0", "1.5", "-0.2", "nan", "half"}) {
+    const Result e = run(std::string("area --surface mss --shrink ") + bad + " " + data("paper/1grm.pdb.gz"));
+    EXPECT_NE(e.status, 0) << bad;
+    EXPECT_NE(e.output.find("(0, 1]"), std::string::npos) << e.output;
+    EXPECT_EQ(e.output.find("000000"), std::string::npos) << "no raw numeric limits: " << e.output;
+  }
+}
+
 TEST(Cli, AreaJsonHasTheDocumentedShape) {
   const Result r = run("area --format json " + data("paper/1grm.pdb.gz"));
   ASSERT_EQ(r.status, 0) << r.output;

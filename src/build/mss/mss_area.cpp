@@ -290,7 +290,7 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
     const std::uint32_t kind = q.kind[k];
     out.perPatch[k] = m.area;
     out.byKind[kind] += m.area;
-    out.areaErrorBound += errors[k];
+    out.areaErrorEstimate += errors[k];
     normalSum += m.normal;
     volume += m.flux + glm::dot(q.center[k] - origin, m.normal);
     // The flux integrand is bounded by |x − origin|; its error scales like the area's.
@@ -307,7 +307,7 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
   }
   out.closure = glm::length(normalSum);
   out.volume = volume / 3.0;
-  out.volumeErrorBound = volumeError / 3.0;
+  out.volumeErrorEstimate = volumeError / 3.0;
   return out;
 }
 

@@ -16,9 +16,11 @@ struct MssAreas {
   double byKind[4] = {0, 0, 0, 0};
   double total() const { return byKind[0] + byKind[1] + byKind[2] + byKind[3]; }
   double volume = 0.0;         // Å³ enclosed by the skin (divergence theorem over the patches)
-  // Bound on the quadrature error of the hyperboloid areas (the spheres are closed form).
-  double areaErrorBound = 0.0;
-  double volumeErrorBound = 0.0;
+  // Estimated quadrature error of the hyperboloid areas (the spheres are closed form): the sum
+  // over all pieces of |Kronrod 15 − Gauss 7|, which bounds the 7-point rule's error on a smooth
+  // piece and so, in practice, the 15-point result's by a wide margin.
+  double areaErrorEstimate = 0.0;
+  double volumeErrorEstimate = 0.0;
   // |Σ ∫ n dA| over all patches, Å²: 0 for a closed surface (a hole or an overlap shows here).
   double closure = 0.0;
   std::vector<double> perPatch;  // Å², one per MSS patch
@@ -31,8 +33,8 @@ struct MssAreas {
 // Spheres (convex and concave) exactly, by Gauss–Bonnet on the sphere minus the caps outside
 // the mixed cell; hyperboloids by adaptive Gauss–Kronrod quadrature along the axis of
 // revolution between breakpoints (the circle of radius ρ(h) meets the prism's cross-section
-// polygon in arcs with closed-form length), to 1e-10 relative per patch, with the summed
-// error estimate reported. `centers` are the atoms' (for the per-atom shares).
+// polygon in arcs with closed-form length), to an estimated 1e-10 relative per patch, with
+// the summed error estimate reported. `centers` are the atoms' (for the per-atom shares).
 MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> centers);
 
 // The skin at s = 1: the union of the van der Waals balls, exactly (Gauss–Bonnet on each

@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -17,6 +18,7 @@
 
 #include "build/mss/power_cell.hpp"
 #include "build/mss/skin_geometry.hpp"
+#include "build/moved_atoms.hpp"
 #include "build/neighbour_grid.hpp"
 
 namespace surftrace::build {
@@ -35,31 +37,11 @@ constexpr std::uint32_t kBlockAtoms = 16;
 // whatever the rounding of the distances that select it.
 constexpr double kReachSlack = 1e-9;
 
-// Every array of MssQuadrics, visited in lockstep in two lists (a block's and the whole's).
-template <class A, class B, class Visit>
-void forEachQuadricArray(A& a, B& b, Visit&& visit) {
-  visit(a.kind, b.kind);
-  visit(a.center, b.center);
-  visit(a.axis, b.axis);
-  visit(a.radialCoeff, b.radialCoeff);
-  visit(a.axialCoeff, b.axialCoeff);
-  visit(a.constant, b.constant);
-  visit(a.boundRadius, b.boundRadius);
-  visit(a.atoms, b.atoms);
-  visit(a.cellBegin, b.cellBegin);
-  visit(a.cellCount, b.cellCount);
-}
+// One block's patches (the MSS arrays of a patch list), with cell-plane indices relative to
+// the block.
+using Chunk = PatchList;
 
-// One block's patches, with cell-plane indices relative to the block.
-struct Chunk {
-  MssQuadrics q;
-  std::vector<Plane> planes;
-
-  void clear() {
-    forEachQuadricArray(q, q, [](auto& v, auto&) { v.clear(); });
-    planes.clear();
-  }
-};
+bool isMssGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
 
 // A Delaunay simplex owned by the current atom whose mixed cell holds skin, with the atoms
 // a of its cofaces X ∪ {a} (the facets on the Voronoi side) in ups[upBegin, upBegin + upCount).
@@ -68,10 +50,20 @@ struct Element {
   std::uint32_t upBegin, upCount;
 };
 
+// A neighbour whose power plane comes within ρ_i: the plane's distance from the atom and
+// its unit normal. Ordered by distance, then atom.
+struct Candidate {
+  double dist;
+  std::uint32_t atom;
+  glm::dvec3 unit;
+
+  bool operator<(const Candidate& o) const { return dist < o.dist || (dist == o.dist && atom < o.atom); }
+};
+
 struct Scratch {
   PowerCell cell;
   std::vector<std::uint32_t> near;
-  std::vector<std::pair<double, std::uint32_t>> candidates;
+  std::vector<Candidate> candidates;
   std::vector<Element> elements;
   std::vector<std::uint32_t> ups;
 };
@@ -136,29 +128,31 @@ bool holdsSkin(const WeightedPoints& p, const Simplex& x, const mss::Orthocentre
   return minG <= tol && maxG >= -tol;
 }
 
-void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& out) {
+void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& chunk) {
+  MssQuadrics& out = chunk.mss;
   const mss::SkinQuadric q = mss::skinQuadric(p, x, mss::orthocentre(p, x));
   const double bound = mss::skinBoundRadius(p, x, q.weight);
-  const auto begin = static_cast<std::uint32_t>(out.planes.size());
+  std::vector<Plane>& planes = chunk.cellPlanes;
+  const auto begin = static_cast<std::uint32_t>(planes.size());
   // A plane is kept unless the whole ball of the patch's skin lies on its inner side.
   const double cull = -(bound * (1.0 + 1e-9) + 1e-12);
   auto keep = [&](const glm::dvec4& plane) {
-    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) out.planes.push_back(plane);
+    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) planes.push_back(plane);
   };
   for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(-mss::facetPlane(p, x.without(k), x[k], q.center));
   for (std::uint32_t a : ups) keep(mss::facetPlane(p, x, a));
   glm::uvec4 atoms(~0u);
   for (int k = 0; k < x.size; ++k) atoms[k] = x[k];
-  out.q.kind.push_back(static_cast<std::uint32_t>(x.size - 1));
-  out.q.center.push_back(q.center);
-  out.q.axis.push_back(q.axis);
-  out.q.radialCoeff.push_back(q.radial);
-  out.q.axialCoeff.push_back(q.axial);
-  out.q.constant.push_back(q.constant);
-  out.q.boundRadius.push_back(bound);
-  out.q.atoms.push_back(atoms);
-  out.q.cellBegin.push_back(begin);
-  out.q.cellCount.push_back(static_cast<std::uint32_t>(out.planes.size()) - begin);
+  out.kind.push_back(static_cast<std::uint32_t>(x.size - 1));
+  out.center.push_back(q.center);
+  out.axis.push_back(q.axis);
+  out.radialCoeff.push_back(q.radial);
+  out.axialCoeff.push_back(q.axial);
+  out.constant.push_back(q.constant);
+  out.boundRadius.push_back(bound);
+  out.atoms.push_back(atoms);
+  out.cellBegin.push_back(begin);
+  out.cellCount.push_back(static_cast<std::uint32_t>(planes.size()) - begin);
 }
 
 bool isAtom(const CellPlane& plane) { return plane.atom < kBoxPlane; }
@@ -183,16 +177,17 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
       continue;
     }
     const double dist = (dd - p.w[j] + wi) / (2.0 * std::sqrt(dd));
-    if (dist < g.rho[i]) sc.candidates.emplace_back(dist, j);
+    if (dist < g.rho[i]) sc.candidates.push_back({dist, j, d / std::sqrt(dd)});
   }
   std::sort(sc.candidates.begin(), sc.candidates.end());
 
   PowerCell& cell = sc.cell;
   cell.reset(p, i, g.rho[i] * 1.0625);
-  for (const auto& [dist, j] : sc.candidates) {
+  for (const Candidate& c : sc.candidates) {
     // Sorted by distance: once a plane lies beyond every vertex, so do the rest.
-    if (dist > 0.0 && dist * dist > cell.maxVertexNorm2() * (1.0 + 1e-6)) break;
-    if (cell.clip(j) == PowerCell::Clip::Empty) return;
+    if (c.dist > 0.0 && c.dist * c.dist > cell.maxVertexNorm2() * (1.0 + 1e-6)) break;
+    if (cell.surelyRedundant(c.unit, c.dist)) continue;
+    if (cell.clip(c.atom) == PowerCell::Clip::Empty) return;
   }
 
   // Only the part of the cell within ρ_i can bound skin (and only it is exact): a coface's
@@ -339,7 +334,7 @@ struct MssBuilder::State {
     tbb::parallel_for(std::size_t{0}, which.size(), [&](std::size_t n) {
       const std::uint32_t b = which[n];
       Chunk& chunk = blocks[b];
-      chunk.clear();
+      chunk.clearKeepingMemory();
       Scratch& sc = scratch.local();
       const auto end = static_cast<std::uint32_t>(std::min<std::size_t>(centers.size(), (b + 1) * std::size_t{kBlockAtoms}));
       for (std::uint32_t i = b * kBlockAtoms; i < end; ++i) {
@@ -361,19 +356,22 @@ struct MssBuilder::State {
     patchOffset.assign(count + 1, 0);
     planeOffset.assign(count + 1, 0);
     for (std::size_t b = 0; b < count; ++b) {
-      patchOffset[b + 1] = patchOffset[b] + blocks[b].q.size();
-      planeOffset[b + 1] = planeOffset[b] + blocks[b].planes.size();
+      patchOffset[b + 1] = patchOffset[b] + blocks[b].mss.size();
+      planeOffset[b + 1] = planeOffset[b] + blocks[b].cellPlanes.size();
     }
-    forEachQuadricArray(list.mss, list.mss, [&](auto& v, auto&) { v.resize(patchOffset[count]); });
-    list.cellPlanes.resize(planeOffset[count]);
+    auto offsets = [&](const char* group) -> const std::vector<std::size_t>& {
+      return std::strcmp(group, "cellPlanes") == 0 ? planeOffset : patchOffset;
+    };
+    forEachArray([&](const char* group, const char*, auto& v) {
+      if (isMssGroup(group)) v.resize(offsets(group)[count]);
+    }, list);
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
-      const Chunk& c = blocks[b];
-      forEachQuadricArray(list.mss, c.q, [&](auto& dst, const auto& src) {
-        std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(patchOffset[b]));
-      });
+      forEachArray([&](const char* group, const char*, auto& dst, const auto& src) {
+        if (isMssGroup(group))
+          std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(offsets(group)[b]));
+      }, list, std::as_const(blocks[b]));
       const auto base = static_cast<std::uint32_t>(planeOffset[b]);
       for (std::size_t k = patchOffset[b]; k < patchOffset[b + 1]; ++k) list.mss.cellBegin[k] += base;
-      std::copy(c.planes.begin(), c.planes.end(), list.cellPlanes.begin() + static_cast<std::ptrdiff_t>(planeOffset[b]));
     });
   }
 
@@ -493,22 +491,21 @@ const PatchList& MssBuilder::update(std::span<const glm::dvec3> centers) {
   if (centers.size() != s_->centers.size()) throw std::invalid_argument("MssBuilder::update: the frame has a different atom count");
   std::vector<std::uint32_t> moved;
   std::vector<glm::dvec3> places;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    if (std::memcmp(&centers[i], &s_->centers[i], sizeof(glm::dvec3)) != 0) {
-      moved.push_back(static_cast<std::uint32_t>(i));
-      places.push_back(centers[i]);
-    }
-  }
+  movedAtoms(s_->centers, centers, moved, places);
   return update(moved, places);
 }
 
 const PatchList& MssBuilder::patches() const { return s_->list; }
+PatchList MssBuilder::takePatches() {
+  s_->built = false;
+  return std::move(s_->list);
+}
 const MssUpdateStats& MssBuilder::lastUpdate() const { return s_->stats; }
 
 PatchList buildMss(std::span<const glm::dvec3> centers, std::span<const double> radii, const MssParams& params) {
   MssBuilder builder;
   builder.build(centers, radii, params);
-  return PatchList(builder.patches());
+  return builder.takePatches();
 }
 
 }  // namespace surftrace::build

@@ -62,6 +62,8 @@ class MssBuilder {
   const PatchList& update(std::span<const glm::dvec3> centers);
 
   const PatchList& patches() const;
+  // Moves the patch list out; the builder needs build() again before update().
+  PatchList takePatches();
   const MssUpdateStats& lastUpdate() const;
 
  private:

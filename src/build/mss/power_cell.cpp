@@ -94,6 +94,8 @@ void PowerCell::reset(const WeightedPoints& points, std::uint32_t atom, double h
     faceStart_.push_back(static_cast<std::uint32_t>(faceVerts_.size()));
   }
   maxNorm2_ = 3.0 * half * half;
+  ballCentre_ = glm::dvec3(0.0);
+  ballRadius_ = std::sqrt(maxNorm2_);
 }
 
 CellVertex PowerCell::makeVertex(std::uint16_t a, std::uint16_t b, std::uint16_t c) {
@@ -282,7 +284,15 @@ PowerCell::Clip PowerCell::clip(std::uint32_t j) {
   std::swap(faceStart_, nextFaceStart_);
   std::swap(faceVerts_, nextFaceVerts_);
   maxNorm2_ = 0.0;
-  for (const CellVertex& v : vertices_) maxNorm2_ = std::max(maxNorm2_, glm::dot(v.p, v.p));
+  ballCentre_ = glm::dvec3(0.0);
+  for (const CellVertex& v : vertices_) {
+    maxNorm2_ = std::max(maxNorm2_, glm::dot(v.p, v.p));
+    ballCentre_ += v.p;
+  }
+  ballCentre_ /= static_cast<double>(vertices_.size());
+  double radius2 = 0.0;
+  for (const CellVertex& v : vertices_) radius2 = std::max(radius2, glm::dot(v.p - ballCentre_, v.p - ballCentre_));
+  ballRadius_ = std::sqrt(radius2);
   return Clip::Cut;
 }
 

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -70,6 +71,14 @@ class PowerCell {
   // The plane other than k that vertices a and b share.
   std::uint16_t edgeNeighbour(std::uint16_t k, std::uint16_t a, std::uint16_t b) const;
   double maxVertexNorm2() const { return maxNorm2_; }
+  // Whether the plane at signed distance `dist` from the atom along the unit normal `unit`
+  // surely leaves every vertex inside (a bounding ball about the vertices' mean, with a
+  // margin far above the vertices' rounding): clip() would answer Redundant.
+  bool surelyRedundant(const glm::dvec3& unit, double dist) const {
+    const double reach = unit.x * ballCentre_.x + unit.y * ballCentre_.y + unit.z * ballCentre_.z;
+    const double margin = ballRadius_ * (1.0 + 1e-6) + 1e-9 * (std::abs(reach) + ballRadius_) + 1e-12;
+    return dist - reach > margin;
+  }
   // Counters for tests and benchmarks: sides decided exactly (GMP) since the last reset.
   std::size_t exactSides() const { return exactSides_; }
 
@@ -85,6 +94,8 @@ class PowerCell {
   std::uint32_t atom_ = 0;
   bool empty_ = false;
   double maxNorm2_ = 0.0;
+  glm::dvec3 ballCentre_{0.0};
+  double ballRadius_ = 0.0;
   std::size_t exactSides_ = 0;
 
   std::vector<CellPlane> planes_;

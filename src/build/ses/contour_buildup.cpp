@@ -51,6 +51,7 @@
 #include <tbb/parallel_for.h>
 
 #include "build/io/error.hpp"
+#include "build/moved_atoms.hpp"
 #include "build/neighbour_grid.hpp"
 #include "build/ses/sas_geometry.hpp"
 #include "build/ses/ses_assembly.hpp"
@@ -486,12 +487,7 @@ const PatchList& SesBuilder::update(std::span<const glm::dvec3> centers) {
   if (centers.size() != s_->centers.size()) throw std::invalid_argument("frame has a different atom count");
   std::vector<std::uint32_t> moved;
   std::vector<glm::dvec3> where;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    if (std::memcmp(&centers[i], &s_->centers[i], sizeof(glm::dvec3)) != 0) {
-      moved.push_back(static_cast<std::uint32_t>(i));
-      where.push_back(centers[i]);
-    }
-  }
+  movedAtoms(s_->centers, centers, moved, where);
   return update(moved, where);
 }
 

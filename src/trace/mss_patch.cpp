@@ -1,0 +1,114 @@
+// Ray–skin-quadric intersection inside a mixed cell (ORACLES B.5, C.3, C.4), in double.
+#include "trace/mss_patch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace surftrace::trace {
+namespace {
+
+constexpr double kBoundsPadUlps = 8.0;  // as for the spheres (STYLE §3.6)
+// Roots within this distance (relative to the patch's scale) of the cell are accepted: the
+// skin is C¹ across cell facets, so the neighbouring patch gives the same point there
+// (ORACLES C.4), and no ray slips between two cells.
+constexpr double kCellSlack = 1e-9;
+
+}  // namespace
+
+MssPatch mssPatch(const build::PatchList& patches, std::size_t k) {
+  const build::MssQuadrics& q = patches.mss;
+  MssPatch p;
+  p.kind = static_cast<build::MssKind>(q.kind[k]);
+  p.center = q.center[k];
+  p.axis = q.axis[k];
+  p.radial = q.radialCoeff[k];
+  p.axial = q.axialCoeff[k];
+  p.constant = q.constant[k];
+  p.boundRadius = q.boundRadius[k];
+  p.cellPlanes = {patches.cellPlanes.data() + q.cellBegin[k], q.cellCount[k]};
+  return p;
+}
+
+Bounds3d bounds(const MssPatch& p) {
+  const glm::dvec3 pad = kBoundsPadUlps * std::numeric_limits<double>::epsilon() * (glm::abs(p.center) + p.boundRadius);
+  Bounds3d b;
+  b.lower = p.center - (p.boundRadius + pad);
+  b.upper = p.center + (p.boundRadius + pad);
+  return b;
+}
+
+bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack) {
+  const glm::dvec3 d = x - p.center;
+  const double ball = p.boundRadius + slack;
+  if (glm::dot(d, d) > ball * ball) return false;
+  // Planes relative to the centre: n·x + w = n·d + (n·c + w), the second term small near the cell.
+  for (const build::Plane& plane : p.cellPlanes) {
+    const glm::dvec3 n(plane);
+    if (glm::dot(n, d) + (glm::dot(n, p.center) + plane.w) > slack) return false;
+  }
+  return true;
+}
+
+std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax) {
+  const double len = glm::length(ray.dir);
+  const glm::dvec3 d = ray.dir / len;
+  // Shift the origin to the ray's closest approach to the centre: o is then at most the
+  // distance of the ray from the centre, and t = t0 + u.
+  const glm::dvec3 oc = ray.org - p.center;
+  const double t0 = -glm::dot(oc, d);
+  const glm::dvec3 o = oc + t0 * d;
+  // The ray misses the bounding ball: no skin of this patch on it.
+  if (glm::dot(o, o) > p.boundRadius * p.boundRadius * (1.0 + 1e-12)) return std::nullopt;
+  const double da = glm::dot(d, p.axis), oa = glm::dot(o, p.axis);
+  // f(o + u d) = A u² + 2 B u + C.
+  const double A = p.radial + p.axial * da * da;
+  const double B = p.radial * glm::dot(o, d) + p.axial * oa * da;
+  const double C = p.radial * glm::dot(o, o) + p.axial * oa * oa + p.constant;
+  double roots[2];
+  int count = 0;
+  const double scaleA = std::abs(p.radial) + std::abs(p.axial);
+  if (std::abs(A) <= 1e-14 * scaleA) {
+    // Along an asymptote of the hyperboloid (or a cone's generator): f is linear in u.
+    if (B != 0.0) roots[count++] = -C / (2.0 * B);
+  } else {
+    const double disc = B * B - A * C;
+    if (disc < 0.0) return std::nullopt;
+    const double q = -(B + std::copysign(std::sqrt(disc), B));
+    if (q == 0.0) {
+      roots[count++] = 0.0;  // B = disc = 0: a double root at the closest approach
+    } else {
+      const double r1 = q / A, r2 = C / q;
+      roots[count++] = std::min(r1, r2);
+      roots[count++] = std::max(r1, r2);
+    }
+  }
+  const double scale = p.boundRadius + 1.0;
+  for (int k = 0; k < count; ++k) {
+    const double t = (t0 + roots[k]) / len;
+    if (!(t > tMin && t <= tMax)) continue;
+    const glm::dvec3 x = o + roots[k] * d;  // relative to the centre
+    if (!insideCell(p, p.center + x, kCellSlack * scale)) continue;
+    PatchHit hit;
+    hit.t = t;
+    const glm::dvec3 gradient = p.radial * x + (p.axial * glm::dot(x, p.axis)) * p.axis;
+    const double g = glm::length(gradient);
+    // At a cone's apex the gradient vanishes: any normal is as good; take the ray's reverse.
+    hit.normal = g > 0.0 ? gradient / g : -d;
+    if (g == 0.0 || std::abs(glm::dot(hit.normal, d)) < kGrazingCosine) hit.flags |= kHitGrazing;
+    for (const build::Plane& plane : p.cellPlanes) {
+      const glm::dvec3 n(plane);
+      if (std::abs(glm::dot(n, x) + glm::dot(n, p.center) + plane.w) < kBoundaryTolerance * scale) {
+        hit.flags |= kHitNearBoundary;
+        break;
+      }
+    }
+    return hit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace surftrace::trace

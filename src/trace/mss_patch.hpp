@@ -1,0 +1,41 @@
+// MSS patch: the skin quadric of one Delaunay simplex inside its mixed cell (ORACLES B.5,
+// C.3, C.4), intersected in double precision.
+#pragma once
+
+#include <optional>
+#include <span>
+
+#include "build/patch_list.hpp"
+#include "trace/ray.hpp"
+
+namespace surftrace::trace {
+
+// f(x) = radial·|x − center|² + axial·((x − center)·axis)² + constant, f < 0 inside the skin
+// body, kept where every cell plane (n, w) has n·x + w <= 0 and within boundRadius of the
+// centre (the list leaves out planes that cannot cut the skin inside that ball). `cellPlanes`
+// views planes owned elsewhere: the patch must not outlive them.
+struct MssPatch {
+  build::MssKind kind = build::MssKind::Convex;
+  glm::dvec3 center{0.0};
+  glm::dvec3 axis{0.0, 0.0, 1.0};
+  double radial = 1.0, axial = 0.0, constant = -1.0;
+  double boundRadius = 1.0;
+  std::span<const build::Plane> cellPlanes;
+};
+
+MssPatch mssPatch(const build::PatchList& patches, std::size_t index);
+
+// The box of the patch's bounding ball (every skin point of the patch lies in it).
+Bounds3d bounds(const MssPatch& p);
+
+// The first root in (tMin, tMax] whose point lies in the cell. The ray is shifted to its
+// closest approach to the centre before the quadratic is formed, and the roots are taken in
+// the cancellation-free form; a ray along an asymptote of a hyperboloid (quadratic term 0)
+// has one root, a tangent ray a double one. Normal ∇f/|∇f|, out of the body. Flags: grazing,
+// near a cell plane (a seam with the neighbouring patch).
+std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax);
+
+// The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
+bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
+
+}  // namespace surftrace::trace
