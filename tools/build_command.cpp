@@ -10,9 +10,8 @@
 
 #include "build/io/molecule.hpp"
 #include "build/mss/mss_area.hpp"
-#include "build/mss/mss_builder.hpp"
-#include "build/ses/contour_buildup.hpp"
 #include "build/ses/surface_area.hpp"
+#include "build/surface.hpp"
 #include "commands.hpp"
 
 namespace surftrace::tools {
@@ -35,22 +34,7 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
                  "skin: spheres and hyperboloids clipped to mixed cells)")
       ->check(CLI::IsMember({"ses", "mss"}))
       ->default_val("ses");
-  cmd.add_option("--shrink", o.shrink,
-                 "MSS shrink factor s in (0, 1]: small s is smooth and wraps the molecule loosely, s -> 1 "
-                 "approaches the atoms; s = 1 is exactly the union of the van der Waals balls (the vdW "
-                 "surface, built as whole spheres)")
-      ->check(CLI::Validator(
-          [](const std::string& v) {
-            double s = 0.0;
-            try {
-              s = std::stod(v);
-            } catch (const std::exception&) {
-              return "--shrink takes a number in (0, 1], got '" + v + "'";
-            }
-            return s > 0.0 && s <= 1.0 ? std::string() : "--shrink must lie in (0, 1], got " + v;
-          },
-          "in (0, 1]", ""))
-      ->default_val(0.5);
+  addShrinkOption(cmd, o.shrink);
   cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
       ->check(CLI::PositiveNumber)
       ->default_val(1.4);
@@ -71,7 +55,11 @@ struct Built {
   double readSeconds, buildSeconds;
 };
 
-Built buildSurface(const SurfaceOptions& o) {
+build::SurfaceRequest surfaceRequest(const SurfaceOptions& o) {
+  return {build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
+}
+
+Built readAndBuild(const SurfaceOptions& o) {
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -81,16 +69,7 @@ Built buildSurface(const SurfaceOptions& o) {
   b.molecule = build::readMolecule(o.path, o.read);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
-  const auto& m = b.molecule;
-  if (o.surface == "mss" && o.shrink >= 1.0)
-    b.patches = build::atomSpheres(m.centers, m.radii, 0.0, build::SurfaceKind::Vdw);
-  else if (o.surface == "mss")
-    b.patches = build::buildMss(m.centers, m.radii, build::MssParams{o.shrink});
-  else
-    b.patches = build::buildSes(m.centers, m.radii, build::SesParams{o.probe});
-  b.patches.params.radiiSet = b.molecule.radiiSet;
-  b.patches.params.inputCrc32 = b.molecule.inputCrc32;
-  if (o.dropCavities) b.patches = build::outerComponent(b.patches);
+  b.patches = build::buildSurface(b.molecule, surfaceRequest(o));
   b.buildSeconds = secondsSince(start);
   return b;
 }
@@ -100,7 +79,7 @@ struct BuildOptions : SurfaceOptions {
 };
 
 void runBuild(const BuildOptions& o) {
-  const Built b = buildSurface(o);
+  const Built b = readAndBuild(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;
   if (p.params.surface == build::SurfaceKind::Mss) {
@@ -178,7 +157,7 @@ void runMssArea(const AreaOptions& o, const Built& b) {
 }
 
 void runArea(const AreaOptions& o) {
-  const Built b = buildSurface(o);
+  const Built b = readAndBuild(o);
   if (o.surface == "mss") {
     runMssArea(o, b);
     return;
@@ -221,6 +200,25 @@ void runArea(const AreaOptions& o) {
 }
 
 }  // namespace
+
+void addShrinkOption(CLI::App& cmd, double& shrink) {
+  cmd.add_option("--shrink", shrink,
+                 "MSS shrink factor s in (0, 1]: small s is smooth and wraps the molecule loosely, s -> 1 "
+                 "approaches the atoms; s = 1 is exactly the union of the van der Waals balls (the vdW "
+                 "surface, built as whole spheres)")
+      ->check(CLI::Validator(
+          [](const std::string& v) {
+            double s = 0.0;
+            try {
+              s = std::stod(v);
+            } catch (const std::exception&) {
+              return "--shrink takes a number in (0, 1], got '" + v + "'";
+            }
+            return s > 0.0 && s <= 1.0 ? std::string() : "--shrink must lie in (0, 1], got " + v;
+          },
+          "in (0, 1]", ""))
+      ->default_val(0.5);
+}
 
 void addBuildCommands(CLI::App& app) {
   auto bo = std::make_shared<BuildOptions>();

@@ -12,6 +12,8 @@ namespace surftrace::tools {
 // Adds the options that choose atoms and radii (model, chains, water, hydrogens, radii
 // table, default radius, format) to `cmd`, storing them in `options`.
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
+// --shrink: the MSS shrink factor in (0, 1], default 0.5, with a readable error.
+void addShrinkOption(CLI::App& cmd, double& shrink);
 
 void addInfoCommand(CLI::App& app);
 void addBuildCommands(CLI::App& app);  // build, area

@@ -13,7 +13,7 @@
 #include <embree3/rtcore_config.h>
 #include <tbb/global_control.h>
 
-#include "build/ses/contour_buildup.hpp"
+#include "build/surface.hpp"
 #include "build/io/molecule.hpp"
 #include "commands.hpp"
 #include "gl/gl_context.hpp"
@@ -31,6 +31,7 @@ struct RenderCommandOptions {
   build::ReadOptions read;
   std::string surface = "ses";
   double probe = 1.4;
+  double shrink = 0.5;
   std::string patches;
   std::string size = "1024x1024";
   std::string view = "front";
@@ -139,30 +140,27 @@ void runRender(const RenderCommandOptions& o) {
   const double readSeconds = secondsSince(start);
 
   start = std::chrono::steady_clock::now();
+  const build::SurfaceRequest request{build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
   build::PatchList list;
-  double buildSeconds = 0.0;
   if (!o.patches.empty()) {
-    if (o.surface != "ses") throw std::invalid_argument("--patches holds an SES patch list; it cannot be combined with --surface " + o.surface);
     list = build::readPatchList(o.patches);
-    list.validate();
-    if (list.params.atomCount != molecule.size() || list.params.inputCrc32 != molecule.inputCrc32)
-      throw std::invalid_argument(o.patches + " was built from a different input (" + std::to_string(list.params.atomCount) +
-                                  " atoms) than " + o.path + " with these options (" + std::to_string(molecule.size()) +
-                                  " atoms); rebuild it with `surftrace build`");
-  } else if (o.surface == "ses") {
-    list = build::buildSes(molecule.centers, molecule.radii, build::SesParams{o.probe});
+    build::checkPatchListMatches(list, o.patches, molecule, request);
+    if (o.dropCavities) list = build::outerComponent(list);
   } else {
-    list = build::atomSpheres(molecule.centers, molecule.radii, o.surface == "sas" ? o.probe : 0.0,
-                              o.surface == "sas" ? build::SurfaceKind::Sas : build::SurfaceKind::Vdw);
+    list = build::buildSurface(molecule, request);
   }
-  if (o.dropCavities) list = build::outerComponent(list);
-  buildSeconds = secondsSince(start);
+  const double buildSeconds = secondsSince(start);
 
-  // Frame the atoms as the surface extends them (r + rp bounds the SES and the SAS).
-  std::vector<double> reach(molecule.radii);
-  if (o.surface != "vdw")
-    for (double& r : reach) r += o.probe;
-  ro.camera = view::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  // Frame what the surface can reach: r + rp bounds the SES and the SAS, r the vdW balls,
+  // and each skin patch lies in its bounding ball.
+  if (list.params.surface == build::SurfaceKind::Mss) {
+    ro.camera = view::frameSpheres(ro.camera, list.mss.center, list.mss.boundRadius, viewDirection);
+  } else {
+    std::vector<double> reach(molecule.radii);
+    if (list.params.surface != build::SurfaceKind::Vdw)
+      for (double& r : reach) r += o.probe;
+    ro.camera = view::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  }
   if (lookAt) ro.camera.lookAt = *lookAt;
   if (eye) ro.camera.eye = *eye;
   if (up) ro.camera.up = *up;
@@ -195,6 +193,7 @@ void runRender(const RenderCommandOptions& o) {
   meta["surftrace:camera"] = view::cameraToJson(ro.camera);
   meta["surftrace:surface"] = o.surface;
   meta["surftrace:probe_radius"] = std::to_string(o.probe);
+  if (o.surface == "mss") meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
   meta["surftrace:input"] = o.path;
   meta["surftrace:color"] = o.color;
   meta["surftrace:command"] = o.commandLine;
@@ -204,9 +203,13 @@ void runRender(const RenderCommandOptions& o) {
 
   std::size_t covered = 0;
   for (auto k : frame.kind) covered += k != 0;
-  std::printf("%s: %zu atoms, %s, %zu patches (%zu spheres, %zu tori, %zu concave); engine %s\n", o.path.c_str(),
-              molecule.size(), o.surface.c_str(), list.patchCount(), list.convex.size(), list.tori.size(),
-              list.concave.size(), o.engine.c_str());
+  std::string counts;
+  for (const view::PatchKindInfo& k : view::kPatchKinds) {
+    const std::size_t n = view::patchCount(list, k.kind);
+    if (n > 0) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + k.name;
+  }
+  std::printf("%s: %zu atoms, %s, %zu patches (%s); engine %s\n", o.path.c_str(), molecule.size(), o.surface.c_str(),
+              list.patchCount(), counts.c_str(), o.engine.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
               frame.height, o.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
@@ -225,11 +228,16 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       "Ray-trace a molecular surface exactly (Embree, double-precision patches) to a PNG and/or an EXR with "
       "depth, normal, patch kind, patch id, atom id and ambiguity flags for pixel-by-pixel validation");
   cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
-  cmd->add_option("--surface", o->surface, "ses (exact patches), vdw (atom spheres) or sas (spheres of r + probe)")
-      ->check(CLI::IsMember({"ses", "vdw", "sas"}))
+  cmd->add_option("--surface", o->surface,
+                  "ses (solvent excluded: exact spheres, tori, concave triangles), mss (molecular skin: spheres and "
+                  "hyperboloids in their mixed cells), vdw (atom spheres) or sas (spheres of r + probe)")
+      ->check(CLI::IsMember({"ses", "mss", "vdw", "sas"}))
       ->default_val("ses");
+  addShrinkOption(*cmd, o->shrink);
   cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(CLI::PositiveNumber)->default_val(1.4);
-  cmd->add_option("--patches", o->patches, "Render this patch list (from `surftrace build`) instead of building it")
+  cmd->add_option("--patches", o->patches,
+                  "Render this patch list (from `surftrace build` with the same --surface, --probe or --shrink) "
+                  "instead of building it")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
   cmd->add_option("--view", o->view,
@@ -240,8 +248,9 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--up", o->up, "Explicit up vector x,y,z");
   cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (perspective)")->default_val(30.0);
   cmd->add_flag("--ortho", o->ortho, "Orthographic projection (framed to fit the molecule)");
-  cmd->add_option("--color", o->color, "Colouring: patch (convex green, toroidal yellow, concave red), element, chain, "
-                                       "bfactor, uniform")
+  cmd->add_option("--color", o->color, "Colouring: patch (SES: convex green, toroidal yellow, concave red; MSS: "
+                                       "convex green, edge hyperboloids red, face ones yellow, concave blue), element, "
+                                       "chain, bfactor, uniform")
       ->check(CLI::IsMember({"patch", "element", "chain", "bfactor", "uniform"}))
       ->default_val("patch");
   cmd->add_option("--uniform-color", o->uniformColor, "Colour r,g,b in [0,1] for --color uniform")->default_val("0.8,0.8,0.8");

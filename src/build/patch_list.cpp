@@ -197,6 +197,8 @@ void PatchList::validate() const {
   checkAtoms(concave.atomJ, params.atomCount, "atom j");
   checkAtoms(concave.atomK, params.atomCount, "atom k");
   for (std::size_t k = 0; k < mss.size(); ++k) {
+    if (k > 0 && mss.kind[k] < mss.kind[k - 1])
+      throw std::runtime_error("patch list: MSS patch " + std::to_string(k) + " is out of kind order");
     if (mss.kind[k] > static_cast<std::uint32_t>(MssKind::Concave))
       throw std::runtime_error("patch list: MSS patch " + std::to_string(k) + " has unknown kind " +
                                std::to_string(mss.kind[k]));
@@ -208,6 +210,12 @@ void PatchList::validate() const {
                                  std::to_string(a[m]) + " in slot " + std::to_string(m) + ")");
     }
   }
+}
+
+std::pair<std::size_t, std::size_t> mssKindRange(const MssQuadrics& mss, MssKind kind) {
+  const auto k = static_cast<std::uint32_t>(kind);
+  const auto range = std::equal_range(mss.kind.begin(), mss.kind.end(), k);
+  return {static_cast<std::size_t>(range.first - mss.kind.begin()), static_cast<std::size_t>(range.second - mss.kind.begin())};
 }
 
 void writePatchList(const std::string& path, const PatchList& patches) {

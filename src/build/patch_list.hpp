@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -90,7 +91,8 @@ struct ConcaveTriangles {
 //   Face    (triangle)      hyperboloid about its normal    radial −s, axial 1
 //   Concave (tetrahedron)   sphere, radius √((1 − s) w_X)   radial −s, axial 0
 // For Edge and Face patches the cell is a prism along `axis`: planes with normal ±axis cap it,
-// the others contain the axis direction.
+// the others contain the axis direction. The patches are grouped by kind, in MssKind order
+// (validate() checks it): mssKindRange gives each kind's range.
 enum class MssKind : std::uint32_t { Convex = 0, Edge = 1, Face = 2, Concave = 3 };
 struct MssQuadrics {
   std::vector<std::uint32_t> kind;     // MssKind: the simplex has kind + 1 atoms
@@ -106,6 +108,9 @@ struct MssQuadrics {
 
   std::size_t size() const { return kind.size(); }
 };
+
+// The patches [first, second) of one kind (the list is grouped by kind).
+std::pair<std::size_t, std::size_t> mssKindRange(const MssQuadrics& mss, MssKind kind);
 
 // A half-space n·x + d <= 0 (xyz = n, unit; w = d): the side that is kept.
 using Plane = glm::dvec4;

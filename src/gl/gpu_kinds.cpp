@@ -63,9 +63,32 @@ std::pair<glm::dvec3, double> GpuConcaveKind::reach(const build::PatchList& list
   return {list.concave.probe[i], list.params.probeRadius};
 }
 
+template <build::MssKind K>
+GpuSkin GpuSkinKind<K>::record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin) {
+  const build::MssQuadrics& q = list.mss;
+  const std::size_t k = build::mssKindRange(q, K).first + i;
+  GpuSkin g;
+  g.centerBound = shifted(q.center[k], origin, q.boundRadius[k]);
+  g.axisConstant = glm::vec4(glm::vec3(q.axis[k]), static_cast<float>(q.constant[k]));
+  g.coefficients = glm::vec4(static_cast<float>(q.radialCoeff[k]), static_cast<float>(q.axialCoeff[k]), 0.0f, 0.0f);
+  g.cell = glm::uvec4(static_cast<std::uint32_t>(kind), static_cast<std::uint32_t>(list.clipPlanes.size()) + q.cellBegin[k],
+                      q.cellCount[k], 0u);
+  return g;
+}
+template <build::MssKind K> glm::uvec4 GpuSkinKind<K>::atoms(const build::PatchList& list, std::size_t i) {
+  return list.mss.atoms[build::mssKindRange(list.mss, K).first + i];
+}
+template <build::MssKind K>
+std::pair<glm::dvec3, double> GpuSkinKind<K>::reach(const build::PatchList& list, std::size_t i) {
+  const std::size_t k = build::mssKindRange(list.mss, K).first + i;
+  return {list.mss.center[k], list.mss.boundRadius[k]};
+}
+template struct GpuSkinKind<build::MssKind::Convex>;
+template struct GpuSkinKind<build::MssKind::Edge>;
+template struct GpuSkinKind<build::MssKind::Face>;
+template struct GpuSkinKind<build::MssKind::Concave>;
+
 GpuPatches packPatches(const build::PatchList& list, const glm::dvec3& origin) {
-  if (list.mss.size() != 0)
-    throw std::invalid_argument("gl engine: molecular skin (MSS) patches are not drawn by the GL path yet; use --engine embree");
   if (list.clipPlanes.size() >= kMaxFloatIndex)
     throw std::invalid_argument("gl engine: " + std::to_string(list.clipPlanes.size()) +
                                 " clipping planes exceed the 2^24 the GPU records index exactly");
@@ -94,10 +117,12 @@ GpuPatches packPatches(const build::PatchList& list, const glm::dvec3& origin) {
       g.kinds);
 
   // n·x + w <= 0 with x = x' + origin becomes n·x' + (w + n·origin) <= 0.
-  g.clipPlanes.reserve(list.clipPlanes.size());
-  for (const build::Plane& p : list.clipPlanes) {
-    const glm::dvec3 n(p);
-    g.clipPlanes.emplace_back(glm::vec3(n), static_cast<float>(p.w + glm::dot(n, origin)));
+  g.clipPlanes.reserve(list.clipPlanes.size() + list.cellPlanes.size());
+  for (const std::vector<build::Plane>* planes : {&list.clipPlanes, &list.cellPlanes}) {
+    for (const build::Plane& p : *planes) {
+      const glm::dvec3 n(p);
+      g.clipPlanes.emplace_back(glm::vec3(n), static_cast<float>(p.w + glm::dot(n, origin)));
+    }
   }
 
   if (lo.x <= hi.x) {

@@ -55,7 +55,22 @@ struct GpuConcaveKind {
   static std::pair<glm::dvec3, double> reach(const build::PatchList& list, std::size_t i);
 };
 
-using GpuKinds = std::tuple<GpuSphereKind, GpuTorusKind, GpuConcaveKind>;
+// The molecular skin: one row per MSS kind (so each has its colour and id range), all drawn
+// by shaders/skin.glsl; patch i of the row is patch first + i of the list's kind range. The
+// cell planes follow the SES clipping planes in the plane buffer (cellBegin counts from there).
+template <build::MssKind K> struct GpuSkinKind {
+  static constexpr view::PatchKind kind = view::skinKind(K);
+  static constexpr const char* shader = "skin";
+  using Record = GpuSkin;
+  using Atoms = glm::uvec4;  // the simplex, ascending; unused slots ~0u
+  static Record record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin);
+  static Atoms atoms(const build::PatchList& list, std::size_t i);
+  static std::pair<glm::dvec3, double> reach(const build::PatchList& list, std::size_t i);
+};
+
+using GpuKinds = std::tuple<GpuSphereKind, GpuTorusKind, GpuConcaveKind, GpuSkinKind<build::MssKind::Convex>,
+                            GpuSkinKind<build::MssKind::Edge>, GpuSkinKind<build::MssKind::Face>,
+                            GpuSkinKind<build::MssKind::Concave>>;
 inline constexpr std::size_t kGpuKindCount = std::tuple_size_v<GpuKinds>;
 
 template <std::size_t... I> constexpr bool gpuRowsMatchView(std::index_sequence<I...>) {
@@ -66,7 +81,8 @@ static_assert(gpuRowsMatchView(std::make_index_sequence<kGpuKindCount>{}),
               "gl::GpuKinds must list the kinds of view::kPatchKinds, in that order, and gpu_shared.h count them");
 static_assert(shared::kConvexKind == static_cast<std::uint32_t>(view::PatchKind::Convex) &&
               shared::kToroidalKind == static_cast<std::uint32_t>(view::PatchKind::Toroidal) &&
-              shared::kConcaveKind == static_cast<std::uint32_t>(view::PatchKind::Concave));
+              shared::kConcaveKind == static_cast<std::uint32_t>(view::PatchKind::Concave) &&
+              shared::kSkinConvexKind == static_cast<std::uint32_t>(view::PatchKind::SkinConvex));
 
 // The records and atoms of one kind, ready for upload.
 template <class Kind> struct GpuKindPatches {
@@ -85,7 +101,7 @@ template <class... Kind> struct GpuKindPatchesOf<std::tuple<Kind...>> {
 struct GpuPatches {
   glm::dvec3 origin{0.0};
   GpuKindPatchesOf<GpuKinds>::type kinds;
-  std::vector<glm::vec4> clipPlanes;  // n, w + n·origin
+  std::vector<glm::vec4> clipPlanes;  // n, w + n·origin: the SES clipping planes, then the MSS cell planes
   // Bounding sphere of every patch (double, unshifted): sets the depth range.
   glm::dvec3 boundsCenter{0.0};
   double boundsRadius = 0.0;
@@ -93,8 +109,7 @@ struct GpuPatches {
   template <class Kind> const GpuKindPatches<Kind>& of() const { return std::get<GpuKindPatches<Kind>>(kinds); }
 };
 
-// Throws std::invalid_argument for an MSS list (not drawn by the GL path yet) or for more
-// clipping planes than a float index holds exactly.
+// Throws std::invalid_argument for more clipping planes than a float index holds exactly.
 GpuPatches packPatches(const build::PatchList& patches, const glm::dvec3& origin);
 
 }  // namespace surftrace::gl

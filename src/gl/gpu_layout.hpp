@@ -20,6 +20,7 @@ using uint = std::uint32_t;
 using shared::GpuConcave;
 using shared::GpuFrame;
 using shared::GpuKind;
+using shared::GpuSkin;
 using shared::GpuTorus;
 using shared::kAtomBinding;
 using shared::kAtomColorBinding;
@@ -37,6 +38,8 @@ static_assert(sizeof(GpuTorus) == 64 && offsetof(GpuTorus, axisRp) == 16 && offs
               offsetof(GpuTorus, theta) == 48);
 static_assert(sizeof(GpuConcave) == 64 && offsetof(GpuConcave, dirIBegin) == 16 &&
               offsetof(GpuConcave, dirJCount) == 32 && offsetof(GpuConcave, dirK) == 48);
+static_assert(sizeof(GpuSkin) == 64 && offsetof(GpuSkin, axisConstant) == 16 && offsetof(GpuSkin, coefficients) == 32 &&
+              offsetof(GpuSkin, cell) == 48);
 static_assert(sizeof(GpuKind) == 32 && offsetof(GpuKind, first) == 16);
 static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 3 * 16);
 static_assert(offsetof(GpuFrame, kinds) == 112 && offsetof(GpuFrame, shading) == 112 + kKindCount * 32 &&

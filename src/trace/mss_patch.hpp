@@ -38,4 +38,8 @@ std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin
 // The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
 
+// The atom a hit belongs to: the simplex's lowest atom (its convex sphere's own atom). The
+// atom of largest convex weight at x would need the atoms' centres, which the list does not hold.
+inline std::uint32_t atomOf(const MssPatch&, const glm::uvec4& atoms, const glm::dvec3&) { return atoms.x; }
+
 }  // namespace surftrace::trace

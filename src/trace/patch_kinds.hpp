@@ -12,6 +12,7 @@
 
 #include "build/patch_list.hpp"
 #include "trace/concave_patch.hpp"
+#include "trace/mss_patch.hpp"
 #include "trace/sphere_patch.hpp"
 #include "trace/torus_patch.hpp"
 #include "view/patch_kind.hpp"
@@ -21,6 +22,7 @@ namespace surftrace::trace {
 // Plane arrays a scene owns (copied from the patch list): patches hold spans into them.
 struct ScenePlanes {
   std::vector<build::Plane> clip;  // concave triangles' self-intersection planes
+  std::vector<build::Plane> cell;  // the skin's mixed-cell planes
 };
 
 // A row: `kind` (the image channel's code), `Patch` (the intersector's record: its file
@@ -63,7 +65,26 @@ struct ConcaveKind {
   }
 };
 
-using SceneKinds = std::tuple<SphereKind, TorusKind, ConcaveKind>;
+// The molecular skin: one row per MSS kind, all with the quadric intersector; patch i of the
+// row is patch first + i of the list's kind range.
+template <build::MssKind K> struct SkinKind {
+  static constexpr view::PatchKind kind = view::skinKind(K);
+  using Patch = MssPatch;
+  using Atoms = glm::uvec4;  // the simplex, ascending; unused slots ~0u
+  static Patch patch(const build::PatchList& list, std::size_t i, const ScenePlanes& planes) {
+    const std::size_t k = build::mssKindRange(list.mss, K).first + i;
+    MssPatch p = mssPatch(list, k);
+    p.cellPlanes = std::span<const build::Plane>(planes.cell).subspan(list.mss.cellBegin[k], list.mss.cellCount[k]);
+    return p;
+  }
+  static Atoms atoms(const build::PatchList& list, std::size_t i) {
+    return list.mss.atoms[build::mssKindRange(list.mss, K).first + i];
+  }
+};
+
+using SceneKinds = std::tuple<SphereKind, TorusKind, ConcaveKind, SkinKind<build::MssKind::Convex>,
+                              SkinKind<build::MssKind::Edge>, SkinKind<build::MssKind::Face>,
+                              SkinKind<build::MssKind::Concave>>;
 
 // The patches of one kind in the intersector's form, with their atoms.
 template <class Kind> struct KindPatches {

@@ -150,6 +150,7 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 ScenePatches ScenePatches::fromPatchList(const build::PatchList& list) {
   ScenePatches s;
   s.planes.clip = list.clipPlanes;
+  s.planes.cell = list.cellPlanes;
   s.ids = view::PatchIdOrder(list);
   std::apply(
       [&](auto&... k) {

@@ -22,6 +22,13 @@ std::size_t patchCount(const build::PatchList& list, PatchKind kind) {
     case PatchKind::Convex: return list.convex.size();
     case PatchKind::Toroidal: return list.tori.size();
     case PatchKind::Concave: return list.concave.size();
+    case PatchKind::SkinConvex:
+    case PatchKind::SkinEdge:
+    case PatchKind::SkinFace:
+    case PatchKind::SkinConcave: {
+      const auto range = build::mssKindRange(list.mss, static_cast<build::MssKind>(static_cast<std::uint32_t>(kind) - 4));
+      return range.second - range.first;
+    }
     case PatchKind::None: break;
   }
   return 0;

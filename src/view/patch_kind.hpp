@@ -13,7 +13,17 @@
 namespace surftrace::view {
 
 // Patch kinds as written to the `patch.kind` image channel (0 = no hit).
-enum class PatchKind : std::uint32_t { None = 0, Convex = 1, Toroidal = 2, Concave = 3 };
+// 1-3 are the SES's, 4-7 the molecular skin's (one per Delaunay simplex dimension).
+enum class PatchKind : std::uint32_t {
+  None = 0,
+  Convex = 1,
+  Toroidal = 2,
+  Concave = 3,
+  SkinConvex = 4,
+  SkinEdge = 5,
+  SkinFace = 6,
+  SkinConcave = 7,
+};
 
 // One row per kind that holds patches, in the order of the global patch ids (and of the
 // kind codes: row k is kind k + 1). A new kind is a new row here, and a new row in each
@@ -21,13 +31,20 @@ enum class PatchKind : std::uint32_t { None = 0, Convex = 1, Toroidal = 2, Conca
 struct PatchKindInfo {
   PatchKind kind;
   const char* name;
-  glm::vec3 color;  // Lindow et al. 2010 colour the kinds: convex green, toroidal yellow, concave red
+  glm::vec3 color;  // Lindow et al. 2010's colours: SES convex green, toroidal yellow, concave red;
+                    // MSS (Fig. 7) convex green, edge hyperboloids red, face ones yellow, concave blue
 };
 inline constexpr PatchKindInfo kPatchKinds[] = {
     {PatchKind::Convex, "convex", {0.30f, 0.75f, 0.30f}},
     {PatchKind::Toroidal, "toroidal", {0.90f, 0.80f, 0.25f}},
     {PatchKind::Concave, "concave", {0.85f, 0.25f, 0.20f}},
+    {PatchKind::SkinConvex, "skin convex", {0.30f, 0.75f, 0.30f}},
+    {PatchKind::SkinEdge, "skin edge", {0.85f, 0.25f, 0.20f}},
+    {PatchKind::SkinFace, "skin face", {0.90f, 0.80f, 0.25f}},
+    {PatchKind::SkinConcave, "skin concave", {0.25f, 0.40f, 0.85f}},
 };
+// The view kind of an MSS patch kind, and back.
+constexpr PatchKind skinKind(build::MssKind k) { return static_cast<PatchKind>(4 + static_cast<std::uint32_t>(k)); }
 inline constexpr std::size_t kPatchKindCount = std::size(kPatchKinds);
 
 // The row of a kind that holds patches (not None).
@@ -39,7 +56,8 @@ glm::vec3 kindColor(PatchKind kind);         // black for None
 std::size_t patchCount(const build::PatchList& list, PatchKind kind);
 
 // Global patch ids (the `patch.id` channel, GL's fragment counts): the kinds in row order,
-// each kind's patches in list order: spheres first, then tori, then concave triangles.
+// each kind's patches in list order: SES spheres, tori, concave triangles, then the skin's
+// kinds (the MSS list is grouped by kind already).
 class PatchIdOrder {
  public:
   PatchIdOrder() = default;

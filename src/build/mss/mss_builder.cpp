@@ -3,6 +3,7 @@
 #include "build/mss/mss_builder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -37,9 +38,10 @@ constexpr std::uint32_t kBlockAtoms = 16;
 // whatever the rounding of the distances that select it.
 constexpr double kReachSlack = 1e-9;
 
-// One block's patches (the MSS arrays of a patch list), with cell-plane indices relative to
-// the block.
+// One block's patches of one kind (the MSS arrays of a patch list), with cell-plane indices
+// relative to the chunk. The list is the chunks kind by kind, block by block.
 using Chunk = PatchList;
+constexpr std::size_t kKinds = 4;
 
 bool isMssGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
 
@@ -158,7 +160,7 @@ void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::u
 bool isAtom(const CellPlane& plane) { return plane.atom < kBoxPlane; }
 
 // The patches owned by atom i (every simplex whose lowest atom is i), appended to `out`.
-void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, Scratch& sc, Chunk& out) {
+void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, Scratch& sc, Chunk* byKind) {
   const WeightedPoints& p = g.points;
   const glm::dvec3 zi = p.z[i];
   const double wi = p.w[i];
@@ -303,7 +305,7 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
     std::uint32_t* up = sc.ups.data() + e.upBegin;
     std::sort(up, up + e.upCount);
     const std::uint32_t count = static_cast<std::uint32_t>(std::unique(up, up + e.upCount) - up);
-    emitPatch(p, e.x, {up, count}, out);
+    emitPatch(p, e.x, {up, count}, byKind[e.x.size - 1]);
   }
 }
 
@@ -321,7 +323,7 @@ struct MssBuilder::State {
   std::vector<double> radii, weights;
   Geometry geometry;
   NeighbourGrid grid;
-  std::vector<Chunk> blocks;
+  std::vector<std::array<Chunk, kKinds>> blocks;
   PatchList list;
   MssUpdateStats stats;
   tbb::enumerable_thread_specific<Scratch> scratch;
@@ -333,12 +335,12 @@ struct MssBuilder::State {
     tbb::enumerable_thread_specific<std::size_t> exact(0);
     tbb::parallel_for(std::size_t{0}, which.size(), [&](std::size_t n) {
       const std::uint32_t b = which[n];
-      Chunk& chunk = blocks[b];
-      chunk.clearKeepingMemory();
+      std::array<Chunk, kKinds>& chunks = blocks[b];
+      for (Chunk& chunk : chunks) chunk.clearKeepingMemory();
       Scratch& sc = scratch.local();
       const auto end = static_cast<std::uint32_t>(std::min<std::size_t>(centers.size(), (b + 1) * std::size_t{kBlockAtoms}));
       for (std::uint32_t i = b * kBlockAtoms; i < end; ++i) {
-        atomPatches(geometry, grid, i, sc, chunk);
+        atomPatches(geometry, grid, i, sc, chunks.data());
         exact.local() += sc.cell.exactSides();
       }
     });
@@ -352,12 +354,14 @@ struct MssBuilder::State {
     list.params.shrinkFactor = params.shrink;
     list.params.atomCount = static_cast<std::uint32_t>(centers.size());
     list.componentCount = 0;
-    const std::size_t count = blocks.size();
+    // Chunk c = kind·blocks + block: the list holds the kinds in order, each by block.
+    const std::size_t count = kKinds * blocks.size();
+    auto chunk = [&](std::size_t c) -> const Chunk& { return blocks[c % blocks.size()][c / blocks.size()]; };
     patchOffset.assign(count + 1, 0);
     planeOffset.assign(count + 1, 0);
-    for (std::size_t b = 0; b < count; ++b) {
-      patchOffset[b + 1] = patchOffset[b] + blocks[b].mss.size();
-      planeOffset[b + 1] = planeOffset[b] + blocks[b].cellPlanes.size();
+    for (std::size_t c = 0; c < count; ++c) {
+      patchOffset[c + 1] = patchOffset[c] + chunk(c).mss.size();
+      planeOffset[c + 1] = planeOffset[c] + chunk(c).cellPlanes.size();
     }
     auto offsets = [&](const char* group) -> const std::vector<std::size_t>& {
       return std::strcmp(group, "cellPlanes") == 0 ? planeOffset : patchOffset;
@@ -365,13 +369,13 @@ struct MssBuilder::State {
     forEachArray([&](const char* group, const char*, auto& v) {
       if (isMssGroup(group)) v.resize(offsets(group)[count]);
     }, list);
-    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
       forEachArray([&](const char* group, const char*, auto& dst, const auto& src) {
         if (isMssGroup(group))
-          std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(offsets(group)[b]));
-      }, list, std::as_const(blocks[b]));
-      const auto base = static_cast<std::uint32_t>(planeOffset[b]);
-      for (std::size_t k = patchOffset[b]; k < patchOffset[b + 1]; ++k) list.mss.cellBegin[k] += base;
+          std::copy(src.begin(), src.end(), dst.begin() + static_cast<std::ptrdiff_t>(offsets(group)[c]));
+      }, list, chunk(c));
+      const auto base = static_cast<std::uint32_t>(planeOffset[c]);
+      for (std::size_t k = patchOffset[c]; k < patchOffset[c + 1]; ++k) list.mss.cellBegin[k] += base;
     });
   }
 

@@ -30,7 +30,8 @@ struct MssParams {
 // μ_X = (1 − s) δ_X + s ν_X ranges over [s·d²(z_X, ν_X) − (1 − s) max|δ_X − z_X|² + w_X,
 // s·max|ν_X − z_X|² − (1 − s) d²(z_X, δ_X) + w_X]).
 //
-// Order: patches by their lowest atom, then by simplex size, then by the other atoms. The list
+// Order: patches by kind (convex, edge, face, concave: the simplex's size), then by their
+// lowest atom, then by the other atoms, so each kind is one range (mssKindRange). The list
 // is identical (order and bits) for any number of threads. Throws std::invalid_argument for
 // s outside (0, 1). Fills params.surface, shrinkFactor and atomCount.
 PatchList buildMss(std::span<const glm::dvec3> centers, std::span<const double> radii, const MssParams& params);

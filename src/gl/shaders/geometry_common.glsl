@@ -31,6 +31,41 @@ void emitRect(vec2 lo, vec2 hi, uint index) {
   EndPrimitive();
 }
 
+// Image-plane extent (x/z) of a circle of radius r at (a, z) seen from the origin: the two
+// tangent lines, the centre direction rotated by ±asin(r/|c|). Needs z > r.
+vec2 tangentRange(float a, float z, float r) {
+  float t = sqrt(a * a + z * z - r * r);
+  float x1 = (a * t - z * r) / (z * t + a * r), x2 = (a * t + z * r) / (z * t - a * r);
+  return vec2(min(x1, x2), max(x1, x2));
+}
+
+// A screen-aligned rectangle around the exact projection of the sphere (centre, radius)
+// (Lindow et al. 2010, Sect. 5.2), a pixel wider on each side; the whole image where the
+// sphere reaches the eye plane.
+void emitSphereRect(vec3 centre, float radius, uint index) {
+  vec3 c = viewOf(centre);
+  // A little wider than the sphere: float rounding must never cut off a pixel centre.
+  float r = radius * (1.0 + 1e-4);
+  vec2 lo, hi;
+  if (orthographic()) {
+    vec2 scale = vec2(frame.upHalfHeight.w * frame.rightAspect.w, frame.upHalfHeight.w);
+    lo = (c.xy - r) / scale;
+    hi = (c.xy + r) / scale;
+  } else if (c.z > r + frame.viewport.z) {
+    float h = frame.forwardTan.w;
+    vec2 rx = tangentRange(c.x, c.z, r) / (h * frame.rightAspect.w), ry = tangentRange(c.y, c.z, r) / h;
+    lo = vec2(rx.x, ry.x);
+    hi = vec2(rx.y, ry.y);
+  } else {
+    lo = vec2(-1.0);  // the sphere reaches the eye plane: any pixel may see it
+    hi = vec2(1.0);
+  }
+  vec2 pixel = 2.0 / frame.viewport.xy;  // one pixel of slack on each side
+  lo = max(lo - pixel, vec2(-1.0));
+  hi = min(hi + pixel, vec2(1.0));
+  if (lo.x < hi.x && lo.y < hi.y) emitRect(lo, hi, index);
+}
+
 // Image-plane coordinates: (x/z, y/z) in perspective, (x, y) orthographic, in view units;
 // NDC = image / imageScale().
 vec2 imageScale() {

@@ -11,15 +11,16 @@
 const int kFrameBinding = 0;          // uniform block Frame (std140)
 const int kAtomColorBinding = 0;      // vec4 atomColors[]
 const int kFragmentCountBinding = 1;  // uint fragmentCounts[2 n]: fragments shaded, hits (statistics only)
-const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], GpuTorus tori[], GpuConcave concaves[]
+const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], GpuTorus tori[], GpuConcave concaves[], GpuSkin skins[]
 const int kAtomBinding = 3;           // the kind's atoms: uint, uvec2 (i, j), uvec4 (i, j, k, unused)
-const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w)
+const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w): SES clipping, then MSS cell planes
 
 // The `patch.kind` codes (view::PatchKind); the frame's kinds[code − 1] is the kind's row.
 const uint kConvexKind = 1u;
 const uint kToroidalKind = 2u;
 const uint kConcaveKind = 3u;
-const int kKindCount = 3;
+const uint kSkinConvexKind = 4u;   // the molecular skin: kSkinConvexKind + MssKind
+const int kKindCount = 7;
 
 // A saddle in four vectors: the torus, its frame and the patch limits (ORACLES A.3).
 struct GpuTorus {
@@ -37,6 +38,17 @@ struct GpuConcave {
   vec4 dirIBegin;  // unit contact direction u_i, clipBegin
   vec4 dirJCount;  // u_j, clipCount
   vec4 dirK;       // u_k, unused
+};
+
+// A molecular-skin patch in four vectors (ORACLES C.3): the quadric
+// f = radial |x − c|² + axial ((x − c)·a)² + constant inside the bounding ball and the mixed
+// cell, whose planes are texels [cellBegin, cellBegin + cellCount) of the clip-plane buffer
+// (after the SES clipping planes).
+struct GpuSkin {
+  vec4 centerBound;    // centre c (origin-shifted), bounding-ball radius
+  vec4 axisConstant;   // unit axis a, constant
+  vec4 coefficients;   // radial, axial, unused, unused
+  uvec4 cell;          // kind code (kSkinConvexKind + MssKind), cellBegin, cellCount, unused
 };
 
 // What the shaders need of a kind: its colour and where its global patch ids start.

@@ -9,38 +9,10 @@ layout(std430, binding = kAtomBinding) readonly buffer SphereAtoms { uint sphere
 #ifdef SURFTRACE_GEOMETRY_STAGE
 layout(triangle_strip, max_vertices = 4) out;
 
-// Image-plane extent (x/z) of a circle of radius r at (a, z) seen from the origin: the two
-// tangent lines, the centre direction rotated by ±asin(r/|c|). Needs z > r.
-vec2 tangentRange(float a, float z, float r) {
-  float t = sqrt(a * a + z * z - r * r);
-  float x1 = (a * t - z * r) / (z * t + a * r), x2 = (a * t + z * r) / (z * t - a * r);
-  return vec2(min(x1, x2), max(x1, x2));
-}
-
 void main() {
   uint index = uint(gl_PrimitiveIDIn);
   vec4 s = spheres[index];
-  vec3 c = viewOf(s.xyz);
-  // A little wider than the sphere: float rounding must never cut off a pixel centre.
-  float r = s.w * (1.0 + 1e-4);
-  vec2 lo, hi;
-  if (orthographic()) {
-    vec2 scale = vec2(frame.upHalfHeight.w * frame.rightAspect.w, frame.upHalfHeight.w);
-    lo = (c.xy - r) / scale;
-    hi = (c.xy + r) / scale;
-  } else if (c.z > r + frame.viewport.z) {
-    float h = frame.forwardTan.w;
-    vec2 rx = tangentRange(c.x, c.z, r) / (h * frame.rightAspect.w), ry = tangentRange(c.y, c.z, r) / h;
-    lo = vec2(rx.x, ry.x);
-    hi = vec2(rx.y, ry.y);
-  } else {
-    lo = vec2(-1.0);  // the sphere reaches the eye plane: any pixel may see it
-    hi = vec2(1.0);
-  }
-  vec2 pixel = 2.0 / frame.viewport.xy;  // one pixel of slack on each side
-  lo = max(lo - pixel, vec2(-1.0));
-  hi = min(hi + pixel, vec2(1.0));
-  if (lo.x < hi.x && lo.y < hi.y) emitRect(lo, hi, index);
+  emitSphereRect(s.xyz, s.w, index);
 }
 #endif
 

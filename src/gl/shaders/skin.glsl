@@ -1,0 +1,78 @@
+// Molecular skin: the screen rectangle of the patch's bounding ball; the quadric hit inside the mixed cell of mss_patch.cpp (ORACLES B.5, C.3, C.4).
+//
+// One file for the four MSS kinds (their rows in gl/gpu_kinds.hpp share it; the record says
+// which kind it is): its records and atoms (bound to kRecordBinding and kAtomBinding for its
+// draw), its geometry stage (SURFTRACE_GEOMETRY_STAGE) and its fragment stage
+// (SURFTRACE_FRAGMENT_STAGE).
+layout(std430, binding = kRecordBinding) readonly buffer Skins { GpuSkin skins[]; };
+layout(std430, binding = kAtomBinding) readonly buffer SkinAtoms { uvec4 skinAtoms[]; };  // the simplex
+
+#ifdef SURFTRACE_GEOMETRY_STAGE
+layout(triangle_strip, max_vertices = 4) out;
+
+void main() {
+  uint index = uint(gl_PrimitiveIDIn);
+  emitSphereRect(skins[index].centerBound.xyz, skins[index].centerBound.w, index);
+}
+#endif
+
+#ifdef SURFTRACE_FRAGMENT_STAGE
+layout(binding = kClipPlaneUnit) uniform samplerBuffer clipPlanes;  // n, w: keep n·x + w <= 0
+
+void main() {
+  GpuSkin P = skins[patchIndex];
+  uint kind = P.cell.x;
+  countFragment(globalId(kind, patchIndex), 0u);
+  vec3 org, dir;
+  cameraRay(org, dir);
+  vec3 c = P.centerBound.xyz, a = P.axisConstant.xyz;
+  float R = P.centerBound.w, radial = P.coefficients.x, axial = P.coefficients.y, constant = P.axisConstant.w;
+  // The ray from its closest approach to the centre (t = t0 + u): |o| <= R where it matters.
+  vec3 oc = org - c;
+  float t0 = -dot(oc, dir);
+  vec3 o = oc + t0 * dir;
+  if (dot(o, o) > R * R * 1.0001) discard;
+  float da = dot(dir, a), oa = dot(o, a);
+  float A = radial + axial * da * da;
+  float B = radial * dot(o, dir) + axial * oa * da;
+  float C = radial * dot(o, o) + axial * oa * oa + constant;
+  float u[2];
+  int count = 0;
+  if (abs(A) <= 1e-6 * (abs(radial) + abs(axial))) {
+    if (B != 0.0) u[count++] = -C / (2.0 * B);  // along an asymptote: f linear in u
+  } else {
+    float disc = B * B - A * C;
+    if (disc < 0.0) discard;
+    float q = -(B + (B >= 0.0 ? sqrt(disc) : -sqrt(disc)));
+    if (q == 0.0) {
+      u[count++] = 0.0;
+    } else {
+      u[count++] = min(q / A, C / q);
+      u[count++] = max(q / A, C / q);
+    }
+  }
+  // Accept roots a hair outside the cell: the skin is C¹ across cell facets (ORACLES C.4).
+  float slack = 1e-5 * (R + length(c));
+  int begin = int(P.cell.y), planes = int(P.cell.z);
+  for (int k = 0; k < count; ++k) {
+    float t = t0 + u[k];
+    if (!(t > 0.0)) continue;
+    vec3 x = o + u[k] * dir;  // relative to the centre
+    if (dot(x, x) > R * R * 1.0002) continue;
+    bool kept = true;
+    for (int m = 0; m < planes; ++m) {
+      vec4 plane = texelFetch(clipPlanes, begin + m);
+      if (dot(plane.xyz, x + c) + plane.w > slack) {
+        kept = false;
+        break;
+      }
+    }
+    if (!kept) continue;
+    vec3 g = radial * x + (axial * dot(x, a)) * a;
+    vec3 n = dot(g, g) > 0.0 ? normalize(g) : -dir;  // a cone's apex: any normal
+    writeHit(dir, t, n, kind, globalId(kind, patchIndex), skinAtoms[patchIndex].x);
+    return;
+  }
+  discard;
+}
+#endif
