@@ -2,6 +2,8 @@
 #include "oracles/skin_certificate.hpp"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 #include <cmath>
 #include <limits>
 
@@ -80,6 +82,92 @@ SkinCertificate certifySkinPoint(std::span<const glm::dvec3> centers, std::span<
   out.minLambda = static_cast<double>(minLambda);
   out.minGap = static_cast<double>(minGap);
   return out;
+}
+
+int skinSign(std::span<const glm::dvec3> centers, std::span<const double> radii, double s, const glm::dvec3& x) {
+  const std::size_t n = centers.size();
+  const Real S = s;
+  // key_i = |y_i|² − r_i²: negative inside atom i's ball (then G <= F(e_i) = key_i < 0).
+  // π_i = |y_i|² − r_i²/s: all positive means outside every grown ball (G >= s min π > 0).
+  std::vector<std::pair<Real, unsigned>> order(n);
+  bool outsideAllGrown = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const V3 y = sub(centers[i], x);
+    const Real yy = dot(y, y), rr = static_cast<Real>(radii[i]) * radii[i];
+    if (yy < rr) return -1;
+    if (yy - rr / S <= 0) outsideAllGrown = false;
+    order[i] = {yy - rr, static_cast<unsigned>(i)};
+  }
+  if (outsideAllGrown) return 1;
+  std::sort(order.begin(), order.end());
+  auto weight = [&](unsigned i) { return static_cast<Real>(radii[i]) * radii[i] / S; };
+  for (std::size_t K = std::min<std::size_t>(8, n);; K = std::min(n, 2 * K)) {
+    // The best KKT point over supports of 1..4 of the K nearest.
+    Real best = std::numeric_limits<Real>::infinity();
+    Real bestL[4] = {};
+    unsigned bestS[4] = {};
+    int bestN = 0;
+    unsigned sup[4];
+    auto consider = [&](int m) {
+      Real a[5][5] = {}, b[5] = {}, l[5] = {};
+      for (int i = 0; i < m; ++i) {
+        const V3 yi = sub(centers[sup[i]], x);
+        for (int j = 0; j < m; ++j) a[i][j] = 2 * (1 - S) * dot(yi, sub(centers[sup[j]], x));
+        a[i][m] = -1;
+        b[i] = -S * (dot(yi, yi) - weight(sup[i]));
+        a[m][i] = 1;
+      }
+      b[m] = 1;
+      if (!solve(m + 1, a, b, l)) return;
+      V3 yl{0, 0, 0};
+      Real value = 0;
+      for (int i = 0; i < m; ++i) {
+        if (l[i] < 0) return;
+        const V3 yi = sub(centers[sup[i]], x);
+        yl = {yl.x + l[i] * yi.x, yl.y + l[i] * yi.y, yl.z + l[i] * yi.z};
+        value += l[i] * S * (dot(yi, yi) - weight(sup[i]));
+      }
+      value += (1 - S) * dot(yl, yl);
+      if (value < best) {
+        best = value;
+        bestN = m;
+        for (int i = 0; i < m; ++i) bestL[i] = l[i], bestS[i] = sup[i];
+      }
+    };
+    const unsigned k = static_cast<unsigned>(K);
+    for (unsigned i = 0; i < k; ++i) {
+      sup[0] = order[i].second;
+      consider(1);
+      for (unsigned j = i + 1; j < k; ++j) {
+        sup[1] = order[j].second;
+        consider(2);
+        for (unsigned l = j + 1; l < k; ++l) {
+          sup[2] = order[l].second;
+          consider(3);
+          for (unsigned m = l + 1; m < k; ++m) {
+            sup[3] = order[m].second;
+            consider(4);
+          }
+        }
+      }
+    }
+    if (best < 0) return -1;
+    // Lower bound by convexity at λ0 = the best point: F(λ0) + min_j g_j − Σ λ0_i g_i.
+    V3 yl{0, 0, 0};
+    for (int i = 0; i < bestN; ++i) {
+      const V3 yi = sub(centers[bestS[i]], x);
+      yl = {yl.x + bestL[i] * yi.x, yl.y + bestL[i] * yi.y, yl.z + bestL[i] * yi.z};
+    }
+    auto gradient = [&](unsigned j) {
+      const V3 yj = sub(centers[j], x);
+      return 2 * (1 - S) * dot(yj, yl) + S * (dot(yj, yj) - weight(j));
+    };
+    Real minG = std::numeric_limits<Real>::infinity(), dotG = 0;
+    for (std::size_t j = 0; j < n; ++j) minG = std::min(minG, gradient(static_cast<unsigned>(j)));
+    for (int i = 0; i < bestN; ++i) dotG += bestL[i] * gradient(bestS[i]);
+    if (best + minG - dotG > 0) return 1;
+    if (K == n || K >= 16) return 0;
+  }
 }
 
 }  // namespace surftrace::oracle

@@ -29,4 +29,12 @@ struct SkinCertificate {
 SkinCertificate certifySkinPoint(std::span<const glm::dvec3> centers, std::span<const double> radii, double s,
                                  std::span<const unsigned> simplex, const glm::dvec3& x);
 
+// The sign of G(x) (inside the skin body: −1, outside: +1), decided with a certificate: any λ
+// with F(λ) < 0 proves inside; for the best λ0 found, convexity gives
+// G >= F(λ0) + min_j ∂_jF(λ0) − λ0·∇F(λ0), and a positive bound proves outside. λ0 is the
+// best KKT point over supports of up to four of the K atoms with smallest |y_i|² − r_i²
+// (K = 8, then 16, until one of the two proofs holds). 0 when neither proof holds (x on the
+// skin to rounding, or a support beyond the 16 nearest). Cheap exits: inside an atom ball, outside every grown ball.
+int skinSign(std::span<const glm::dvec3> centers, std::span<const double> radii, double s, const glm::dvec3& x);
+
 }  // namespace surftrace::oracle
