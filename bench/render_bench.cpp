@@ -1,5 +1,6 @@
 // Embree reference renderer: scene build and frame time at 1024×1024, one sample per pixel,
-// for the paper's molecules (SES and, as a spheres-only lower bound, the vdW surface).
+// for the paper's molecules: the SES, the molecular skin at s = 0.5 and 0.3 (Lindow et al.
+// 2010, Table 2), and, as a spheres-only lower bound, the vdW surface.
 #include <map>
 #include <memory>
 #include <string>
@@ -7,6 +8,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "trace/render.hpp"
@@ -17,7 +19,10 @@ using namespace surftrace;
 
 struct Prepared {
   build::Molecule molecule;
-  build::PatchList ses, vdw;
+  build::PatchList vdw, ses, skin05, skin03;  // range(1) = 0, 1, 2, 3
+  const build::PatchList& surface(std::int64_t k) const {
+    return k == 0 ? vdw : k == 1 ? ses : k == 2 ? skin05 : skin03;
+  }
 };
 
 const Prepared& prepared(const std::string& name) {
@@ -28,13 +33,15 @@ const Prepared& prepared(const std::string& name) {
     p.molecule = build::readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/" + name);
     p.ses = build::buildSes(p.molecule.centers, p.molecule.radii, build::SesParams{1.4});
     p.vdw = build::atomSpheres(p.molecule.centers, p.molecule.radii, 0.0, build::SurfaceKind::Vdw);
+    p.skin05 = build::buildMss(p.molecule.centers, p.molecule.radii, build::MssParams{0.5});
+    p.skin03 = build::buildMss(p.molecule.centers, p.molecule.radii, build::MssParams{0.3});
     it = cache.emplace(name, std::move(p)).first;
   }
   return it->second;
 }
 
-trace::ScenePatches patchesFor(const Prepared& p, bool ses) {
-  return trace::ScenePatches::fromPatchList(ses ? p.ses : p.vdw);
+trace::ScenePatches patchesFor(const Prepared& p, std::int64_t surface) {
+  return trace::ScenePatches::fromPatchList(p.surface(surface));
 }
 
 view::Camera frontCamera(const Prepared& p, int size) {
@@ -45,12 +52,13 @@ view::Camera frontCamera(const Prepared& p, int size) {
   return view::frameSpheres(c, p.molecule.centers, reach, view::namedViewDirection("front"));
 }
 
-// range(0): threads; range(1): 1 = SES, 0 = vdW.
+// range(0): threads; range(1): 0 vdW, 1 SES, 2 MSS at s = 0.5, 3 MSS at s = 0.3. Every surface
+// is seen by the same camera (framed on the atoms grown by 1.4 Å).
 void BM_SceneBuild(benchmark::State& state, const std::string& name) {
   const Prepared& p = prepared(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
   for (auto _ : state) {
-    trace::PatchScene scene(patchesFor(p, state.range(1) == 1));
+    trace::PatchScene scene(patchesFor(p, state.range(1)));
     benchmark::DoNotOptimize(scene.buildSeconds());
   }
 }
@@ -58,7 +66,7 @@ void BM_SceneBuild(benchmark::State& state, const std::string& name) {
 void BM_Frame(benchmark::State& state, const std::string& name) {
   const Prepared& p = prepared(name);
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
-  const trace::PatchScene scene(patchesFor(p, state.range(1) == 1));
+  const trace::PatchScene scene(patchesFor(p, state.range(1)));
   view::RenderOptions o;
   o.camera = frontCamera(p, 1024);
   std::size_t rays = 0;
@@ -75,10 +83,10 @@ void BM_Frame(benchmark::State& state, const std::string& name) {
 
 #define SURFTRACE_RENDER_BENCH(name, file)                                                                 \
   BENCHMARK_CAPTURE(BM_SceneBuild, name, std::string(file))                                                \
-      ->ArgsProduct({{1, 2}, {1, 0}})->ArgNames({"threads", "ses"})                                        \
+      ->ArgsProduct({{1, 2}, {0, 1, 2, 3}})->ArgNames({"threads", "surface"})                                        \
       ->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);          \
   BENCHMARK_CAPTURE(BM_Frame, name, std::string(file))                                                     \
-      ->ArgsProduct({{1, 2}, {1, 0}})->ArgNames({"threads", "ses"})                                        \
+      ->ArgsProduct({{1, 2}, {0, 1, 2, 3}})->ArgNames({"threads", "surface"})                                        \
       ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(5)->ReportAggregatesOnly(true)
 
 SURFTRACE_RENDER_BENCH(1vis, "1vis.pdb.gz");

@@ -56,6 +56,18 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
   EXPECT_EQ(resourceProperty(concave, GL_BUFFER_VARIABLE, "concaveAtoms[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::uvec4)));
 
+  const GLuint skin = renderer.program(view::PatchKind::SkinFace);
+  const Member skinMembers[] = {{"skins[0].centerBound", offsetof(GpuSkin, centerBound)},
+                                {"skins[0].axisConstant", offsetof(GpuSkin, axisConstant)},
+                                {"skins[0].coefficients", offsetof(GpuSkin, coefficients)},
+                                {"skins[0].cell", offsetof(GpuSkin, cell)}};
+  for (const Member& m : skinMembers)
+    EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, m.name, GL_OFFSET), m.offset) << m.name;
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skins[0].centerBound", GL_TOP_LEVEL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(GpuSkin)));
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinAtoms[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::uvec4)));
+
   const GLuint sphere = renderer.program(view::PatchKind::Convex);
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "spheres[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(GpuSphere)));
@@ -73,6 +85,7 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
   } blocks[] = {{sphere, "Spheres", kRecordBinding},       {sphere, "SphereAtoms", kAtomBinding},
                 {torus, "Tori", kRecordBinding},           {torus, "TorusAtoms", kAtomBinding},
                 {concave, "Concaves", kRecordBinding},     {concave, "ConcaveAtoms", kAtomBinding},
+                {skin, "Skins", kRecordBinding},           {skin, "SkinAtoms", kAtomBinding},
                 {sphere, "AtomColors", kAtomColorBinding}, {torus, "FragmentCounts", kFragmentCountBinding}};
   for (const auto& b : blocks)
     EXPECT_EQ(resourceProperty(b.program, GL_SHADER_STORAGE_BLOCK, b.block, GL_BUFFER_BINDING), b.binding) << b.block;
@@ -136,9 +149,28 @@ TEST(GlLayout, PackingShiftsInDoubleBeforeRounding) {
   EXPECT_EQ(concave.atoms[0], glm::uvec4(1, 2, 3, 0));
   ASSERT_EQ(g.clipPlanes.size(), 1u);
   EXPECT_FLOAT_EQ(g.clipPlanes[0].w, -0.5f);
-  build::PatchList mss;
-  mss.mss.kind = {0};
-  EXPECT_THROW(packPatches(mss, origin), std::invalid_argument);
+  // A skin patch: shifted in double, its cell planes after the SES clipping planes, its kind code.
+  list.mss.kind = {static_cast<std::uint32_t>(build::MssKind::Edge)};
+  list.mss.center = {origin + glm::dvec3(0.0, 0.0, 3.0000123)};
+  list.mss.axis = {{0, 0, 1}};
+  list.mss.radialCoeff = {0.5};
+  list.mss.axialCoeff = {-1.0};
+  list.mss.constant = {-0.25};
+  list.mss.boundRadius = {2.0};
+  list.mss.atoms = {glm::uvec4(4, 9, ~0u, ~0u)};
+  list.mss.cellBegin = {0};
+  list.mss.cellCount = {1};
+  list.cellPlanes = {{0.0, 0.0, 1.0, -(origin.z + 4.0)}};
+  const GpuPatches withSkin = packPatches(list, origin);
+  const auto& edges = withSkin.of<GpuSkinKind<build::MssKind::Edge>>();
+  ASSERT_EQ(edges.records.size(), 1u);
+  EXPECT_FLOAT_EQ(edges.records[0].centerBound.z, 3.0000123f);
+  EXPECT_EQ(edges.records[0].cell.x, static_cast<std::uint32_t>(view::PatchKind::SkinEdge));
+  EXPECT_EQ(edges.records[0].cell.y, 1u);  // after the one clipping plane
+  EXPECT_EQ(edges.records[0].cell.z, 1u);
+  EXPECT_EQ(edges.atoms[0], glm::uvec4(4, 9, ~0u, ~0u));
+  ASSERT_EQ(withSkin.clipPlanes.size(), 2u);
+  EXPECT_FLOAT_EQ(withSkin.clipPlanes[1].w, -4.0f);
 }
 
 }  // namespace

@@ -44,11 +44,14 @@ struct GpuConcave {
 // f = radial |x − c|² + axial ((x − c)·a)² + constant inside the bounding ball and the mixed
 // cell, whose planes are texels [cellBegin, cellBegin + cellCount) of the clip-plane buffer
 // (after the SES clipping planes).
+// The rasterised primitive: spheres (convex, concave) the screen rectangle of their sphere,
+// hyperboloids the box [hLo, hHi] along a times the square of half-side rhoMax across it,
+// which holds the patch (caps and bounding ball; build's quadric, gpu_kinds.cpp).
 struct GpuSkin {
   vec4 centerBound;    // centre c (origin-shifted), bounding-ball radius
   vec4 axisConstant;   // unit axis a, constant
-  vec4 coefficients;   // radial, axial, unused, unused
-  uvec4 cell;          // kind code (kSkinConvexKind + MssKind), cellBegin, cellCount, unused
+  vec4 coefficients;   // radial, axial, hLo, hHi
+  uvec4 cell;          // kind code (kSkinConvexKind + MssKind), cellBegin, cellCount, rhoMax (float bits)
 };
 
 // What the shaders need of a kind: its colour and where its global patch ids start.

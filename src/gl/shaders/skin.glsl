@@ -8,11 +8,24 @@ layout(std430, binding = kRecordBinding) readonly buffer Skins { GpuSkin skins[]
 layout(std430, binding = kAtomBinding) readonly buffer SkinAtoms { uvec4 skinAtoms[]; };  // the simplex
 
 #ifdef SURFTRACE_GEOMETRY_STAGE
-layout(triangle_strip, max_vertices = 4) out;
+layout(triangle_strip, max_vertices = 12) out;
 
 void main() {
   uint index = uint(gl_PrimitiveIDIn);
-  emitSphereRect(skins[index].centerBound.xyz, skins[index].centerBound.w, index);
+  GpuSkin P = skins[index];
+  vec3 c = P.centerBound.xyz, a = P.axisConstant.xyz;
+  float hLo = P.coefficients.z, hHi = P.coefficients.w, rho = uintBitsToFloat(P.cell.w);
+  if (!(hLo < hHi)) return;
+  if (P.coefficients.y == 0.0) {
+    // A sphere (convex or concave): radius² = −constant/radial, its screen rectangle.
+    emitSphereRect(c, sqrt(max(0.0, -P.axisConstant.w / P.coefficients.x)), index);
+    return;
+  }
+  // A hyperboloid: the box along its axis, eye-facing faces.
+  vec3 e1 = normalize(abs(a.x) < 0.9 ? cross(a, vec3(1.0, 0.0, 0.0)) : cross(a, vec3(0.0, 1.0, 0.0)));
+  vec3 e2 = cross(a, e1);
+  vec3 E[3] = vec3[3]((hHi - hLo) * a, 2.0 * rho * e1, 2.0 * rho * e2);
+  emitBox(c + hLo * a - rho * e1 - rho * e2, E, index);
 }
 #endif
 
