@@ -218,6 +218,28 @@ std::pair<std::size_t, std::size_t> mssKindRange(const MssQuadrics& mss, MssKind
   return {static_cast<std::size_t>(range.first - mss.kind.begin()), static_cast<std::size_t>(range.second - mss.kind.begin())};
 }
 
+MssExtent mssExtent(const PatchList& list, std::size_t k) {
+  const MssQuadrics& q = list.mss;
+  const double R = q.boundRadius[k], B = q.radialCoeff[k], A = q.radialCoeff[k] + q.axialCoeff[k];
+  double hLo = -R, hHi = R;
+  // Caps: planes whose normal is along the axis; the radial part of the normal widened by R.
+  for (std::uint32_t m = 0; m < q.cellCount[k]; ++m) {
+    const Plane& plane = list.cellPlanes[q.cellBegin[k] + m];
+    const glm::dvec3 n(plane);
+    const double along = n.x * q.axis[k].x + n.y * q.axis[k].y + n.z * q.axis[k].z;
+    if (std::abs(along) < 0.5) continue;
+    const glm::dvec3 radial = n - along * q.axis[k];
+    const double offset = -(n.x * q.center[k].x + n.y * q.center[k].y + n.z * q.center[k].z + plane.w);
+    const double limit = (offset + std::sqrt(radial.x * radial.x + radial.y * radial.y + radial.z * radial.z) * R) / along;
+    if (along > 0) hHi = std::min(hHi, limit);
+    else hLo = std::max(hLo, limit);
+  }
+  // On the surface B ρ² + A h² + constant = 0: ρ² is largest at an end of the range or at 0.
+  double rho2 = 0.0;
+  for (double h : {hLo, hHi, std::clamp(0.0, hLo, hHi)}) rho2 = std::max(rho2, (-A * h * h - q.constant[k]) / B);
+  return {hLo, hHi, std::sqrt(std::min(rho2, R * R))};
+}
+
 void writePatchList(const std::string& path, const PatchList& patches) {
   patches.validate();
   Writer body;

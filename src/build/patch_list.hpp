@@ -112,6 +112,7 @@ struct MssQuadrics {
 // The patches [first, second) of one kind (the list is grouped by kind).
 std::pair<std::size_t, std::size_t> mssKindRange(const MssQuadrics& mss, MssKind kind);
 
+
 // A half-space n·x + d <= 0 (xyz = n, unit; w = d): the side that is kept.
 using Plane = glm::dvec4;
 
@@ -181,6 +182,15 @@ void forEachArray(Visit&& visit, Lists&... p) {
   visit("mss", "cellCount", p.mss.cellCount...);
   visit("cellPlanes", "plane", p.cellPlanes...);
 }
+
+// A cylinder about MSS patch k's axis that holds the patch: h = (x − center)·axis in
+// [hLo, hHi] (the caps' planes and the bounding ball) and distance from the axis at most rho
+// (the quadric's largest radius over that range, and the ball). What the renderers bound and
+// rasterise.
+struct MssExtent {
+  double hLo, hHi, rho;
+};
+MssExtent mssExtent(const PatchList& list, std::size_t k);
 
 // The van der Waals (inflate = 0, SurfaceKind::Vdw) or solvent-accessible (inflate = rp,
 // SurfaceKind::Sas) surface as a patch list of whole spheres, one convex patch per atom,

@@ -72,26 +72,12 @@ GpuSkin GpuSkinKind<K>::record(const build::PatchList& list, std::size_t i, cons
   GpuSkin g;
   g.centerBound = shifted(q.center[k], origin, q.boundRadius[k]);
   g.axisConstant = glm::vec4(glm::vec3(q.axis[k]), static_cast<float>(q.constant[k]));
-  // The primitive's extent: h = (x − c)·a within the caps (planes whose normal is along a; the
-  // radial part of a cap's normal widened by the ball) and the ball; ρ² = α h² + β on the
-  // surface (f = B ρ² + A h² + constant) at its largest over that range.
-  const double R = q.boundRadius[k], B = q.radialCoeff[k], A = q.radialCoeff[k] + q.axialCoeff[k];
-  double hLo = -R, hHi = R;
-  for (std::uint32_t m = 0; m < q.cellCount[k]; ++m) {
-    const build::Plane& plane = list.cellPlanes[q.cellBegin[k] + m];
-    const glm::dvec3 n(plane);
-    const double along = glm::dot(n, q.axis[k]);
-    if (std::abs(along) < 0.5) continue;
-    const double limit = (-(glm::dot(n, q.center[k]) + plane.w) + glm::length(n - along * q.axis[k]) * R) / along;
-    if (along > 0) hHi = std::min(hHi, limit);
-    else hLo = std::max(hLo, limit);
-  }
-  double rho2 = 0.0;
-  for (double h : {hLo, hHi, std::clamp(0.0, hLo, hHi)}) rho2 = std::max(rho2, (-A * h * h - q.constant[k]) / B);
-  const float rhoMax = static_cast<float>(std::sqrt(std::min(rho2, R * R)) * (1.0 + 1e-4));
+  const build::MssExtent e = build::mssExtent(list, k);
+  const double R = q.boundRadius[k];
+  const float rhoMax = static_cast<float>(e.rho * (1.0 + 1e-4));
   const float pad = static_cast<float>(1e-4 * R);
-  g.coefficients = glm::vec4(static_cast<float>(B), static_cast<float>(q.axialCoeff[k]), static_cast<float>(hLo) - pad,
-                             static_cast<float>(hHi) + pad);
+  g.coefficients = glm::vec4(static_cast<float>(q.radialCoeff[k]), static_cast<float>(q.axialCoeff[k]),
+                             static_cast<float>(e.hLo) - pad, static_cast<float>(e.hHi) + pad);
   g.cell = glm::uvec4(static_cast<std::uint32_t>(kind), static_cast<std::uint32_t>(list.clipPlanes.size()) + q.cellBegin[k],
                       q.cellCount[k], std::bit_cast<std::uint32_t>(rhoMax));
   return g;

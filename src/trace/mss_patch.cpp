@@ -29,15 +29,22 @@ MssPatch mssPatch(const build::PatchList& patches, std::size_t k) {
   p.axial = q.axialCoeff[k];
   p.constant = q.constant[k];
   p.boundRadius = q.boundRadius[k];
+  p.extent = build::mssExtent(patches, k);
   p.cellPlanes = {patches.cellPlanes.data() + q.cellBegin[k], q.cellCount[k]};
   return p;
 }
 
 Bounds3d bounds(const MssPatch& p) {
   const glm::dvec3 pad = kBoundsPadUlps * std::numeric_limits<double>::epsilon() * (glm::abs(p.center) + p.boundRadius);
+  // The cylinder's box: its end disks' extents per coordinate, within the ball's box.
   Bounds3d b;
-  b.lower = p.center - (p.boundRadius + pad);
-  b.upper = p.center + (p.boundRadius + pad);
+  for (int k = 0; k < 3; ++k) {
+    const double a = p.axis[k], across = p.extent.rho * std::sqrt(std::max(0.0, 1.0 - a * a));
+    const double lo = std::min(p.extent.hLo * a, p.extent.hHi * a) - across;
+    const double hi = std::max(p.extent.hLo * a, p.extent.hHi * a) + across;
+    b.lower[k] = p.center[k] + std::max(lo, -p.boundRadius) - pad[k];
+    b.upper[k] = p.center[k] + std::min(hi, p.boundRadius) + pad[k];
+  }
   return b;
 }
 

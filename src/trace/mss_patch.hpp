@@ -20,12 +20,13 @@ struct MssPatch {
   glm::dvec3 axis{0.0, 0.0, 1.0};
   double radial = 1.0, axial = 0.0, constant = -1.0;
   double boundRadius = 1.0;
+  build::MssExtent extent{-1.0, 1.0, 1.0};  // the cylinder about the axis that holds the patch
   std::span<const build::Plane> cellPlanes;
 };
 
 MssPatch mssPatch(const build::PatchList& patches, std::size_t index);
 
-// The box of the patch's bounding ball (every skin point of the patch lies in it).
+// The box of the patch's extent cylinder within its bounding ball (build::mssExtent).
 Bounds3d bounds(const MssPatch& p);
 
 // The first root in (tMin, tMax] whose point lies in the cell. The ray is shifted to its

@@ -134,6 +134,9 @@ void checkList(const build::PatchList& list, std::uint64_t seed, Stats& stats) {
       }
       ++stats.hits;
       ++stats.hitsByKind[static_cast<int>(p.kind)];
+      // The hit lies in the patch's box (what Embree culls with).
+      const glm::dvec3 x = ray.org + static_cast<double>(*want) * ray.dir;
+      EXPECT_TRUE(bounds(p).contains(x, 1e-9 * (R + 1.0))) << "patch " << k << " kind " << static_cast<int>(p.kind);
       const double err = static_cast<double>(std::abs(static_cast<Real>(got->t) - *want)) * len;
       EXPECT_LE(err, kHitTolerance) << "patch " << k << " kind " << static_cast<int>(p.kind);
       stats.worstT = std::max(stats.worstT, err);
