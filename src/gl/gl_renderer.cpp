@@ -145,12 +145,16 @@ Primitive parsePrimitive(const std::string& name) {
 
 const char* primitiveName(Primitive primitive) { return primitive == Primitive::Cylinder ? "cylinder" : "box"; }
 
-// Runs f(row, Kind) for each row of GpuKinds (gpu_kinds.hpp), in order.
+namespace {
+
+// Runs f(row, Kind{}) for each row of GpuKinds (gpu_kinds.hpp), in order.
 template <class F> void forEachGpuKind(F&& f) {
   [&]<std::size_t... I>(std::index_sequence<I...>) {
     (f(I, std::tuple_element_t<I, GpuKinds>{}), ...);
   }(std::make_index_sequence<kGpuKindCount>{});
 }
+
+}  // namespace
 
 struct GlRenderer::Impl {
   // Per row of GpuKinds: the kind's program, its record and atom buffers, its patch count.
