@@ -4,6 +4,7 @@
 // scale) in the mixed cell of the patch's own simplex (λ >= 0 on it, no atom does better).
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <span>
 #include <string>
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "build/io/molecule.hpp"
+#include "build/mss/mss_area.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "oracles/skin_certificate.hpp"
 
@@ -116,6 +118,38 @@ TEST(MssOracle, DegenerateSetsAreSkinToo) {
     EXPECT_EQ(certifyList("fullerene", fullerene.centers, std::vector<double>(60, 1.7), s, false), 0);
     EXPECT_EQ(certifyList("cube", cube, std::vector<double>(8, 1.7), s, false), 0);
     EXPECT_EQ(certifyList("lattice", lattice, std::vector<double>(lattice.size(), 1.7), s, false), 0);
+  }
+}
+
+// The volume from the patches (divergence theorem) against a Monte-Carlo count of points
+// the skin QP certifies inside (skinSign), within 3σ; undecided points (on the skin to
+// rounding) are rare and counted as half.
+TEST(MssOracle, VolumeMatchesMonteCarloOfTheSkinFunction) {
+  for (const char* file : {"structures/1crn.pdb", "paper/1grm.pdb.gz"}) {
+    const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file);
+    for (double s : {0.3, 0.5}) {
+      const PatchList p = buildMss(m.centers, m.radii, {s});
+      const MssAreas a = computeMssAreas(p, m.centers);
+      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+      for (std::size_t k = 0; k < p.mss.size(); ++k) {
+        lo = glm::min(lo, p.mss.center[k] - p.mss.boundRadius[k]);
+        hi = glm::max(hi, p.mss.center[k] + p.mss.boundRadius[k]);
+      }
+      std::mt19937_64 rng(23);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      const int samples = 60000;
+      double inside = 0.0;
+      for (int k = 0; k < samples; ++k) {
+        const glm::dvec3 x = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+        const int sign = oracle::skinSign(m.centers, m.radii, s, x);
+        inside += sign < 0 ? 1.0 : (sign == 0 ? 0.5 : 0.0);
+      }
+      const double box = (hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z), f = inside / samples;
+      const double mc = box * f, sigma = box * std::sqrt(f * (1 - f) / samples);
+      std::cout << "[ stats    ] " << file << " s = " << s << ": volume " << a.volume << " Å³, Monte Carlo " << mc << " ± "
+                << sigma << " (" << (a.volume - mc) / sigma << " σ)\n";
+      EXPECT_NEAR(a.volume, mc, 3 * sigma) << file << " s = " << s;
+    }
   }
 }
 
