@@ -6,6 +6,8 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
@@ -80,6 +82,11 @@ void runInfo(const InfoOptions& o) {
     rSum += m.radii[i];
   }
   const auto& s = m.skipped;
+  // Sources in table order, only those that gave some atom a radius.
+  std::vector<std::pair<std::string, std::size_t>> sources;
+  for (std::size_t k = 0; k < build::kRadiusSourceCount; ++k)
+    if (m.radiusSources[k] != 0)
+      sources.emplace_back(build::radiusSourceName(static_cast<build::RadiusSource>(k)), m.radiusSources[k]);
 
   if (o.json) {
     nlohmann::json j;
@@ -94,7 +101,13 @@ void runInfo(const InfoOptions& o) {
     j["chains"] = chains;
     j["elements"] = elements;
     j["bbox"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
-    j["radii"] = {{"set", m.radiiSet}, {"min", rMin}, {"mean", rSum / static_cast<double>(m.size())}, {"max", rMax}};
+    nlohmann::json bySource = nlohmann::json::object();
+    for (const auto& [name, n] : sources) bySource[name] = n;
+    j["radii"] = {{"set", m.radiiSet},
+                  {"min", rMin},
+                  {"mean", rSum / static_cast<double>(m.size())},
+                  {"max", rMax},
+                  {"sources", bySource}};
     j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
                     {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius}};
     j["read_seconds"] = seconds;
@@ -116,7 +129,9 @@ void runInfo(const InfoOptions& o) {
       << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
   out << "radii      " << m.radiiSet << ": min " << fixed(rMin, 2) << ", mean "
       << fixed(rSum / static_cast<double>(m.size()), 2) << ", max " << fixed(rMax, 2) << " Å";
-  if (s.defaultRadius) out << " (" << s.defaultRadius << " atoms got --default-radius)";
+  out << "\n           from";
+  for (std::size_t k = 0; k < sources.size(); ++k)
+    out << (k ? ", " : " ") << sources[k].first << " " << sources[k].second << (sources[k].second == 1 ? " atom" : " atoms");
   out << "\nskipped    ";
   bool any = false;
   auto note = [&](std::size_t n, const char* what) {

@@ -39,6 +39,21 @@ TEST(Cli, InfoCountsTheDemoMolecule) {
   EXPECT_EQ(nlohmann::json::parse(keep.output)["atoms"], 2531);
 }
 
+// A heme protein reads, builds and renders with no options: its Fe takes Alvarez's radius,
+// and `info` says so.
+TEST(Cli, HemeProteinWorksOutOfTheBox) {
+  const Result info = run("info --json " + data("structures/1mbn.pdb.gz"));
+  ASSERT_EQ(info.status, 0) << info.output;
+  const auto j = nlohmann::json::parse(info.output);
+  EXPECT_EQ(j["radii"]["sources"]["Alvarez 2013"], 1);  // the heme iron
+  EXPECT_EQ(j["radii"]["sources"]["Bondi 1964"], 1259);
+  const Result text = run("info " + data("structures/1mbn.pdb.gz"));
+  EXPECT_NE(text.output.find("Alvarez 2013 1 atom"), std::string::npos) << text.output;
+  const std::string png = (std::filesystem::path(testing::TempDir()) / "1mbn.png").string();
+  const Result render = run("render " + data("structures/1mbn.pdb.gz") + " --size 32x32 --quiet -o " + png);
+  EXPECT_EQ(render.status, 0) << render.output;
+}
+
 TEST(Cli, BadInputIsAClearErrorNotACrash) {
   const std::string path = (std::filesystem::path(testing::TempDir()) / "nan.xyzr").string();
   std::ofstream(path) << "0 0 0 1.5\n1 nan 0 1.5\n";
