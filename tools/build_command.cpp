@@ -11,6 +11,7 @@
 #include "build/io/molecule.hpp"
 #include "build/ses/surface_area.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -30,10 +31,10 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
       ->check(CLI::IsMember({"ses"}))
       ->default_val("ses");
   cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
-      ->check(CLI::PositiveNumber)
+      ->check(positive())
       ->default_val(1.4);
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeIn(0, 4096));
   cmd.add_flag("--drop-cavities", o.dropCavities,
                "Keep only the outer SES component: drop the inner surfaces of buried cavities a probe fits in");
   addMoleculeOptions(cmd, o.read);

@@ -14,13 +14,14 @@
 
 #include "build/io/molecule.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 
 namespace surftrace::tools {
 
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   auto* group = &cmd;
   group->add_option("--model", options.model, "Model (PDB/mmCIF) or frame (XYZ) to read, 1-based")
-      ->check(CLI::PositiveNumber)
+      ->check(wholeIn(1, HUGE_VAL))
       ->default_val(1);
   group->add_flag("--keep-water", options.keepWater, "Keep water molecules (dropped by default)");
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
@@ -31,7 +32,7 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       ->check(CLI::ExistingFile);
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   group->add_flag("--drop-zero-radius", options.dropZeroRadius,
                   "Drop atoms whose file gives radius 0 (PQR hydrogens) instead of stopping with an error");
   static const std::map<std::string, build::MoleculeFormat> kFormats{

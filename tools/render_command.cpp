@@ -16,6 +16,7 @@
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
 #include "trace/image_io.hpp"
@@ -227,7 +228,7 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--surface", o->surface, "ses (exact patches), vdw (atom spheres) or sas (spheres of r + probe)")
       ->check(CLI::IsMember({"ses", "vdw", "sas"}))
       ->default_val("ses");
-  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(CLI::PositiveNumber)->default_val(1.4);
+  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
   cmd->add_option("--patches", o->patches, "Render this patch list (from `surftrace build`) instead of building it")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
@@ -246,11 +247,11 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--uniform-color", o->uniformColor, "Colour r,g,b in [0,1] for --color uniform")->default_val("0.8,0.8,0.8");
   cmd->add_option("--background", o->background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
   cmd->add_option("--spp", o->spp, "Samples per pixel for anti-aliasing (a k×k grid; buffers use the pixel centre)")
-      ->check(CLI::Range(1, 1024))
+      ->check(wholeIn(1, 1024))
       ->default_val(1);
   cmd->add_flag("--shadows", o->shadows, "Ray-traced shadows from a key light above-left of the eye");
-  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(CLI::Range(0, 4096))->default_val(0);
-  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(CLI::PositiveNumber)->default_val(8.0);
+  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(wholeIn(0, 4096))->default_val(0);
+  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(positive())->default_val(8.0);
   cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
   cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
   cmd->add_option("--engine", o->engine,
@@ -268,10 +269,10 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       ->check(CLI::IsMember({"box", "cylinder"}))
       ->default_val("box");
   cmd->add_option("--gl-steps", o->glSteps, "GL sphere-tracing steps per ray (Lindow et al. 2010 use 30)")
-      ->check(CLI::Range(1, 10000))
+      ->check(wholeIn(1, 10000))
       ->default_val(30);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeIn(0, 4096));
   cmd->add_flag("--drop-cavities", o->dropCavities, "Leave out the inner SES components of buried cavities (invisible from outside)");
   cmd->add_flag("--quiet", o->quiet, "No progress bar");
   addMoleculeOptions(*cmd, o->read);

@@ -68,6 +68,50 @@ TEST(Cli, BadInputIsAClearErrorNotACrash) {
   EXPECT_NE(probe.output.find("--probe"), std::string::npos) << probe.output;
 }
 
+// Every numeric option says what it expects and what it got, in a line a person reads:
+// no 300-digit limits of double from the option library.
+TEST(Cli, OptionErrorsAreReadable) {
+  const std::string mol = data("structures/1crn.pdb");
+  const std::string png = (std::filesystem::path(testing::TempDir()) / "o.png").string();
+  struct Case {
+    std::string args, mustSay;
+  };
+  const Case cases[] = {
+      {"area --probe -1 " + mol, "--probe: expected a number > 0, got '-1'"},
+      {"area --probe inf " + mol, "--probe: expected a number > 0, got 'inf' (not finite)"},
+      {"area --probe nan " + mol, "got 'nan'"},
+      {"area --probe 0 " + mol, "got '0'"},
+      {"build --threads -1 -o x.stp " + mol, "--threads: expected a whole number in [0, 4096], got '-1'"},
+      {"info --model 0 " + mol, "--model: expected a whole number >= 1, got '0'"},
+      {"info --default-radius -2 " + mol, "--default-radius: expected a number > 0, got '-2'"},
+      {"render --spp 0 -o " + png + " " + mol, "--spp: expected a whole number in [1, 1024], got '0'"},
+      {"render --ao -1 -o " + png + " " + mol, "--ao: expected a whole number in [0, 4096]"},
+      {"render --ao-distance 0 -o " + png + " " + mol, "--ao-distance: expected a number > 0"},
+      {"render --gl-steps 0 -o " + png + " " + mol, "--gl-steps: expected a whole number in [1, 10000]"},
+      {"compare --min-kind 2 " + mol + " " + mol, "--min-kind: expected a number in [0, 1], got '2'"},
+      {"compare --max-depth-p99 -1 " + mol + " " + mol, "--max-depth-p99: expected a number >= 0"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_NE(r.status, 0) << c.args;
+    EXPECT_NE(r.output.find(c.mustSay), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("not in range"), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_LT(r.output.size(), 300u) << c.args << "\n" << r.output;
+  }
+}
+
+// A probe past what double precision serves is refused with the limit and the reason; below
+// it the SES of 1UBQ is its convex hull's area (3451 Å², as the issue measured at 1e5 Å).
+TEST(Cli, HugeProbeIsAnErrorNamingTheLimit) {
+  const Result r = run("area --probe 1e9 " + data("structures/1ubq.pdb.gz"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("probe radius 1e+09 Å is above the limit of 796918 Å (2^19 times the smallest atom "
+                          "radius, 1.52 Å)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("double-precision rounding"), std::string::npos) << r.output;
+}
+
 TEST(Cli, AreaJsonHasTheDocumentedShape) {
   const Result r = run("area --format json " + data("paper/1grm.pdb.gz"));
   ASSERT_EQ(r.status, 0) << r.output;
