@@ -1,5 +1,7 @@
 // `surftrace build` (write a patch list) and `surftrace area` (exact areas and volume).
 #include <chrono>
+#include <limits>
+#include <stdexcept>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -23,14 +25,18 @@ struct SurfaceOptions {
   double probe = 1.4;
   int threads = 0;
   bool dropCavities = false;
+  CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
 };
 
 void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
-  cmd.add_option("FILE", o.path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd.add_option("FILE", o.path,
+                 "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed); `area` also takes a patch list from "
+                 "`build` (.stp, told by its content)")
+      ->required();
   cmd.add_option("--surface", o.surface, "Surface to build; this version builds the solvent excluded surface")
       ->check(CLI::IsMember({"ses"}))
       ->default_val("ses");
-  cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
+  o.probeOption = cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
       ->check(positive())
       ->default_val(1.4);
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
@@ -57,6 +63,28 @@ Built buildSurface(const SurfaceOptions& o) {
                                                   static_cast<std::size_t>(o.threads));
   auto start = std::chrono::steady_clock::now();
   Built b;
+  if (isPatchListInput(o.path)) {
+    // A patch list from `build` (told by its magic): its areas are those of the structure it
+    // was built from, with the probe it was built with.
+    b.patches = build::readPatchList(o.path);
+    if (o.probeOption && o.probeOption->count() > 0 && o.probe != b.patches.params.probeRadius)
+      throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +
+                                  " Å; --probe " + std::to_string(o.probe) + " cannot change it (rebuild it)");
+    if (b.patches.params.surface != build::SurfaceKind::Ses)
+      throw std::invalid_argument(o.path + ": a " + build::surfaceKindName(b.patches.params.surface) +
+                                  " patch list has no SES areas");
+    b.molecule.source = o.path;
+    b.molecule.atoms.resize(b.patches.params.atomCount);
+    b.molecule.centers.resize(b.patches.params.atomCount);
+    b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < b.patches.convex.size(); ++k)
+      b.molecule.radii[b.patches.convex.atom[k]] = b.patches.convex.radius[k];
+    b.readSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    if (o.dropCavities) b.patches = build::outerComponent(b.patches);
+    b.buildSeconds = secondsSince(start);
+    return b;
+  }
   b.molecule = build::readMolecule(o.path, o.read);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
@@ -73,6 +101,9 @@ struct BuildOptions : SurfaceOptions {
 };
 
 void runBuild(const BuildOptions& o) {
+  if (isPatchListInput(o.path))
+    throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
+                                "take it as it is");
   const Built b = buildSurface(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;
@@ -92,7 +123,7 @@ void runArea(const AreaOptions& o) {
   if (o.format == "json") {
     nlohmann::json j;
     j["file"] = m.source;
-    j["probe_radius"] = o.probe;
+    j["probe_radius"] = b.patches.params.probeRadius;
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
     j["sas"] = {{"total", a.sas}, {"per_atom", a.sasPerAtom}};
@@ -113,7 +144,7 @@ void runArea(const AreaOptions& o) {
     }
     return;
   }
-  std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), o.probe);
+  std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), b.patches.params.probeRadius);
   std::printf("SAS area        %14.4f Å²\n", a.sas);
   std::printf("SES area        %14.4f Å²\n", a.sesTotal());
   std::printf("  convex        %14.4f Å²\n", a.sesConvex);

@@ -13,6 +13,10 @@ namespace surftrace::tools {
 // table, default radius, format) to `cmd`, storing them in `options`.
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
 
+// Whether FILE is a patch list (.stp) rather than a structure: it starts with the magic
+// "SURFTRCE", or it is named .stp (then reading it explains what is wrong).
+bool isPatchListInput(const std::string& path);
+
 void addInfoCommand(CLI::App& app);
 void addBuildCommands(CLI::App& app);  // build, area
 // `commandLine` is the whole invocation, recorded in every image's metadata.

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build/io/molecule.hpp"
+#include "build/patch_list.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 
@@ -44,6 +45,12 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
 }
 
+bool isPatchListInput(const std::string& path) {
+  if (build::isPatchListFile(path)) return true;
+  const std::string ext = ".stp";
+  return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+}
+
 namespace {
 
 struct InfoOptions {
@@ -58,7 +65,34 @@ std::string fixed(double v, int digits = 3) {
   return buf;
 }
 
+// A patch list holds no atom records: say what it was built from and what it holds.
+void runPatchListInfo(const InfoOptions& o) {
+  const build::PatchList p = build::readPatchList(o.path);
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = o.path;
+    j["format"] = "SurfTrace patch list";
+    j["surface"] = build::surfaceKindName(p.params.surface);
+    j["probe_radius"] = p.params.probeRadius;
+    j["atoms"] = p.params.atomCount;
+    j["input_crc32"] = p.params.inputCrc32;
+    j["radii"] = {{"set", p.params.radiiSet}};
+    j["patches"] = {{"convex", p.convex.size()}, {"toroidal", p.tori.size()}, {"concave", p.concave.size()},
+                    {"clip_planes", p.clipPlanes.size()}};
+    j["components"] = p.componentCount;
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("file       %s (SurfTrace patch list, %s surface, probe %.3f Å)\n", o.path.c_str(),
+              build::surfaceKindName(p.params.surface), p.params.probeRadius);
+  std::printf("built from %u atoms (input CRC-32 %x, radii %s)\n", p.params.atomCount, p.params.inputCrc32,
+              p.params.radiiSet.c_str());
+  std::printf("patches    %zu convex, %zu toroidal, %zu concave, %zu clipping planes; %u components\n",
+              p.convex.size(), p.tori.size(), p.concave.size(), p.clipPlanes.size(), p.componentCount);
+}
+
 void runInfo(const InfoOptions& o) {
+  if (isPatchListInput(o.path)) return runPatchListInfo(o);
   const auto start = std::chrono::steady_clock::now();
   const build::Molecule m = build::readMolecule(o.path, o.read);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -157,7 +191,9 @@ void addInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info",
                                  "Summarise a structure file: atoms, chains, models, elements, bounding box, "
                                  "radius statistics, and what was skipped and why");
-  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd->add_option("FILE", o->path,
+                  "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed) or a patch list from `build` (.stp)")
+      ->required();
   addMoleculeOptions(*cmd, o->read);
   cmd->add_flag("--json", o->json, "Print the summary as JSON");
   cmd->callback([o] { runInfo(*o); });

@@ -53,6 +53,7 @@ struct RenderCommandOptions {
   bool dropCavities = false;
   bool quiet = false;
   std::string commandLine;
+  CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
 };
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text) {
@@ -134,14 +135,34 @@ void runRender(const RenderCommandOptions& o) {
   if (!o.lookAt.empty()) lookAt = parseVector("--look-at", o.lookAt);
   if (!o.up.empty()) up = parseVector("--up", o.up);
 
+  // A patch list given as FILE (told by its magic) is rendered as it is, framed from its
+  // convex patches: the atoms they belong to reach furthest (a buried atom's extended sphere
+  // lies inside the others'), so the camera is the one the structure itself would get.
+  const bool fromPatchList = isPatchListInput(o.path);
+  if (fromPatchList) {
+    if (!o.patches.empty())
+      throw std::invalid_argument(o.path + " is a patch list already; --patches applies to a structure file");
+    if (o.surface != "ses")
+      throw std::invalid_argument(o.path + " is an SES patch list; --surface " + o.surface +
+                                  " needs the structure file");
+    if (ro.color != trace::ColorMode::Patch && ro.color != trace::ColorMode::Uniform)
+      throw std::invalid_argument("--color " + o.color + " needs the atoms' records, which a patch list (" + o.path +
+                                  ") does not hold: render the structure file, or use --color patch|uniform");
+  }
+
   auto start = std::chrono::steady_clock::now();
-  const build::Molecule molecule = build::readMolecule(o.path, o.read);
+  const build::Molecule molecule = fromPatchList ? build::Molecule{} : build::readMolecule(o.path, o.read);
   const double readSeconds = secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   build::PatchList list;
   double buildSeconds = 0.0;
-  if (!o.patches.empty()) {
+  if (fromPatchList) {
+    list = build::readPatchList(o.path);
+    if (o.probeOption && o.probeOption->count() > 0 && o.probe != list.params.probeRadius)
+      throw std::invalid_argument(o.path + " was built with probe " + std::to_string(list.params.probeRadius) +
+                                  " Å; --probe " + std::to_string(o.probe) + " cannot change it (rebuild it)");
+  } else if (!o.patches.empty()) {
     if (o.surface != "ses") throw std::invalid_argument("--patches holds an SES patch list; it cannot be combined with --surface " + o.surface);
     list = build::readPatchList(o.patches);
     list.validate();
@@ -159,16 +180,25 @@ void runRender(const RenderCommandOptions& o) {
   buildSeconds = secondsSince(start);
 
   // Frame the atoms as the surface extends them (r + rp bounds the SES and the SAS).
-  std::vector<double> reach(molecule.radii);
-  if (o.surface != "vdw")
-    for (double& r : reach) r += o.probe;
-  ro.camera = trace::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  if (fromPatchList) {
+    const double extend = list.params.surface == build::SurfaceKind::Ses ? list.params.probeRadius : 0.0;
+    std::vector<double> reach(list.convex.radius);
+    for (double& r : reach) r += extend;
+    if (list.convex.size() == 0) throw std::invalid_argument(o.path + ": the patch list has no convex patches to frame");
+    ro.camera = trace::frameSpheres(ro.camera, list.convex.center, reach, viewDirection);
+  } else {
+    std::vector<double> reach(molecule.radii);
+    if (o.surface != "vdw")
+      for (double& r : reach) r += o.probe;
+    ro.camera = trace::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+  }
   if (lookAt) ro.camera.lookAt = *lookAt;
   if (eye) ro.camera.eye = *eye;
   if (up) ro.camera.up = *up;
   ro.camera.validate();
 
-  const auto colors = trace::atomColors(molecule, ro.color, uniform);
+  const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, uniform)
+                                    : trace::atomColors(molecule, ro.color, uniform);
   trace::FrameBuffers frame;
   trace::ImageMetadata meta;
   double sceneSeconds = 0.0;
@@ -194,7 +224,7 @@ void runRender(const RenderCommandOptions& o) {
   meta["surftrace:engine"] = o.engine;
   meta["surftrace:camera"] = trace::cameraToJson(ro.camera);
   meta["surftrace:surface"] = o.surface;
-  meta["surftrace:probe_radius"] = std::to_string(o.probe);
+  meta["surftrace:probe_radius"] = std::to_string(fromPatchList ? list.params.probeRadius : o.probe);
   meta["surftrace:input"] = o.path;
   meta["surftrace:color"] = o.color;
   meta["surftrace:command"] = o.commandLine;
@@ -205,7 +235,7 @@ void runRender(const RenderCommandOptions& o) {
   std::size_t covered = 0;
   for (auto k : frame.kind) covered += k != 0;
   std::printf("%s: %zu atoms, %s, %zu patches (%zu spheres, %zu tori, %zu concave); engine %s\n", o.path.c_str(),
-              molecule.size(), o.surface.c_str(), list.patchCount(), list.convex.size(), list.tori.size(),
+              fromPatchList ? static_cast<std::size_t>(list.params.atomCount) : molecule.size(), o.surface.c_str(), list.patchCount(), list.convex.size(), list.tori.size(),
               list.concave.size(), o.engine.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
@@ -224,11 +254,15 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       "render",
       "Ray-trace a molecular surface exactly (Embree, double-precision patches) to a PNG and/or an EXR with "
       "depth, normal, patch kind, patch id, atom id and ambiguity flags for pixel-by-pixel validation");
-  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd->add_option("FILE", o->path,
+                  "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed) or a patch list from `surftrace build` "
+                  "(.stp, told by its content)")
+      ->required();
   cmd->add_option("--surface", o->surface, "ses (exact patches), vdw (atom spheres) or sas (spheres of r + probe)")
       ->check(CLI::IsMember({"ses", "vdw", "sas"}))
       ->default_val("ses");
-  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
+  o->probeOption =
+      cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
   cmd->add_option("--patches", o->patches, "Render this patch list (from `surftrace build`) instead of building it")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");

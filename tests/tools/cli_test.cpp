@@ -1,9 +1,11 @@
 // The `surftrace` program end to end: what a user types and what they get back.
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 
@@ -166,6 +168,57 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
   const auto frame2 = surftrace::trace::readExr(exr2);
   EXPECT_EQ(frame2.depth, frame.depth);
   EXPECT_EQ(frame2.patchId, frame.patchId);
+}
+
+// Bytes equal, so that NaNs and signed zeros compare too.
+template <typename T>
+bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// `build`'s patch list rendered as FILE (named without .stp: it is told by its magic) gives
+// the image the structure gives, buffer for buffer and bit for bit, on both engines, with
+// the same camera; `area` of it gives the structure's areas.
+TEST(Cli, PatchListRendersAsTheStructureDoes) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string mol = data("structures/1crn.pdb"), stp = (dir / "crn.patches").string();
+  ASSERT_EQ(run("build " + mol + " -o " + stp).status, 0);
+  for (const std::string engine : {"embree", "gl"}) {
+    const std::string a = (dir / ("from_structure_" + engine + ".exr")).string();
+    const std::string b = (dir / ("from_patches_" + engine + ".exr")).string();
+    const std::string common = " --size 64x48 --quiet --view 1,-0.5,0.3 --engine " + engine + " --exr ";
+    const Result r1 = run("render " + mol + common + a);
+    ASSERT_EQ(r1.status, 0) << r1.output;
+    const Result r2 = run("render " + stp + common + b);
+    ASSERT_EQ(r2.status, 0) << r2.output;
+    surftrace::trace::ImageMetadata ma, mb;
+    const auto fa = surftrace::trace::readExr(a, &ma), fb = surftrace::trace::readExr(b, &mb);
+    EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
+    std::size_t covered = 0;
+    for (auto k : fa.kind) covered += k != 0;
+    EXPECT_GT(covered, fa.pixels() / 10) << engine;
+    EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
+    EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
+    EXPECT_TRUE(sameBytes(fa.viewZ, fb.viewZ)) << engine;
+    EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
+    EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
+    EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
+    EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
+    EXPECT_TRUE(sameBytes(fa.flags, fb.flags)) << engine;
+  }
+  const Result areaMol = run("area --format json " + mol), areaStp = run("area --format json " + stp);
+  ASSERT_EQ(areaStp.status, 0) << areaStp.output;
+  const auto jm = nlohmann::json::parse(areaMol.output), js = nlohmann::json::parse(areaStp.output);
+  EXPECT_EQ(jm["ses"]["total"], js["ses"]["total"]);
+  EXPECT_EQ(jm["sas"]["total"], js["sas"]["total"]);
+  EXPECT_EQ(jm["ses"]["volume"], js["ses"]["volume"]);
+  const Result info = run("info " + stp);
+  EXPECT_NE(info.output.find("SurfTrace patch list"), std::string::npos) << info.output;
+  // What a patch list cannot do is said, not guessed.
+  EXPECT_NE(run("render " + stp + " --quiet --color element -o x.png").output.find("needs the atoms' records"),
+            std::string::npos);
+  EXPECT_NE(run("area --probe 3 " + stp).output.find("cannot change it"), std::string::npos);
+  EXPECT_NE(run("build " + stp + " -o y.stp").output.find("is a patch list already"), std::string::npos);
 }
 
 TEST(Cli, RenderRejectsImpossibleOptionsClearly) {

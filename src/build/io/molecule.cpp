@@ -827,10 +827,18 @@ Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& opti
   if (options.model < 1)
     throw InputError(name, 0,
                      "models are numbered from 1, got model " + std::to_string(options.model));
+  if (options.format == MoleculeFormat::Auto) formatFromPath(path, name);  // before reading
+  return readMoleculeBytes(readFileBytes(path, name), name, options);
+}
+
+Molecule readMoleculeBytes(std::string bytes, const std::string& name, const ReadOptions& options) {
+  const fs::path path(name);
+  if (options.model < 1)
+    throw InputError(name, 0,
+                     "models are numbered from 1, got model " + std::to_string(options.model));
   const MoleculeFormat format =
       options.format == MoleculeFormat::Auto ? formatFromPath(path, name) : options.format;
 
-  std::string bytes = readFileBytes(path, name);
   const bool gzipped = hasGzipMagic(bytes);
   std::string file = lowerCase(path.filename().string());
   if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)

@@ -83,6 +83,10 @@ struct Molecule {
 // Throws InputError naming the file, line and value on any bad input.
 Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& options = {});
 
+// The same from a file's bytes already in memory (gzipped or not); `name` stands for the
+// path in errors and, when options.format is Auto, tells the format by its extension.
+Molecule readMoleculeBytes(std::string bytes, const std::string& name, const ReadOptions& options = {});
+
 // Checks that every centre is finite and every radius finite and > 0; throws InputError
 // (with the atom's line where known) otherwise. readMolecule calls it; builders that take
 // a Molecule from elsewhere (a trajectory frame) call it too.
