@@ -547,6 +547,12 @@ TEST(MoleculeBadInput, TruncatedMmcif) {
   expectError(data("bad/truncated.cif"), 3, "incomplete row");
 }
 
+// Found by fuzz_mmcif: gemmi's category lookup threw a bare std::runtime_error (no file, no
+// line) for a loop that mixes two categories.
+TEST(MoleculeBadInput, MmcifLoopOfTwoCategories) {
+  expectError(data("bad/loop_of_two_categories.cif"), 8, "Tag _other.B_iso_or_equiv in loop with _atom_site");
+}
+
 TEST(MoleculeBadInput, MalformedPqrLine) { expectError(data("bad/malformed.pqr"), 3, "got 9"); }
 
 TEST(MoleculeBadInput, NegativeAndNonFiniteRadii) {
