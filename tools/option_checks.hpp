@@ -34,7 +34,9 @@ inline std::string checkNumber(const std::string& text, double lo, double hi, bo
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) return expected;
+  if (text.empty() || end != text.c_str() + text.size()) return expected;
+  if (errno == ERANGE)
+    return expected + (std::abs(v) < 1.0 ? " (below 2.2e-308, the smallest normal double)" : " (beyond double's range)");
   if (!std::isfinite(v)) return expected + " (not finite)";
   if (integer && v != std::floor(v)) return expected;
   if (v < lo || (openLow && v == lo) || v > hi) return expected;

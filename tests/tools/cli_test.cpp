@@ -83,6 +83,8 @@ TEST(Cli, OptionErrorsAreReadable) {
       {"area --probe inf " + mol, "--probe: expected a number > 0, got 'inf' (not finite)"},
       {"area --probe nan " + mol, "got 'nan'"},
       {"area --probe 0 " + mol, "got '0'"},
+      {"area --probe 1e-320 " + mol, "got '1e-320' (below 2.2e-308, the smallest normal double)"},
+      {"area --probe 1e400 " + mol, "got '1e400' (beyond double's range)"},
       {"build --threads -1 -o x.stp " + mol, "--threads: expected a whole number in [0, 4096], got '-1'"},
       {"info --model 0 " + mol, "--model: expected a whole number >= 1, got '0'"},
       {"info --default-radius -2 " + mol, "--default-radius: expected a number > 0, got '-2'"},
