@@ -28,8 +28,8 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
   group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
   group->add_option("--radii", options.radiiFile,
-                    "Radius table overriding Bondi radii: lines 'ELEMENT r' or 'RES:ATOM r', '#' comments; "
-                    "elements not in it keep their Bondi radius")
+                    "Radius table overriding the default radii (Bondi, then Mantina, then Alvarez): lines 'ELEMENT r' or "
+                    "'RES:ATOM r', '#' comments; elements not in it keep their default radius")
       ->check(CLI::ExistingFile);
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")

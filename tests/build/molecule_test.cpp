@@ -553,6 +553,18 @@ TEST(MoleculeBadInput, MmcifLoopOfTwoCategories) {
   expectError(data("bad/loop_of_two_categories.cif"), 8, "Tag _other.B_iso_or_equiv in loop with _atom_site");
 }
 
+// Found by fuzz_pdb: a line longer than 120 columns with a byte >= 0x80 past column 120, then
+// a second ATOM record on the same line. gemmi read that record as a line of its own, which
+// the reader's own pass had not seen (an internal assertion). Columns past 120 are ignored:
+// one atom, from line 1.
+TEST(MoleculeBadInput, LongLineWithAHighByteHidesNoRecord) {
+  const Molecule m = readMolecule(data("bad/long_line_high_byte.pdb"));
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m.atoms[0].name, "N");
+  EXPECT_EQ(m.atoms[0].line, 1);
+  EXPECT_EQ(m.centers[0], glm::dvec3(17.047, 14.099, 3.625));
+}
+
 TEST(MoleculeBadInput, MalformedPqrLine) { expectError(data("bad/malformed.pqr"), 3, "got 9"); }
 
 TEST(MoleculeBadInput, NegativeAndNonFiniteRadii) {

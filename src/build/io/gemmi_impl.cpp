@@ -264,6 +264,12 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     std::size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();
     ++lineNumber;
+    // gemmi reads 120 columns and skips the rest of the line, but its in-memory getc returns
+    // a signed char, so it stops skipping at a byte >= 0x80 and reads what follows as a line
+    // of its own, an ATOM record this pass never saw (found by fuzz_pdb). Blanking the
+    // columns past 120 keeps gemmi's lines ours; it reads none of them anyway.
+    if (end - pos > 120) std::fill(text.begin() + static_cast<std::ptrdiff_t>(pos + 120),
+                                   text.begin() + static_cast<std::ptrdiff_t>(end), ' ');
     std::string_view line(text.data() + pos, end - pos);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.size() > 120) line = line.substr(0, 120);  // gemmi reads no further
