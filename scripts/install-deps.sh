@@ -14,6 +14,7 @@ packages=(
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools
   nlohmann-json3-dev libcli11-dev
   freesasa
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -1,6 +1,8 @@
 // `surftrace build` (write a patch list) and `surftrace area` (exact areas and volume).
 #include <chrono>
 #include <initializer_list>
+#include <limits>
+#include <stdexcept>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -13,6 +15,7 @@
 #include "build/ses/surface_area.hpp"
 #include "build/surface.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -25,21 +28,25 @@ struct SurfaceOptions {
   double shrink = 0.5;
   int threads = 0;
   bool dropCavities = false;
+  CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
 };
 
 void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
-  cmd.add_option("FILE", o.path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd.add_option("FILE", o.path,
+                 "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed); `area` also takes a patch list from "
+                 "`build` (.stp, told by its content)")
+      ->required();
   cmd.add_option("--surface", o.surface,
                  "Surface to build: ses (solvent excluded: spheres, tori, concave triangles) or mss (molecular "
                  "skin: spheres and hyperboloids clipped to mixed cells)")
       ->check(CLI::IsMember({"ses", "mss"}))
       ->default_val("ses");
   addShrinkOption(cmd, o.shrink);
-  cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
-      ->check(CLI::PositiveNumber)
+  o.probeOption = cmd.add_option("--probe", o.probe, "Probe radius rp in Å (> 0); 1.4 Å models water")
+      ->check(positive())
       ->default_val(1.4);
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeIn(0, 4096));
   cmd.add_flag("--drop-cavities", o.dropCavities,
                "Keep only the outer SES component: drop the inner surfaces of buried cavities a probe fits in");
   addMoleculeOptions(cmd, o.read);
@@ -66,6 +73,28 @@ Built readAndBuild(const SurfaceOptions& o) {
                                                   static_cast<std::size_t>(o.threads));
   auto start = std::chrono::steady_clock::now();
   Built b;
+  if (isPatchListInput(o.path)) {
+    // A patch list from `build` (told by its magic): its areas are those of the structure it
+    // was built from, with the probe it was built with.
+    b.patches = build::readPatchList(o.path);
+    if (o.probeOption && o.probeOption->count() > 0 && o.probe != b.patches.params.probeRadius)
+      throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +
+                                  " Å; --probe " + std::to_string(o.probe) + " cannot change it (rebuild it)");
+    if (b.patches.params.surface != build::SurfaceKind::Ses)
+      throw std::invalid_argument(o.path + ": the areas of a " + build::surfaceKindName(b.patches.params.surface) +
+                                  " patch list need its structure (per-atom shares): run `area` on the structure");
+    b.molecule.source = o.path;
+    b.molecule.atoms.resize(b.patches.params.atomCount);
+    b.molecule.centers.resize(b.patches.params.atomCount);
+    b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < b.patches.convex.size(); ++k)
+      b.molecule.radii[b.patches.convex.atom[k]] = b.patches.convex.radius[k];
+    b.readSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    if (o.dropCavities) b.patches = build::outerComponent(b.patches);
+    b.buildSeconds = secondsSince(start);
+    return b;
+  }
   b.molecule = build::readMolecule(o.path, o.read);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
@@ -79,6 +108,9 @@ struct BuildOptions : SurfaceOptions {
 };
 
 void runBuild(const BuildOptions& o) {
+  if (isPatchListInput(o.path))
+    throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
+                                "take it as it is");
   const Built b = readAndBuild(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;
@@ -167,7 +199,7 @@ void runArea(const AreaOptions& o) {
   if (o.format == "json") {
     nlohmann::json j;
     j["file"] = m.source;
-    j["probe_radius"] = o.probe;
+    j["probe_radius"] = b.patches.params.probeRadius;
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
     j["sas"] = {{"total", a.sas}, {"per_atom", a.sasPerAtom}};
@@ -183,7 +215,7 @@ void runArea(const AreaOptions& o) {
     printPerAtomCsv(m, {{"sas", &a.sasPerAtom}, {"ses", &a.sesPerAtom}});
     return;
   }
-  std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), o.probe);
+  std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), b.patches.params.probeRadius);
   std::printf("SAS area        %14.4f Å²\n", a.sas);
   std::printf("SES area        %14.4f Å²\n", a.sesTotal());
   std::printf("  convex        %14.4f Å²\n", a.sesConvex);

@@ -15,6 +15,10 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
 // --shrink: the MSS shrink factor in (0, 1], default 0.5, with a readable error.
 void addShrinkOption(CLI::App& cmd, double& shrink);
 
+// Whether FILE is a patch list (.stp) rather than a structure: it starts with the magic
+// "SURFTRCE", or it is named .stp (then reading it explains what is wrong).
+bool isPatchListInput(const std::string& path);
+
 void addInfoCommand(CLI::App& app);
 void addBuildCommands(CLI::App& app);  // build, area
 // `commandLine` is the whole invocation, recorded in every image's metadata.

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "option_checks.hpp"
 #include "view/camera.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
@@ -94,11 +95,11 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
                                          "kinds > 99.9%) or exact (a re-render by the same engine)")
       ->check(CLI::IsMember({"gl-vs-embree", "exact"}));
-  cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--min-patch", o->minPatch, "Smallest patch-id agreement fraction")->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--max-normal-p99", o->maxNormalP99, "Largest normal-angle p99 in degrees")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
+  cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));
+  cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(numberIn(0, 1));
+  cmd->add_option("--min-patch", o->minPatch, "Smallest patch-id agreement fraction")->check(numberIn(0, 1));
+  cmd->add_option("--max-normal-p99", o->maxNormalP99, "Largest normal-angle p99 in degrees")->check(numberIn(0, HUGE_VAL));
   cmd->add_flag("--ignore-camera", o->ignoreCamera, "Compare even if the images' recorded cameras differ");
   cmd->callback([o] {
     try {

@@ -6,30 +6,34 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
 #include "build/io/molecule.hpp"
+#include "build/patch_list.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 
 namespace surftrace::tools {
 
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   auto* group = &cmd;
   group->add_option("--model", options.model, "Model (PDB/mmCIF) or frame (XYZ) to read, 1-based")
-      ->check(CLI::PositiveNumber)
+      ->check(wholeIn(1, HUGE_VAL))
       ->default_val(1);
   group->add_flag("--keep-water", options.keepWater, "Keep water molecules (dropped by default)");
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
   group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
   group->add_option("--radii", options.radiiFile,
-                    "Radius table overriding Bondi radii: lines 'ELEMENT r' or 'RES:ATOM r', '#' comments; "
-                    "elements not in it keep their Bondi radius")
+                    "Radius table overriding the default radii (Bondi, then Mantina, then Alvarez): lines 'ELEMENT r' or "
+                    "'RES:ATOM r', '#' comments; elements not in it keep their default radius")
       ->check(CLI::ExistingFile);
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   group->add_flag("--drop-zero-radius", options.dropZeroRadius,
                   "Drop atoms whose file gives radius 0 (PQR hydrogens) instead of stopping with an error");
   static const std::map<std::string, build::MoleculeFormat> kFormats{
@@ -39,6 +43,12 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       {"xyz", build::MoleculeFormat::Xyz}};
   group->add_option("--input-format", options.format, "Input format (default: from the file name)")
       ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
+}
+
+bool isPatchListInput(const std::string& path) {
+  if (build::isPatchListFile(path)) return true;
+  const std::string ext = ".stp";
+  return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
 }
 
 namespace {
@@ -55,7 +65,34 @@ std::string fixed(double v, int digits = 3) {
   return buf;
 }
 
+// A patch list holds no atom records: say what it was built from and what it holds.
+void runPatchListInfo(const InfoOptions& o) {
+  const build::PatchList p = build::readPatchList(o.path);
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = o.path;
+    j["format"] = "SurfTrace patch list";
+    j["surface"] = build::surfaceKindName(p.params.surface);
+    j["probe_radius"] = p.params.probeRadius;
+    j["atoms"] = p.params.atomCount;
+    j["input_crc32"] = p.params.inputCrc32;
+    j["radii"] = {{"set", p.params.radiiSet}};
+    j["patches"] = {{"convex", p.convex.size()}, {"toroidal", p.tori.size()}, {"concave", p.concave.size()},
+                    {"clip_planes", p.clipPlanes.size()}};
+    j["components"] = p.componentCount;
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("file       %s (SurfTrace patch list, %s surface, probe %.3f Å)\n", o.path.c_str(),
+              build::surfaceKindName(p.params.surface), p.params.probeRadius);
+  std::printf("built from %u atoms (input CRC-32 %x, radii %s)\n", p.params.atomCount, p.params.inputCrc32,
+              p.params.radiiSet.c_str());
+  std::printf("patches    %zu convex, %zu toroidal, %zu concave, %zu clipping planes; %u components\n",
+              p.convex.size(), p.tori.size(), p.concave.size(), p.clipPlanes.size(), p.componentCount);
+}
+
 void runInfo(const InfoOptions& o) {
+  if (isPatchListInput(o.path)) return runPatchListInfo(o);
   const auto start = std::chrono::steady_clock::now();
   const build::Molecule m = build::readMolecule(o.path, o.read);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -80,6 +117,11 @@ void runInfo(const InfoOptions& o) {
     rSum += m.radii[i];
   }
   const auto& s = m.skipped;
+  // Sources in table order, only those that gave some atom a radius.
+  std::vector<std::pair<std::string, std::size_t>> sources;
+  for (std::size_t k = 0; k < build::kRadiusSourceCount; ++k)
+    if (m.radiusSources[k] != 0)
+      sources.emplace_back(build::radiusSourceName(static_cast<build::RadiusSource>(k)), m.radiusSources[k]);
 
   if (o.json) {
     nlohmann::json j;
@@ -94,7 +136,13 @@ void runInfo(const InfoOptions& o) {
     j["chains"] = chains;
     j["elements"] = elements;
     j["bbox"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
-    j["radii"] = {{"set", m.radiiSet}, {"min", rMin}, {"mean", rSum / static_cast<double>(m.size())}, {"max", rMax}};
+    nlohmann::json bySource = nlohmann::json::object();
+    for (const auto& [name, n] : sources) bySource[name] = n;
+    j["radii"] = {{"set", m.radiiSet},
+                  {"min", rMin},
+                  {"mean", rSum / static_cast<double>(m.size())},
+                  {"max", rMax},
+                  {"sources", bySource}};
     j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
                     {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius}};
     j["read_seconds"] = seconds;
@@ -116,7 +164,9 @@ void runInfo(const InfoOptions& o) {
       << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
   out << "radii      " << m.radiiSet << ": min " << fixed(rMin, 2) << ", mean "
       << fixed(rSum / static_cast<double>(m.size()), 2) << ", max " << fixed(rMax, 2) << " Å";
-  if (s.defaultRadius) out << " (" << s.defaultRadius << " atoms got --default-radius)";
+  out << "\n           from";
+  for (std::size_t k = 0; k < sources.size(); ++k)
+    out << (k ? ", " : " ") << sources[k].first << " " << sources[k].second << (sources[k].second == 1 ? " atom" : " atoms");
   out << "\nskipped    ";
   bool any = false;
   auto note = [&](std::size_t n, const char* what) {
@@ -141,7 +191,9 @@ void addInfoCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("info",
                                  "Summarise a structure file: atoms, chains, models, elements, bounding box, "
                                  "radius statistics, and what was skipped and why");
-  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd->add_option("FILE", o->path,
+                  "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed) or a patch list from `build` (.stp)")
+      ->required();
   addMoleculeOptions(*cmd, o->read);
   cmd->add_flag("--json", o->json, "Print the summary as JSON");
   cmd->callback([o] { runInfo(*o); });

@@ -16,6 +16,7 @@
 #include "build/surface.hpp"
 #include "build/io/molecule.hpp"
 #include "commands.hpp"
+#include "option_checks.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
 #include "trace/patch_scene.hpp"
@@ -32,6 +33,7 @@ struct RenderCommandOptions {
   std::string surface = "ses";
   double probe = 1.4;
   double shrink = 0.5;
+  CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
   std::string patches;
   std::string size = "1024x1024";
   std::string view = "front";
@@ -135,14 +137,34 @@ void runRender(const RenderCommandOptions& o) {
   if (!o.lookAt.empty()) lookAt = parseVector("--look-at", o.lookAt);
   if (!o.up.empty()) up = parseVector("--up", o.up);
 
+  // A patch list given as FILE (told by its magic) is rendered as it is: its own surface,
+  // probe and shrink factor, framed from its patches.
+  const bool fromPatchList = isPatchListInput(o.path);
+  if (fromPatchList) {
+    if (!o.patches.empty())
+      throw std::invalid_argument(o.path + " is a patch list already; --patches applies to a structure file");
+    if (ro.color != view::ColorMode::Patch && ro.color != view::ColorMode::Uniform)
+      throw std::invalid_argument("--color " + o.color + " needs the atoms' records, which a patch list (" + o.path +
+                                  ") does not hold: render the structure file, or use --color patch|uniform");
+  }
+
   auto start = std::chrono::steady_clock::now();
-  const build::Molecule molecule = build::readMolecule(o.path, o.read);
+  const build::Molecule molecule = fromPatchList ? build::Molecule{} : build::readMolecule(o.path, o.read);
   const double readSeconds = secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   const build::SurfaceRequest request{build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
   build::PatchList list;
-  if (!o.patches.empty()) {
+  if (fromPatchList) {
+    list = build::readPatchList(o.path);
+    if (o.surface != "ses" && build::parseSurfaceKind(o.surface) != list.params.surface)
+      throw std::invalid_argument(o.path + " is a " + build::surfaceKindName(list.params.surface) + " patch list; --surface " +
+                                  o.surface + " needs the structure file");
+    if (o.probeOption && o.probeOption->count() > 0 && o.probe != list.params.probeRadius)
+      throw std::invalid_argument(o.path + " was built with probe " + std::to_string(list.params.probeRadius) +
+                                  " Å; --probe " + std::to_string(o.probe) + " cannot change it (rebuild it)");
+    if (o.dropCavities) list = build::outerComponent(list);
+  } else if (!o.patches.empty()) {
     list = build::readPatchList(o.patches);
     build::checkPatchListMatches(list, o.patches, molecule, request);
     if (o.dropCavities) list = build::outerComponent(list);
@@ -155,6 +177,14 @@ void runRender(const RenderCommandOptions& o) {
   // and each skin patch lies in its bounding ball.
   if (list.params.surface == build::SurfaceKind::Mss) {
     ro.camera = view::frameSpheres(ro.camera, list.mss.center, list.mss.boundRadius, viewDirection);
+  } else if (fromPatchList) {
+    // The convex patches' atoms reach furthest (a buried atom's extended sphere lies inside
+    // the others'), so the camera is the one the structure itself would get.
+    const double extend = list.params.surface == build::SurfaceKind::Ses ? list.params.probeRadius : 0.0;
+    std::vector<double> reach(list.convex.radius);
+    for (double& r : reach) r += extend;
+    if (list.convex.size() == 0) throw std::invalid_argument(o.path + ": the patch list has no convex patches to frame");
+    ro.camera = view::frameSpheres(ro.camera, list.convex.center, reach, viewDirection);
   } else {
     std::vector<double> reach(molecule.radii);
     if (list.params.surface != build::SurfaceKind::Vdw)
@@ -166,7 +196,8 @@ void runRender(const RenderCommandOptions& o) {
   if (up) ro.camera.up = *up;
   ro.camera.validate();
 
-  const auto colors = view::atomColors(molecule, ro.color, uniform);
+  const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, uniform)
+                                    : view::atomColors(molecule, ro.color, uniform);
   view::FrameBuffers frame;
   view::ImageMetadata meta;
   double sceneSeconds = 0.0;
@@ -192,8 +223,9 @@ void runRender(const RenderCommandOptions& o) {
   meta["surftrace:engine"] = o.engine;
   meta["surftrace:camera"] = view::cameraToJson(ro.camera);
   meta["surftrace:surface"] = o.surface;
-  meta["surftrace:probe_radius"] = std::to_string(o.probe);
-  if (o.surface == "mss") meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
+  meta["surftrace:probe_radius"] = std::to_string(fromPatchList ? list.params.probeRadius : o.probe);
+  if (list.params.surface == build::SurfaceKind::Mss)
+    meta["surftrace:shrink_factor"] = std::to_string(list.params.shrinkFactor);
   meta["surftrace:input"] = o.path;
   meta["surftrace:color"] = o.color;
   meta["surftrace:command"] = o.commandLine;
@@ -208,7 +240,8 @@ void runRender(const RenderCommandOptions& o) {
     const std::size_t n = view::patchCount(list, k.kind);
     if (n > 0) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + k.name;
   }
-  std::printf("%s: %zu atoms, %s, %zu patches (%s); engine %s\n", o.path.c_str(), molecule.size(), o.surface.c_str(),
+  std::printf("%s: %zu atoms, %s, %zu patches (%s); engine %s\n", o.path.c_str(),
+              static_cast<std::size_t>(list.params.atomCount), build::surfaceKindName(list.params.surface),
               list.patchCount(), counts.c_str(), o.engine.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
@@ -227,14 +260,18 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       "render",
       "Ray-trace a molecular surface exactly (Embree, double-precision patches) to a PNG and/or an EXR with "
       "depth, normal, patch kind, patch id, atom id and ambiguity flags for pixel-by-pixel validation");
-  cmd->add_option("FILE", o->path, "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed)")->required();
+  cmd->add_option("FILE", o->path,
+                  "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed) or a patch list from `surftrace build` "
+                  "(.stp, told by its content)")
+      ->required();
   cmd->add_option("--surface", o->surface,
                   "ses (solvent excluded: exact spheres, tori, concave triangles), mss (molecular skin: spheres and "
                   "hyperboloids in their mixed cells), vdw (atom spheres) or sas (spheres of r + probe)")
       ->check(CLI::IsMember({"ses", "mss", "vdw", "sas"}))
       ->default_val("ses");
   addShrinkOption(*cmd, o->shrink);
-  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(CLI::PositiveNumber)->default_val(1.4);
+  o->probeOption =
+      cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
   cmd->add_option("--patches", o->patches,
                   "Render this patch list (from `surftrace build` with the same --surface, --probe or --shrink) "
                   "instead of building it")
@@ -256,11 +293,11 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--uniform-color", o->uniformColor, "Colour r,g,b in [0,1] for --color uniform")->default_val("0.8,0.8,0.8");
   cmd->add_option("--background", o->background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
   cmd->add_option("--spp", o->spp, "Samples per pixel for anti-aliasing (a k×k grid; buffers use the pixel centre)")
-      ->check(CLI::Range(1, 1024))
+      ->check(wholeIn(1, 1024))
       ->default_val(1);
   cmd->add_flag("--shadows", o->shadows, "Ray-traced shadows from a key light above-left of the eye");
-  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(CLI::Range(0, 4096))->default_val(0);
-  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(CLI::PositiveNumber)->default_val(8.0);
+  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(wholeIn(0, 4096))->default_val(0);
+  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(positive())->default_val(8.0);
   cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
   cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
   cmd->add_option("--engine", o->engine,
@@ -278,10 +315,10 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
       ->check(CLI::IsMember({"box", "cylinder"}))
       ->default_val("box");
   cmd->add_option("--gl-steps", o->glSteps, "GL sphere-tracing steps per ray (Lindow et al. 2010 use 30)")
-      ->check(CLI::Range(1, 10000))
+      ->check(wholeIn(1, 10000))
       ->default_val(30);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeIn(0, 4096));
   cmd->add_flag("--drop-cavities", o->dropCavities, "Leave out the inner SES components of buried cavities (invisible from outside)");
   cmd->add_flag("--quiet", o->quiet, "No progress bar");
   addMoleculeOptions(*cmd, o->read);

@@ -284,11 +284,20 @@ void writePatchList(const std::string& path, const PatchList& patches) {
   }
 }
 
+bool isPatchListFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[sizeof kMagic] = {};
+  return in.read(head, sizeof head) && std::memcmp(head, kMagic, sizeof kMagic) == 0;
+}
+
 PatchList readPatchList(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open patch list");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parsePatchList(bytes, path);
+}
 
+PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string& path) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw std::runtime_error(path + ": not a SurfTrace patch list (bad magic; expected a file written by "
                                     "`surftrace build`)");

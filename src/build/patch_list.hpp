@@ -212,5 +212,9 @@ PatchList outerComponent(const PatchList& patches);
 inline constexpr std::uint32_t kPatchFileVersion = 2;
 void writePatchList(const std::string& path, const PatchList& patches);
 PatchList readPatchList(const std::string& path);
+// The same from the file's bytes; `path` names them in errors.
+PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string& path);
+// Whether the file starts with the magic "SURFTRCE" (false when it cannot be read).
+bool isPatchListFile(const std::string& path);
 
 }  // namespace surftrace::build

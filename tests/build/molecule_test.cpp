@@ -394,7 +394,11 @@ TEST(MoleculeElements, ElementColumnsInMixedCase) {
   const auto counts = elementCounts(m);
   for (const char* element : {"Cu", "Fe", "Mg", "Ca"})
     EXPECT_EQ(counts.count(element), 1u) << element;
-  EXPECT_EQ(m.skipped.defaultRadius, 1u);  // Fe: neither Bondi nor Mantina give it
+  EXPECT_EQ(m.skipped.defaultRadius, 0u);  // Fe takes Alvarez's radius
+  std::map<std::string, double> radius;
+  for (std::size_t i = 0; i < m.size(); ++i) radius[m.atoms[i].element] = m.radii[i];
+  EXPECT_EQ(radius.at("Fe"), 2.44);  // Alvarez 2013, Table 1
+  EXPECT_EQ(radius.at("Cu"), 1.40);  // Bondi 1964
 }
 
 TEST(MoleculeElements, TheColumnTellsCarbonFromCalcium) {
@@ -541,6 +545,24 @@ TEST(MoleculeBadInput, MmcifNumbers) {
 
 TEST(MoleculeBadInput, TruncatedMmcif) {
   expectError(data("bad/truncated.cif"), 3, "incomplete row");
+}
+
+// Found by fuzz_mmcif: gemmi's category lookup threw a bare std::runtime_error (no file, no
+// line) for a loop that mixes two categories.
+TEST(MoleculeBadInput, MmcifLoopOfTwoCategories) {
+  expectError(data("bad/loop_of_two_categories.cif"), 8, "Tag _other.B_iso_or_equiv in loop with _atom_site");
+}
+
+// Found by fuzz_pdb: a line longer than 120 columns with a byte >= 0x80 past column 120, then
+// a second ATOM record on the same line. gemmi read that record as a line of its own, which
+// the reader's own pass had not seen (an internal assertion). Columns past 120 are ignored:
+// one atom, from line 1.
+TEST(MoleculeBadInput, LongLineWithAHighByteHidesNoRecord) {
+  const Molecule m = readMolecule(data("bad/long_line_high_byte.pdb"));
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m.atoms[0].name, "N");
+  EXPECT_EQ(m.atoms[0].line, 1);
+  EXPECT_EQ(m.centers[0], glm::dvec3(17.047, 14.099, 3.625));
 }
 
 TEST(MoleculeBadInput, MalformedPqrLine) { expectError(data("bad/malformed.pqr"), 3, "got 9"); }
@@ -822,24 +844,87 @@ TEST(Radii, UnknownElementNamesFileLineAndAtom) {
   // elements.xyz: one atom of each of 113 "elements", the first "LP" (a lone pair).
   expectError(data("small/elements.xyz"), 3, "'LP'");
   expectError(data("bad/unknown_element.pdb"), 3, "'XX'");
-  const InputError e = readError(data("small/elements.pdb"));
-  EXPECT_EQ(e.line(), 21);  // FE, HETATM on line 21
-  EXPECT_THAT(e.what(), HasSubstr("element Fe"));
+}
+
+// One atom of each element of elements.xyz, read alone. The expectations are typed from the
+// papers, not from radii.cpp: which elements each table covers (Bondi 1964 Table I; Mantina
+// et al. 2009 Table 12; Alvarez 2013 Table 1, which gives nothing for Pm, Po-Ra or Z >= 100)
+// and a few values of each.
+TEST(Radii, EveryElementOfElementsXyzReadsOrNamesItsElement) {
+  const std::set<std::string> mantina = {"Be", "B",  "Al", "Ca", "Ge", "Rb", "Sr", "Sb",
+                                         "Cs", "Ba", "Bi", "Po", "At", "Rn", "Fr", "Ra"};
+  const std::set<std::string> bondi = {"H",  "He", "Li", "C",  "N",  "O",  "F",  "Ne",
+                                       "Na", "Mg", "Si", "P",  "S",  "Cl", "Ar", "K",
+                                       "Ni", "Cu", "Zn", "Ga", "As", "Se", "Br", "Kr",
+                                       "Pd", "Ag", "Cd", "In", "Sn", "Te", "I",  "Xe",
+                                       "Pt", "Au", "Hg", "Tl", "Pb", "U"};
+  const std::map<std::string, double> spot = {
+      {"C", 1.70},  {"Zn", 1.39}, {"Ca", 2.31}, {"Ra", 2.83}, {"Fe", 2.44}, {"Mn", 2.45},
+      {"Co", 2.40}, {"Mo", 2.45}, {"W", 2.57},  {"Gd", 2.83}, {"Bk", 3.40}, {"Es", 2.70}};
+  const fs::path dir = tempDir();
+  const std::vector<std::string> text = lines(readText(data("small/elements.xyz")));
+  ASSERT_EQ(std::stoul(text.at(0)), text.size() - 2);
+  std::size_t covered = 0, refused = 0;
+  for (std::size_t i = 2; i < text.size(); ++i) {
+    std::istringstream fields(text[i]);
+    std::string symbol;
+    fields >> symbol;
+    const std::string rest = text[i].substr(symbol.size());
+    const fs::path one = dir / (symbol + ".xyz");
+    writeText(one, "1\n" + symbol + "\n" + symbol + rest + "\n");
+    const int z = static_cast<int>(i) - 2;  // line 3 is LP, then H (Z = 1) onwards
+    const bool expected = z >= 1 && z <= 99 && z != 61;
+    if (!expected) {
+      const InputError e = readError(one);
+      EXPECT_EQ(e.line(), 3) << symbol;
+      EXPECT_THAT(e.what(), HasSubstr(z == 0 ? "'LP' is not an element symbol"
+                                             : "element " + symbol + " has no radius"))
+          << symbol;
+      EXPECT_THAT(e.what(), HasSubstr("--default-radius")) << symbol;
+      ++refused;
+      continue;
+    }
+    const Molecule m = readMolecule(one);
+    ASSERT_EQ(m.size(), 1u) << symbol;
+    const RadiusSource want = bondi.count(symbol)     ? RadiusSource::Bondi
+                              : mantina.count(symbol) ? RadiusSource::Mantina
+                                                      : RadiusSource::Alvarez;
+    EXPECT_EQ(m.radiusSources[static_cast<std::size_t>(want)], 1u) << symbol;
+    EXPECT_GE(m.radii[0], 1.2) << symbol;
+    EXPECT_LE(m.radii[0], 3.5) << symbol;
+    if (const auto it = spot.find(symbol); it != spot.end()) {
+      EXPECT_EQ(m.radii[0], it->second) << symbol;
+    }
+    ++covered;
+  }
+  EXPECT_EQ(covered, 98u);  // Z = 1..99 but Pm
+  EXPECT_EQ(refused, 15u);  // LP, Pm, Fm..Cn
+}
+
+TEST(Radii, MoleculeCountsAtomsBySource) {
+  // 1MBN: one heme Fe (grep '^HETATM.*FE'); every other atom is C, N, O or S.
+  const Molecule m = readMolecule(data("structures/1mbn.pdb.gz"));
+  EXPECT_EQ(m.size(), 1260u);  // MANIFEST
+  EXPECT_EQ(m.radiusSources[static_cast<std::size_t>(RadiusSource::Alvarez)], 1u);
+  EXPECT_EQ(m.radiusSources[static_cast<std::size_t>(RadiusSource::Bondi)], m.size() - 1);
+  const Molecule pqr = readMolecule(data("small/pqr/1000.pqr"));
+  EXPECT_EQ(pqr.radiusSources[static_cast<std::size_t>(RadiusSource::File)], pqr.size());
 }
 
 TEST(Radii, DefaultRadiusCoversUnknownElements) {
-  // elements.xyz holds LP and H..Cn (112 elements). Bondi (38, with D) and Mantina (16)
-  // cover 54 of them, so 113 - 54 = 59 atoms take the default.
+  // elements.xyz holds LP and H..Cn (112 elements). Bondi (38, with D), Mantina (16) and
+  // Alvarez (44 more) cover 98 of them, so LP, Pm and Fm..Cn (15 atoms) take the default.
   ReadOptions options;
   options.defaultRadius = 1.8;
   const Molecule m = readMolecule(data("small/elements.xyz"), options);
   ASSERT_EQ(m.size(), 113u);
-  EXPECT_EQ(m.skipped.defaultRadius, 59u);
+  EXPECT_EQ(m.skipped.defaultRadius, 15u);
   std::map<std::string, double> radius;
   for (std::size_t i = 0; i < m.size(); ++i) radius[m.atoms[i].element] = m.radii[i];
   EXPECT_EQ(radius.at("C"), 1.70);
   EXPECT_EQ(radius.at("Ca"), 2.31);
-  EXPECT_EQ(radius.at("Fe"), 1.8);
+  EXPECT_EQ(radius.at("Fe"), 2.44);
+  EXPECT_EQ(radius.at("Pm"), 1.8);
   EXPECT_EQ(radius.at("Cn"), 1.8);
   EXPECT_EQ(m.radii[0], 1.8);  // LP
   options.defaultRadius = -1.0;

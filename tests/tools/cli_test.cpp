@@ -1,9 +1,11 @@
 // The `surftrace` program end to end: what a user types and what they get back.
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 
@@ -37,6 +39,21 @@ TEST(Cli, InfoCountsTheDemoMolecule) {
   EXPECT_EQ(j["skipped"]["water"], 43);
   const Result keep = run("info --json --keep-water " + data("paper/1vis.pdb.gz"));
   EXPECT_EQ(nlohmann::json::parse(keep.output)["atoms"], 2531);
+}
+
+// A heme protein reads, builds and renders with no options: its Fe takes Alvarez's radius,
+// and `info` says so.
+TEST(Cli, HemeProteinWorksOutOfTheBox) {
+  const Result info = run("info --json " + data("structures/1mbn.pdb.gz"));
+  ASSERT_EQ(info.status, 0) << info.output;
+  const auto j = nlohmann::json::parse(info.output);
+  EXPECT_EQ(j["radii"]["sources"]["Alvarez 2013"], 1);  // the heme iron
+  EXPECT_EQ(j["radii"]["sources"]["Bondi 1964"], 1259);
+  const Result text = run("info " + data("structures/1mbn.pdb.gz"));
+  EXPECT_NE(text.output.find("Alvarez 2013 1 atom"), std::string::npos) << text.output;
+  const std::string png = (std::filesystem::path(testing::TempDir()) / "1mbn.png").string();
+  const Result render = run("render " + data("structures/1mbn.pdb.gz") + " --size 32x32 --quiet -o " + png);
+  EXPECT_EQ(render.status, 0) << render.output;
 }
 
 TEST(Cli, BadInputIsAClearErrorNotACrash) {
@@ -82,6 +99,52 @@ TEST(Cli, SkinAreaBuildAndShrinkErrors) {
     EXPECT_NE(e.output.find("(0, 1]"), std::string::npos) << e.output;
     EXPECT_EQ(e.output.find("000000"), std::string::npos) << "no raw numeric limits: " << e.output;
   }
+}
+
+// Every numeric option says what it expects and what it got, in a line a person reads:
+// no 300-digit limits of double from the option library.
+TEST(Cli, OptionErrorsAreReadable) {
+  const std::string mol = data("structures/1crn.pdb");
+  const std::string png = (std::filesystem::path(testing::TempDir()) / "o.png").string();
+  struct Case {
+    std::string args, mustSay;
+  };
+  const Case cases[] = {
+      {"area --probe -1 " + mol, "--probe: expected a number > 0, got '-1'"},
+      {"area --probe inf " + mol, "--probe: expected a number > 0, got 'inf' (not finite)"},
+      {"area --probe nan " + mol, "got 'nan'"},
+      {"area --probe 0 " + mol, "got '0'"},
+      {"area --probe 1e-320 " + mol, "got '1e-320' (below 2.2e-308, the smallest normal double)"},
+      {"area --probe 1e400 " + mol, "got '1e400' (beyond double's range)"},
+      {"build --threads -1 -o x.stp " + mol, "--threads: expected a whole number in [0, 4096], got '-1'"},
+      {"info --model 0 " + mol, "--model: expected a whole number >= 1, got '0'"},
+      {"info --default-radius -2 " + mol, "--default-radius: expected a number > 0, got '-2'"},
+      {"render --spp 0 -o " + png + " " + mol, "--spp: expected a whole number in [1, 1024], got '0'"},
+      {"render --ao -1 -o " + png + " " + mol, "--ao: expected a whole number in [0, 4096]"},
+      {"render --ao-distance 0 -o " + png + " " + mol, "--ao-distance: expected a number > 0"},
+      {"render --gl-steps 0 -o " + png + " " + mol, "--gl-steps: expected a whole number in [1, 10000]"},
+      {"compare --min-kind 2 " + mol + " " + mol, "--min-kind: expected a number in [0, 1], got '2'"},
+      {"compare --max-depth-p99 -1 " + mol + " " + mol, "--max-depth-p99: expected a number >= 0"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_NE(r.status, 0) << c.args;
+    EXPECT_NE(r.output.find(c.mustSay), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("not in range"), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_LT(r.output.size(), 300u) << c.args << "\n" << r.output;
+  }
+}
+
+// A probe past what double precision serves is refused with the limit and the reason; below
+// it the SES of 1UBQ is its convex hull's area (3451 Å², as the issue measured at 1e5 Å).
+TEST(Cli, HugeProbeIsAnErrorNamingTheLimit) {
+  const Result r = run("area --probe 1e9 " + data("structures/1ubq.pdb.gz"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("probe radius 1e+09 Å is above the limit of 796918 Å (2^19 times the smallest atom "
+                          "radius, 1.52 Å)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("double-precision rounding"), std::string::npos) << r.output;
 }
 
 TEST(Cli, AreaJsonHasTheDocumentedShape) {
@@ -138,6 +201,57 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
   const auto frame2 = surftrace::view::readExr(exr2);
   EXPECT_EQ(frame2.depth, frame.depth);
   EXPECT_EQ(frame2.patchId, frame.patchId);
+}
+
+// Bytes equal, so that NaNs and signed zeros compare too.
+template <typename T>
+bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// `build`'s patch list rendered as FILE (named without .stp: it is told by its magic) gives
+// the image the structure gives, buffer for buffer and bit for bit, on both engines, with
+// the same camera; `area` of it gives the structure's areas.
+TEST(Cli, PatchListRendersAsTheStructureDoes) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string mol = data("structures/1crn.pdb"), stp = (dir / "crn.patches").string();
+  ASSERT_EQ(run("build " + mol + " -o " + stp).status, 0);
+  for (const std::string engine : {"embree", "gl"}) {
+    const std::string a = (dir / ("from_structure_" + engine + ".exr")).string();
+    const std::string b = (dir / ("from_patches_" + engine + ".exr")).string();
+    const std::string common = " --size 64x48 --quiet --view 1,-0.5,0.3 --engine " + engine + " --exr ";
+    const Result r1 = run("render " + mol + common + a);
+    ASSERT_EQ(r1.status, 0) << r1.output;
+    const Result r2 = run("render " + stp + common + b);
+    ASSERT_EQ(r2.status, 0) << r2.output;
+    surftrace::trace::ImageMetadata ma, mb;
+    const auto fa = surftrace::trace::readExr(a, &ma), fb = surftrace::trace::readExr(b, &mb);
+    EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
+    std::size_t covered = 0;
+    for (auto k : fa.kind) covered += k != 0;
+    EXPECT_GT(covered, fa.pixels() / 10) << engine;
+    EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
+    EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
+    EXPECT_TRUE(sameBytes(fa.viewZ, fb.viewZ)) << engine;
+    EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
+    EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
+    EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
+    EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
+    EXPECT_TRUE(sameBytes(fa.flags, fb.flags)) << engine;
+  }
+  const Result areaMol = run("area --format json " + mol), areaStp = run("area --format json " + stp);
+  ASSERT_EQ(areaStp.status, 0) << areaStp.output;
+  const auto jm = nlohmann::json::parse(areaMol.output), js = nlohmann::json::parse(areaStp.output);
+  EXPECT_EQ(jm["ses"]["total"], js["ses"]["total"]);
+  EXPECT_EQ(jm["sas"]["total"], js["sas"]["total"]);
+  EXPECT_EQ(jm["ses"]["volume"], js["ses"]["volume"]);
+  const Result info = run("info " + stp);
+  EXPECT_NE(info.output.find("SurfTrace patch list"), std::string::npos) << info.output;
+  // What a patch list cannot do is said, not guessed.
+  EXPECT_NE(run("render " + stp + " --quiet --color element -o x.png").output.find("needs the atoms' records"),
+            std::string::npos);
+  EXPECT_NE(run("area --probe 3 " + stp).output.find("cannot change it"), std::string::npos);
+  EXPECT_NE(run("build " + stp + " -o y.stp").output.find("is a patch list already"), std::string::npos);
 }
 
 TEST(Cli, RenderRejectsImpossibleOptionsClearly) {

@@ -264,6 +264,12 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     std::size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();
     ++lineNumber;
+    // gemmi reads 120 columns and skips the rest of the line, but its in-memory getc returns
+    // a signed char, so it stops skipping at a byte >= 0x80 and reads what follows as a line
+    // of its own, an ATOM record this pass never saw (found by fuzz_pdb). Blanking the
+    // columns past 120 keeps gemmi's lines ours; it reads none of them anyway.
+    if (end - pos > 120) std::fill(text.begin() + static_cast<std::ptrdiff_t>(pos + 120),
+                                   text.begin() + static_cast<std::ptrdiff_t>(end), ' ');
     std::string_view line(text.data() + pos, end - pos);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.size() > 120) line = line.substr(0, 120);  // gemmi reads no further
@@ -446,7 +452,42 @@ std::string cifTag(const char* column) { return std::string("_atom_site.") + col
 
 }  // namespace
 
+namespace {
+
+// The 1-based line on which `token` first stands as a whole word, 0 if nowhere.
+int lineOfToken(const std::string& text, const std::string& token) {
+  std::size_t pos = 0;
+  while (!token.empty() && (pos = text.find(token, pos)) != std::string::npos) {
+    const std::size_t end = pos + token.size();
+    if ((pos == 0 || isSpace(text[pos - 1])) && (end == text.size() || isSpace(text[end])))
+      return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+    pos = end;
+  }
+  return 0;
+}
+
+Molecule readMmcifTable(const std::string& text, const std::string& path, int model);
+
+}  // namespace
+
 Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, int model) {
+  // gemmi's lookups throw std::runtime_error on tables it cannot index (a loop mixing two
+  // categories: "Tag _x.y in loop with _atom_site."); they become InputErrors at the tag.
+  try {
+    return readMmcifTable(text, path, model);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    int line = 0;
+    if (message.rfind("Tag ", 0) == 0) line = lineOfToken(text, message.substr(4, message.find(' ', 4) - 4));
+    throw InputError(path, line, "mmCIF: " + message);
+  }
+}
+
+namespace {
+
+Molecule readMmcifTable(const std::string& text, const std::string& path, int model) {
   gemmi::cif::Document document;
   try {
     document = gemmi::cif::read_memory(text.data(), text.size(), path.c_str());
@@ -625,5 +666,7 @@ Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, in
   if (model > molecule.modelCount) throwNoSuchModel(path, model, models.size());
   return molecule;
 }
+
+}  // namespace
 
 }  // namespace surftrace::build::detail

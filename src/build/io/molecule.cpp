@@ -755,9 +755,13 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
                        "an XYZR file gives its own radii and no atom names or elements, so the "
                        "radius table " +
                            options.radiiFile->string() + " cannot apply");
+    molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
-  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile) return;
+  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile) {
+    molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
+    return;
+  }
 
   std::optional<RadiusTable> table;
   if (options.radiiFile) {
@@ -769,11 +773,13 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
   molecule.radii.assign(molecule.size(), 0.0);
   for (std::size_t i = 0; i < molecule.size(); ++i) {
     const AtomRecord& atom = molecule.atoms[i];
-    std::optional<double> radius;
-    if (table) radius = table->find(atom.residue, atom.name, atom.element);
-    if (!radius) radius = bondiRadius(atom.element);
+    std::optional<TabulatedRadius> radius;
+    if (table)
+      if (const std::optional<double> r = table->find(atom.residue, atom.name, atom.element))
+        radius = TabulatedRadius{*r, RadiusSource::UserTable};
+    if (!radius) radius = elementRadius(atom.element);
     if (!radius && options.defaultRadius) {
-      radius = options.defaultRadius;
+      radius = TabulatedRadius{*options.defaultRadius, RadiusSource::Default};
       ++molecule.skipped.defaultRadius;
     }
     if (!radius) {
@@ -784,13 +790,15 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
                      : std::string("its element is unknown (no element column, and the name "
                                    "implies none)"))
               : "element " + atom.element +
-                    " has no radius in the Bondi (1964) or Mantina (2009) tables" +
+                    " has no radius in the Bondi (1964), Mantina (2009) or Alvarez (2013) "
+                    "tables" +
                     (table ? " nor in " + table->path() : std::string());
       throw InputError(name, atom.line,
                        describe(atom) + ": " + what +
                            "; use --radii FILE or --default-radius R");
     }
-    molecule.radii[i] = *radius;
+    molecule.radii[i] = radius->radius;
+    ++molecule.radiusSources[static_cast<std::size_t>(radius->source)];
   }
 }
 
@@ -819,10 +827,18 @@ Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& opti
   if (options.model < 1)
     throw InputError(name, 0,
                      "models are numbered from 1, got model " + std::to_string(options.model));
+  if (options.format == MoleculeFormat::Auto) formatFromPath(path, name);  // before reading
+  return readMoleculeBytes(readFileBytes(path, name), name, options);
+}
+
+Molecule readMoleculeBytes(std::string bytes, const std::string& name, const ReadOptions& options) {
+  const fs::path path(name);
+  if (options.model < 1)
+    throw InputError(name, 0,
+                     "models are numbered from 1, got model " + std::to_string(options.model));
   const MoleculeFormat format =
       options.format == MoleculeFormat::Auto ? formatFromPath(path, name) : options.format;
 
-  std::string bytes = readFileBytes(path, name);
   const bool gzipped = hasGzipMagic(bytes);
   std::string file = lowerCase(path.filename().string());
   if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)

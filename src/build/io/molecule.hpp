@@ -1,6 +1,7 @@
 // A molecule as SurfTrace sees it: atom centres and radii, plus the records they came from.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -8,6 +9,8 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+
+#include "build/io/radii.hpp"
 
 namespace surftrace::build {
 
@@ -33,7 +36,7 @@ struct AtomRecord {
 enum class MoleculeFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyz };
 
 // How to read a structure file. Defaults: first model, no waters, hydrogens kept,
-// all chains, Bondi radii by element.
+// all chains, radii by element (Bondi, Mantina, Alvarez: elementRadius).
 struct ReadOptions {
   MoleculeFormat format = MoleculeFormat::Auto;
   int model = 1;                              // 1-based model (PDB/mmCIF) or frame (XYZ)
@@ -67,6 +70,9 @@ struct Molecule {
   int modelCount = 1;                   // models/frames present in the file
   int modelUsed = 1;
   std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), or "table:<path>"
+  // How many atoms took their radius from each source, indexed by RadiusSource ("bondi"
+  // is the chain Bondi, Mantina, Alvarez; see elementRadius).
+  std::array<std::size_t, kRadiusSourceCount> radiusSources{};
   std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
   SkipReport skipped;
 
@@ -76,6 +82,10 @@ struct Molecule {
 // Reads a structure file (PDB, mmCIF, either gzipped; PQR; XYZR; XYZ).
 // Throws InputError naming the file, line and value on any bad input.
 Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& options = {});
+
+// The same from a file's bytes already in memory (gzipped or not); `name` stands for the
+// path in errors and, when options.format is Auto, tells the format by its extension.
+Molecule readMoleculeBytes(std::string bytes, const std::string& name, const ReadOptions& options = {});
 
 // Checks that every centre is finite and every radius finite and > 0; throws InputError
 // (with the atom's line where known) otherwise. readMolecule calls it; builders that take

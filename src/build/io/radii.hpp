@@ -1,7 +1,9 @@
 // Elements and their van der Waals radii: symbols, elements implied by atom names, the Bondi
-// table (with Mantina et al. for the main-group elements Bondi lacks) and user radius tables.
+// table (with Mantina et al. for the main-group elements Bondi lacks, then Alvarez for the
+// transition metals, lanthanides and actinides) and user radius tables.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -47,6 +49,21 @@ std::string elementFromAtomName(std::string_view name, std::string_view residue,
 // (2009) for the other main-group elements; deuterium as hydrogen. nullopt for the rest
 // (most transition metals, lanthanides, actinides but U).
 std::optional<double> bondiRadius(std::string_view element);
+
+// Where an atom's radius came from.
+enum class RadiusSource { Bondi, Mantina, Alvarez, UserTable, File, Default };
+inline constexpr std::size_t kRadiusSourceCount = 6;
+const char* radiusSourceName(RadiusSource source);  // "Bondi 1964", "Alvarez 2013", ...
+
+struct TabulatedRadius {
+  double radius;  // Å
+  RadiusSource source;
+};
+
+// The default radius of an element: Bondi (1964), else Mantina et al. (2009), else Alvarez
+// (2013) for the transition metals, lanthanides and actinides. nullopt for Pm, the elements
+// from Fm (Z = 100) on, and anything that is not an element symbol.
+std::optional<TabulatedRadius> elementRadius(std::string_view element);
 
 // A user radius table: one entry a line, "ELEMENT radius" (Fe 1.95) or "RES:ATOM radius"
 // (HEM:FE 1.95), '#' starts a comment. Residue and atom names match without regard to case.

@@ -38,6 +38,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <numbers>
@@ -429,6 +430,24 @@ void SesBuilder::State::updatePlanes() {
   cv.clipCount.swap(clipCount);
 }
 
+double maxProbeRadius(std::span<const double> radii) {
+  double rMin = std::numeric_limits<double>::infinity();
+  for (const double r : radii) rMin = std::min(rMin, r);
+  return kMaxProbeToRadius * rMin;
+}
+
+void checkProbeRadius(double probeRadius, std::span<const double> radii) {
+  if (radii.empty() || probeRadius <= maxProbeRadius(radii)) return;
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "probe radius %.6g Å is above the limit of %.6g Å (2^19 times the smallest atom radius, "
+                "%.4g Å): past it the patch areas, differences of terms of order rp², lose more than 1e-5 "
+                "of their value to double-precision rounding. At the limit the SES is already within "
+                "2e-5 of the convex hull of the atoms, which larger probes tend to",
+                probeRadius, maxProbeRadius(radii), maxProbeRadius(radii) / kMaxProbeToRadius);
+  throw std::invalid_argument(text);
+}
+
 SesBuilder::SesBuilder() : s_(std::make_unique<State>()) {}
 SesBuilder::~SesBuilder() = default;
 SesBuilder::SesBuilder(SesBuilder&&) noexcept = default;
@@ -440,6 +459,7 @@ const PatchList& SesBuilder::build(std::span<const glm::dvec3> centers, std::spa
   if (!std::isfinite(rp) || !(rp > 0.0))
     throw std::invalid_argument("probe radius must be finite and > 0, got " + std::to_string(rp));
   if (centers.size() != radii.size()) throw std::invalid_argument("centers and radii differ in length");
+  checkProbeRadius(rp, radii);
   if (centers.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument("too many atoms: " + std::to_string(centers.size()));
   s_->params = params;

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Fuzzes the readers of untrusted files (PDB, mmCIF, PQR, XYZR, XYZ, .stp) with libFuzzer
+# under ASan+UBSan, seeded with tests/data. Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
+# (default 10 s each, all six targets: pdb mmcif pqr xyzr xyz stp). Corpora grow in
+# build/fuzz/corpus/<target> across runs; a crash is saved in build/fuzz/crashes/<target>/
+# and fails the run: reduce it, fix it, and add it to tests/data/bad (see tests/fuzz/README.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-10}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(pdb mmcif pqr xyzr xyz stp)
+
+if ! command -v clang++ >/dev/null 2>&1; then
+  echo "fuzz: clang++ not found (Debian: clang, libclang-rt-14-dev); skipped" >&2
+  exit 0
+fi
+CC=clang CXX=clang++ cmake -S tests/fuzz -B build/fuzz -G Ninja >/dev/null
+cmake --build build/fuzz -j "${FUZZ_JOBS:-$(nproc)}" >/dev/null
+
+# Seeds: the files of tests/data (and tests/fuzz/seeds) in each format, up to 64 KiB each,
+# gzipped ones included (the readers gunzip by content).
+seeds_for() {
+  case "$1" in
+    pdb) find tests/data tests/fuzz/seeds -type f \( -name '*.pdb' -o -name '*.pdb.gz' -o -name '*.ent' \) ;;
+    mmcif) find tests/data tests/fuzz/seeds -type f \( -name '*.cif' -o -name '*.cif.gz' \) ;;
+    pqr) find tests/data tests/fuzz/seeds -type f -name '*.pqr' ;;
+    xyzr) find tests/data tests/fuzz/seeds -type f -name '*.xyzr' ;;
+    xyz) find tests/data tests/fuzz/seeds -type f -name '*.xyz' ;;
+    stp) find tests/fuzz/seeds/stp -type f -name '*.stp' ;;
+  esac
+}
+
+status=0
+summary=()
+for t in "${targets[@]}"; do
+  corpus=build/fuzz/corpus/$t
+  crashes=build/fuzz/crashes/$t
+  mkdir -p "$corpus" "$crashes"
+  while IFS= read -r f; do
+    [ "$(stat -c %s "$f")" -le 65536 ] || continue
+    name=$(echo "$f" | tr '/' '_')
+    if [ "$t" = stp ]; then
+      # The harness reads a mode byte first: odd passes the file as it is, even wraps a body
+      # (the file without its 24-byte header and 4-byte checksum) in a valid header and CRC.
+      { printf '\001'; cat "$f"; } >"$corpus/raw_$name"
+      { printf '\000'; tail -c +25 "$f" | head -c -4; } >"$corpus/body_$name"
+    else
+      cp "$f" "$corpus/$name"
+    fi
+  done < <(seeds_for "$t")
+  log=build/fuzz/$t.log
+  if ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+     build/fuzz/fuzz_$t "$corpus" -max_total_time="$seconds" -max_len=65536 -timeout=20 -rss_limit_mb=2560 \
+       -print_final_stats=1 -artifact_prefix="$crashes/" >"$log" 2>&1; then
+    result=ok
+  else
+    result="FAILED (see $log and $crashes/)"
+    status=1
+  fi
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1 || echo 'cov: ?')
+  files=$(find "$corpus" -type f | wc -l)
+  summary+=("$(printf '%-6s %-5s %9s runs in %ss, %s, corpus %s files' "$t" "$result" "$runs" "$seconds" "$cov" "$files")")
+done
+printf 'fuzz: %s\n' "${summary[@]}"
+exit $status
