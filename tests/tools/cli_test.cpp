@@ -224,8 +224,8 @@ TEST(Cli, PatchListRendersAsTheStructureDoes) {
     ASSERT_EQ(r1.status, 0) << r1.output;
     const Result r2 = run("render " + stp + common + b);
     ASSERT_EQ(r2.status, 0) << r2.output;
-    surftrace::trace::ImageMetadata ma, mb;
-    const auto fa = surftrace::trace::readExr(a, &ma), fb = surftrace::trace::readExr(b, &mb);
+    surftrace::view::ImageMetadata ma, mb;
+    const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
     EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
     std::size_t covered = 0;
     for (auto k : fa.kind) covered += k != 0;
