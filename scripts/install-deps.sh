@@ -14,6 +14,8 @@ packages=(
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri glslang-tools
   nlohmann-json3-dev libcli11-dev
   freesasa
+  python3-mdanalysis python3-numpy
+  slurm-wlm munge
   clang libclang-rt-14-dev
 )
 

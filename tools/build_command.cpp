@@ -11,11 +11,14 @@
 #include <tbb/global_control.h>
 
 #include "build/io/molecule.hpp"
+#include "build/io/trajectory.hpp"
 #include "build/mss/mss_area.hpp"
 #include "build/ses/surface_area.hpp"
 #include "build/surface.hpp"
 #include "commands.hpp"
+#include "image_options.hpp"
 #include "option_checks.hpp"
+#include "trajectory_plan.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -133,6 +136,8 @@ void runBuild(const BuildOptions& o) {
 
 struct AreaOptions : SurfaceOptions {
   std::string format = "table";
+  std::string trajectory;  // FILE is then its topology: one row per frame
+  std::string frames;
 };
 
 // One CSV row per atom: who it is, its radius, then the named per-atom columns (Å²).
@@ -188,7 +193,79 @@ void runMssArea(const AreaOptions& o, const Built& b) {
               b.readSeconds * 1e3);
 }
 
+// Areas over time: one row per frame of a trajectory (FILE is its topology), from one
+// SurfaceBuilder that keeps its memory frame after frame.
+void runAreaOverTime(const AreaOptions& o) {
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<std::size_t>(o.threads));
+  const build::SurfaceRequest request = surfaceRequest(o);
+  build::Trajectory trajectory(o.path, o.trajectory, o.read);
+  for (const std::string& note : trajectory.source().notes())
+    std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
+  const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
+  const bool mss = request.surface == build::SurfaceKind::Mss;
+  const std::vector<std::string> columns =
+      mss ? std::vector<std::string>{"mss", "mss_convex", "mss_edge", "mss_face", "mss_concave", "mss_volume"}
+          : std::vector<std::string>{"sas", "ses", "ses_convex", "ses_toroidal", "ses_concave", "ses_volume"};
+  nlohmann::json rows = nlohmann::json::array();
+  if (o.format == "csv") {
+    std::printf("frame,time_ps");
+    for (const std::string& c : columns) std::printf(",%s", c.c_str());
+    std::printf("\n");
+  } else if (o.format == "table") {
+    std::printf("# %s + %s: %zu atoms, %s, %zu frames (areas in Å², volumes in Å³)\n", o.path.c_str(),
+                o.trajectory.c_str(), trajectory.molecule().size(),
+                mss ? ("skin, s = " + std::to_string(o.shrink)).c_str() : ("probe " + std::to_string(o.probe) + " Å").c_str(),
+                frames.size());
+    std::printf("%6s %12s", "frame", "time_ps");
+    for (const std::string& c : columns) std::printf(" %14s", c.c_str());
+    std::printf("\n");
+  }
+  build::SurfaceBuilder builder(request);
+  ProgressBar bar(true, "frames");
+  for (std::size_t n = 0; n < frames.size(); ++n) {
+    trajectory.load(frames[n]);
+    const build::Molecule& m = trajectory.molecule();
+    const build::PatchList list = n == 0 ? builder.build(m) : builder.update(m);
+    std::vector<double> values;
+    if (mss) {
+      const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(m.centers, m.radii)
+                                                : build::computeMssAreas(list, m.centers);
+      values = {a.total(), a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
+    } else {
+      const build::SurfaceAreas a = build::computeAreas(list);
+      values = {a.sas, a.sesTotal(), a.sesConvex, a.sesToroidal, a.sesConcave, a.sesVolume};
+    }
+    const double time = trajectory.frame().time;
+    if (o.format == "json") {
+      nlohmann::json row = {{"frame", frames[n]}, {"time_ps", time}};
+      for (std::size_t c = 0; c < columns.size(); ++c) row[columns[c]] = values[c];
+      rows.push_back(row);
+    } else {
+      std::printf(o.format == "csv" ? "%zu,%.6g" : "%6zu %12.6g", frames[n], time);
+      for (double v : values) std::printf(o.format == "csv" ? ",%.6f" : " %14.4f", v);
+      std::printf("\n");
+    }
+    bar.items(n + 1, frames.size(), "frames");
+  }
+  if (o.format == "json") {
+    nlohmann::json j = {{"topology", o.path}, {"trajectory", o.trajectory}, {"atoms", trajectory.molecule().size()},
+                        {"surface", o.surface}, {"units", {{"area", "Å^2"}, {"volume", "Å^3"}}}, {"frames", rows}};
+    if (mss) j["shrink_factor"] = o.shrink; else j["probe_radius"] = o.probe;
+    std::printf("%s\n", j.dump(1).c_str());
+  }
+}
+
 void runArea(const AreaOptions& o) {
+  if (!o.trajectory.empty()) {
+    if (isPatchListInput(o.path))
+      throw std::invalid_argument(o.path + " is a patch list; areas over a trajectory need its topology as FILE");
+    runAreaOverTime(o);
+    return;
+  }
+  if (!o.frames.empty()) throw std::invalid_argument("--frames needs a TRAJECTORY after FILE");
   const Built b = readAndBuild(o);
   if (o.surface == "mss") {
     runMssArea(o, b);
@@ -269,7 +346,14 @@ void addBuildCommands(CLI::App& app) {
                                   "over the patches), with per-atom areas in csv/json; with --surface mss the skin's "
                                   "area by patch kind, per atom, and its volume");
   addSurfaceOptions(*area, *ao);
-  area->add_option("--format", ao->format, "Output: table (totals), csv (per atom), json (totals and per atom)")
+  area->add_option("TRAJECTORY", ao->trajectory,
+                   "A trajectory of FILE (DCD, XTC, GRO, XYZ, multi-model PDB/mmCIF): one row of areas per frame, FILE "
+                   "being its topology (PSF, GRO, PDB, mmCIF)")
+      ->check(CLI::ExistingFile);
+  area->add_option("--frames", ao->frames, "With TRAJECTORY: frames a:b:step, numbered from 0 (default: all)");
+  area->add_option("--format", ao->format,
+                   "Output: table (totals), csv (per atom; with TRAJECTORY one row per frame), json (totals and per "
+                   "atom; with TRAJECTORY per frame)")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->default_val("table");
   area->callback([ao] { runArea(*ao); });

@@ -24,5 +24,7 @@ void addBuildCommands(CLI::App& app);  // build, area
 // `commandLine` is the whole invocation, recorded in every image's metadata.
 void addRenderCommand(CLI::App& app, const std::string& commandLine);
 void addCompareCommand(CLI::App& app);
+// `trajectory`: a surface frame after frame from a trajectory (trajectory_command.cpp).
+void addTrajectoryCommand(CLI::App& app, const std::string& commandLine);
 
 }  // namespace surftrace::tools

@@ -40,7 +40,8 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       {"auto", build::MoleculeFormat::Auto}, {"pdb", build::MoleculeFormat::Pdb},
       {"mmcif", build::MoleculeFormat::Mmcif}, {"cif", build::MoleculeFormat::Mmcif},
       {"pqr", build::MoleculeFormat::Pqr}, {"xyzr", build::MoleculeFormat::Xyzr},
-      {"xyz", build::MoleculeFormat::Xyz}};
+      {"xyz", build::MoleculeFormat::Xyz}, {"gro", build::MoleculeFormat::Gro},
+      {"psf", build::MoleculeFormat::Psf}};
   group->add_option("--input-format", options.format, "Input format (default: from the file name)")
       ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
 }

@@ -15,6 +15,7 @@
 
 #include "build/surface.hpp"
 #include "build/io/molecule.hpp"
+#include "build/io/trajectory.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "gl/gl_context.hpp"
@@ -23,6 +24,7 @@
 #include "trace/render.hpp"
 #include "view/atom_colors.hpp"
 #include "view/image_io.hpp"
+#include "image_options.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -35,18 +37,10 @@ struct RenderCommandOptions {
   double shrink = 0.5;
   CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
   std::string patches;
-  std::string size = "1024x1024";
-  std::string view = "front";
-  std::string eye, lookAt, up;
-  double fov = 30.0;
-  bool ortho = false;
-  std::string color = "patch";
-  std::string uniformColor = "0.8,0.8,0.8";
-  std::string background = "1,1,1";
-  int spp = 1;
-  bool shadows = false;
-  int ao = 0;
-  double aoDistance = 8.0;
+  std::string trajectory;   // FILE is then its topology
+  int frame = 0;
+  CLI::Option* frameOption = nullptr;
+  ImageOptions image;
   std::string engine = "embree";
   std::string glTorus = "quartic";
   std::string glPrimitive = "box";
@@ -58,84 +52,24 @@ struct RenderCommandOptions {
   std::string commandLine;
 };
 
-glm::dvec3 parseVector(const std::string& option, const std::string& text) {
-  std::istringstream in(text);
-  glm::dvec3 v;
-  char c1 = 0, c2 = 0;
-  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
-      !std::isfinite(v.y) || !std::isfinite(v.z))
-    throw std::invalid_argument(option + " '" + text + "': expected three finite numbers x,y,z");
-  return v;
-}
-
-glm::vec3 parseColor(const std::string& option, const std::string& text) {
-  const glm::dvec3 c = parseVector(option, text);
-  if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > 1 || c.y > 1 || c.z > 1)
-    throw std::invalid_argument(option + " '" + text + "': colour components must be in [0, 1]");
-  return glm::vec3(c);
-}
-
-void parseSize(const std::string& text, int& width, int& height) {
-  std::istringstream in(text);
-  char x = 0;
-  if (!(in >> width >> x >> height) || (x != 'x' && x != 'X') || in.peek() != EOF || width < 1 || height < 1 ||
-      width > 32768 || height > 32768)
-    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, each 1..32768, e.g. 1024x768");
-}
-
-// A one-line progress bar on stderr when it is a terminal.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled && isatty(STDERR_FILENO)) {}
-  void update(double fraction) {
-    if (!enabled_) return;
-    std::lock_guard lock(mutex_);
-    const int percent = static_cast<int>(100.0 * fraction);
-    if (percent <= last_) return;
-    last_ = percent;
-    const int bars = percent / 4;
-    std::fprintf(stderr, "\rrendering [%-25s] %3d%%", std::string(static_cast<std::size_t>(bars), '#').c_str(), percent);
-    if (percent >= 100) std::fprintf(stderr, "\n");
-  }
-
- private:
-  bool enabled_;
-  std::mutex mutex_;
-  int last_ = -1;
-};
-
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void runRender(const RenderCommandOptions& o) {
   if (o.output.empty() && o.exr.empty()) throw std::invalid_argument("nothing to write: give -o OUT.png and/or --exr OUT.exr");
-  if (o.engine == "gl" && (o.spp > 1 || o.shadows || o.ao > 0))
+  if (o.engine == "gl" && (o.image.spp > 1 || o.image.shadows || o.image.ao > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<std::size_t>(o.threads));
-  view::RenderOptions ro;
-  parseSize(o.size, ro.camera.width, ro.camera.height);
-  ro.camera.projection = o.ortho ? view::Projection::Orthographic : view::Projection::Perspective;
-  ro.camera.fovY = o.fov;
-  ro.color = view::parseColorMode(o.color);
-  ro.background = parseColor("--background", o.background);
-  const glm::vec3 uniform = parseColor("--uniform-color", o.uniformColor);
-  ro.samplesPerPixel = o.spp;
-  ro.shadows = o.shadows;
-  ro.aoSamples = o.ao;
-  ro.aoDistance = o.aoDistance;
   // Every option is checked before the slow work starts.
-  const glm::dvec3 viewDirection = view::namedViewDirection(o.view);
-  if (!(o.fov > 0.0 && o.fov < 180.0))
-    throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
-  std::optional<glm::dvec3> eye, lookAt, up;
-  if (!o.eye.empty()) eye = parseVector("--eye", o.eye);
-  if (!o.lookAt.empty()) lookAt = parseVector("--look-at", o.lookAt);
-  if (!o.up.empty()) up = parseVector("--up", o.up);
+  ImageSetup setup = resolveImageOptions(o.image);
+  view::RenderOptions& ro = setup.render;
+  if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
+    throw std::invalid_argument("--frame " + std::to_string(o.frame) + " needs --trajectory FILE (and FILE its topology)");
 
   // A patch list given as FILE (told by its magic) is rendered as it is: its own surface,
   // probe and shrink factor, framed from its patches.
@@ -143,13 +77,22 @@ void runRender(const RenderCommandOptions& o) {
   if (fromPatchList) {
     if (!o.patches.empty())
       throw std::invalid_argument(o.path + " is a patch list already; --patches applies to a structure file");
+    if (!o.trajectory.empty())
+      throw std::invalid_argument(o.path + " is a patch list; --trajectory needs the trajectory's topology as FILE");
     if (ro.color != view::ColorMode::Patch && ro.color != view::ColorMode::Uniform)
-      throw std::invalid_argument("--color " + o.color + " needs the atoms' records, which a patch list (" + o.path +
+      throw std::invalid_argument("--color " + o.image.color + " needs the atoms' records, which a patch list (" + o.path +
                                   ") does not hold: render the structure file, or use --color patch|uniform");
   }
 
   auto start = std::chrono::steady_clock::now();
-  const build::Molecule molecule = fromPatchList ? build::Molecule{} : build::readMolecule(o.path, o.read);
+  build::Molecule molecule;
+  if (!o.trajectory.empty()) {
+    build::Trajectory trajectory(o.path, o.trajectory, o.read);
+    trajectory.load(static_cast<std::size_t>(o.frame));
+    molecule = trajectory.molecule();
+  } else if (!fromPatchList) {
+    molecule = build::readMolecule(o.path, o.read);
+  }
   const double readSeconds = secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -173,31 +116,21 @@ void runRender(const RenderCommandOptions& o) {
   }
   const double buildSeconds = secondsSince(start);
 
-  // Frame what the surface can reach: r + rp bounds the SES and the SAS, r the vdW balls,
-  // and each skin patch lies in its bounding ball.
-  if (list.params.surface == build::SurfaceKind::Mss) {
-    ro.camera = view::frameSpheres(ro.camera, list.mss.center, list.mss.boundRadius, viewDirection);
-  } else if (fromPatchList) {
-    // The convex patches' atoms reach furthest (a buried atom's extended sphere lies inside
-    // the others'), so the camera is the one the structure itself would get.
+  // Frame what the surface can reach; a patch list without its structure is framed from its
+  // convex patches' atoms, which reach furthest (a buried atom's extended sphere lies inside the
+  // others'), so the camera is the one the structure itself would get.
+  if (fromPatchList && list.params.surface != build::SurfaceKind::Mss) {
     const double extend = list.params.surface == build::SurfaceKind::Ses ? list.params.probeRadius : 0.0;
     std::vector<double> reach(list.convex.radius);
     for (double& r : reach) r += extend;
     if (list.convex.size() == 0) throw std::invalid_argument(o.path + ": the patch list has no convex patches to frame");
-    ro.camera = view::frameSpheres(ro.camera, list.convex.center, reach, viewDirection);
+    frameSpheres(setup, list.convex.center, reach);
   } else {
-    std::vector<double> reach(molecule.radii);
-    if (list.params.surface != build::SurfaceKind::Vdw)
-      for (double& r : reach) r += o.probe;
-    ro.camera = view::frameSpheres(ro.camera, molecule.centers, reach, viewDirection);
+    frameSurface(setup, list, molecule);
   }
-  if (lookAt) ro.camera.lookAt = *lookAt;
-  if (eye) ro.camera.eye = *eye;
-  if (up) ro.camera.up = *up;
-  ro.camera.validate();
 
-  const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, uniform)
-                                    : view::atomColors(molecule, ro.color, uniform);
+  const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
+                                    : view::atomColors(molecule, ro.color, setup.uniformColor);
   view::FrameBuffers frame;
   view::ImageMetadata meta;
   double sceneSeconds = 0.0;
@@ -214,7 +147,7 @@ void runRender(const RenderCommandOptions& o) {
   } else {
     const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list));
     sceneSeconds = scene.buildSeconds();
-    ProgressBar bar(!o.quiet);
+    ProgressBar bar(!o.quiet, "rendering");
     ro.progress = [&bar](double f) { bar.update(f); };
     frame = trace::render(scene, ro, colors);
     meta["surftrace:renderer"] = std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
@@ -227,7 +160,11 @@ void runRender(const RenderCommandOptions& o) {
   if (list.params.surface == build::SurfaceKind::Mss)
     meta["surftrace:shrink_factor"] = std::to_string(list.params.shrinkFactor);
   meta["surftrace:input"] = o.path;
-  meta["surftrace:color"] = o.color;
+  if (!o.trajectory.empty()) {
+    meta["surftrace:trajectory"] = o.trajectory;
+    meta["surftrace:frame"] = std::to_string(o.frame);
+  }
+  meta["surftrace:color"] = o.image.color;
   meta["surftrace:command"] = o.commandLine;
   meta["Software"] = "surftrace 0.1.0";
   if (!o.output.empty()) view::writePng(o.output, frame, meta);
@@ -243,9 +180,10 @@ void runRender(const RenderCommandOptions& o) {
   std::printf("%s: %zu atoms, %s, %zu patches (%s); engine %s\n", o.path.c_str(),
               static_cast<std::size_t>(list.params.atomCount), build::surfaceKindName(list.params.surface),
               list.patchCount(), counts.c_str(), o.engine.c_str());
+  if (!o.trajectory.empty()) std::printf("frame %d of %s\n", o.frame, o.trajectory.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
-              frame.height, o.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
+              frame.height, o.image.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
               100.0 * static_cast<double>(covered) / static_cast<double>(frame.pixels()));
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
   if (!o.exr.empty()) std::printf("wrote %s\n", o.exr.c_str());
@@ -276,28 +214,14 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
                   "Render this patch list (from `surftrace build` with the same --surface, --probe or --shrink) "
                   "instead of building it")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
-  cmd->add_option("--view", o->view,
-                  "Direction to look along for automatic framing: front (−z), back, left, right, top, bottom, or x,y,z")
-      ->default_val("front");
-  cmd->add_option("--eye", o->eye, "Explicit eye position x,y,z (Å); overrides the framing's eye");
-  cmd->add_option("--look-at", o->lookAt, "Explicit look-at point x,y,z (Å)");
-  cmd->add_option("--up", o->up, "Explicit up vector x,y,z");
-  cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (perspective)")->default_val(30.0);
-  cmd->add_flag("--ortho", o->ortho, "Orthographic projection (framed to fit the molecule)");
-  cmd->add_option("--color", o->color, "Colouring: patch (SES: convex green, toroidal yellow, concave red; MSS: "
-                                       "convex green, edge hyperboloids red, face ones yellow, concave blue), element, "
-                                       "chain, bfactor, uniform")
-      ->check(CLI::IsMember({"patch", "element", "chain", "bfactor", "uniform"}))
-      ->default_val("patch");
-  cmd->add_option("--uniform-color", o->uniformColor, "Colour r,g,b in [0,1] for --color uniform")->default_val("0.8,0.8,0.8");
-  cmd->add_option("--background", o->background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
-  cmd->add_option("--spp", o->spp, "Samples per pixel for anti-aliasing (a k×k grid; buffers use the pixel centre)")
-      ->check(wholeIn(1, 1024))
-      ->default_val(1);
-  cmd->add_flag("--shadows", o->shadows, "Ray-traced shadows from a key light above-left of the eye");
-  cmd->add_option("--ao", o->ao, "Ambient-occlusion rays per pixel (0 = off)")->check(wholeIn(0, 4096))->default_val(0);
-  cmd->add_option("--ao-distance", o->aoDistance, "Ambient-occlusion ray length in Å")->check(positive())->default_val(8.0);
+  addImageOptions(*cmd, o->image);
+  cmd->add_option("--trajectory", o->trajectory,
+                  "Render one frame of this trajectory (DCD, XTC, GRO, XYZ, multi-model PDB/mmCIF); FILE is then "
+                  "its topology (PDB, mmCIF, GRO or PSF)")
+      ->check(CLI::ExistingFile);
+  o->frameOption = cmd->add_option("--frame", o->frame, "The frame of --trajectory to render, numbered from 0")
+                       ->check(wholeIn(0, 2147483647))
+                       ->default_val(0);
   cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
   cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
   cmd->add_option("--engine", o->engine,

@@ -18,8 +18,10 @@ int main(int argc, char** argv) {
       "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES patch list for renderers\n"
       "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the SES exactly (add --exr for buffers)\n"
       "  surftrace compare gl.exr embree.exr        validate another renderer pixel by pixel\n"
+      "  surftrace trajectory adk.psf adk.dcd -o f/%05d.png   the surface of every frame of an MD run\n"
       "\n"
-      "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ.\n"
+      "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ, GRO; trajectories\n"
+      "from DCD, XTC, GRO, XYZ and multi-model PDB/mmCIF with a PSF, GRO, PDB or mmCIF topology.\n"
       "Run `surftrace COMMAND --help` for the options of one command.",
       "surftrace"};
   app.require_subcommand(1);
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
   std::string commandLine;
   for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
   surftrace::tools::addRenderCommand(app, commandLine);
+  surftrace::tools::addTrajectoryCommand(app, commandLine);
   surftrace::tools::addCompareCommand(app);
 
   try {

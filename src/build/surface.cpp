@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "build/mss/mss_builder.hpp"
+#include "build/moved_atoms.hpp"
 #include "build/ses/contour_buildup.hpp"
 
 namespace surftrace::build {
@@ -36,6 +37,85 @@ PatchList buildSurface(const Molecule& m, const SurfaceRequest& r) {
   list.params.inputCrc32 = m.inputCrc32;
   return list;
 }
+
+struct SurfaceBuilder::State {
+  SurfaceRequest request;
+  SesBuilder ses;
+  MssBuilder mss;
+  std::vector<glm::dvec3> centers;
+  std::string radiiSet;
+  std::uint32_t inputCrc32 = 0;
+  std::size_t recomputed = 0;
+  bool built = false;
+
+  bool usesSes() const { return request.surface == SurfaceKind::Ses; }
+  bool usesMss() const { return request.surface == SurfaceKind::Mss && request.shrinkFactor < 1.0; }
+
+  // A copy of the builder's list with the molecule's provenance, as buildSurface gives it.
+  PatchList finish(const PatchList& fresh, const Molecule& m) const {
+    PatchList list = usesSes() && request.dropCavities ? outerComponent(fresh) : fresh;
+    list.params.radiiSet = m.radiiSet;
+    list.params.inputCrc32 = m.inputCrc32;
+    return list;
+  }
+  PatchList rebuildSpheres(const Molecule& m) {
+    recomputed = m.size();
+    return buildSurface(m, request);
+  }
+};
+
+SurfaceBuilder::SurfaceBuilder(const SurfaceRequest& request) : s_(std::make_unique<State>()) { s_->request = request; }
+SurfaceBuilder::~SurfaceBuilder() = default;
+SurfaceBuilder::SurfaceBuilder(SurfaceBuilder&&) noexcept = default;
+SurfaceBuilder& SurfaceBuilder::operator=(SurfaceBuilder&&) noexcept = default;
+
+PatchList SurfaceBuilder::build(const Molecule& m) {
+  State& s = *s_;
+  s.built = true;
+  s.centers = m.centers;
+  s.recomputed = m.size();
+  if (s.usesSes()) return s.finish(s.ses.build(m.centers, m.radii, SesParams{s.request.probeRadius}), m);
+  if (s.usesMss()) return s.finish(s.mss.build(m.centers, m.radii, MssParams{s.request.shrinkFactor}), m);
+  return s.rebuildSpheres(m);
+}
+
+PatchList SurfaceBuilder::update(const Molecule& m, std::span<const std::uint32_t> moved) {
+  State& s = *s_;
+  if (!s.built) throw std::logic_error("SurfaceBuilder::update before build");
+  if (m.size() != s.centers.size())
+    throw std::invalid_argument("SurfaceBuilder::update: " + std::to_string(m.size()) + " atoms, built with " +
+                                std::to_string(s.centers.size()));
+  std::vector<glm::dvec3> places(moved.size());
+  for (std::size_t k = 0; k < moved.size(); ++k) {
+    if (moved[k] >= m.size()) throw std::invalid_argument("SurfaceBuilder::update: atom index out of range");
+    places[k] = m.centers[moved[k]];
+    s.centers[moved[k]] = places[k];
+  }
+  if (s.usesSes()) {
+    const PatchList& list = s.ses.update(moved, places);
+    s.recomputed = s.ses.lastUpdate().full ? m.size() : s.ses.lastUpdate().contours;
+    return s.finish(list, m);
+  }
+  if (s.usesMss()) {
+    const PatchList& list = s.mss.update(moved, places);
+    s.recomputed = s.mss.lastUpdate().full ? m.size() : s.mss.lastUpdate().recomputed;
+    return s.finish(list, m);
+  }
+  return s.rebuildSpheres(m);
+}
+
+PatchList SurfaceBuilder::update(const Molecule& m) {
+  if (!s_->built) throw std::logic_error("SurfaceBuilder::update before build");
+  std::vector<std::uint32_t> moved;
+  std::vector<glm::dvec3> places;
+  if (m.size() != s_->centers.size())
+    throw std::invalid_argument("SurfaceBuilder::update: " + std::to_string(m.size()) + " atoms, built with " +
+                                std::to_string(s_->centers.size()));
+  movedAtoms(s_->centers, m.centers, moved, places);
+  return update(m, moved);
+}
+
+std::size_t SurfaceBuilder::lastRecomputed() const { return s_->recomputed; }
 
 void checkPatchListMatches(const PatchList& list, const std::string& source, const Molecule& m,
                            const SurfaceRequest& r) {

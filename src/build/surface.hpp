@@ -2,6 +2,9 @@
 // area, render, trajectory) goes through it, so they agree on what a surface is.
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 
 #include "build/io/molecule.hpp"
@@ -22,6 +25,34 @@ SurfaceKind parseSurfaceKind(const std::string& name);
 // The SES by contour-buildup, the MSS from feasible power cells (s = 1: the vdW spheres), or
 // the vdW or SAS spheres; params carry the molecule's radii set and input checksum.
 PatchList buildSurface(const Molecule& molecule, const SurfaceRequest& request);
+
+// The same surface frame after frame (a trajectory): keeps SesBuilder's or MssBuilder's memory
+// and per-atom results, so that a frame in which few atoms moved is a partial update. Every
+// list it returns equals, array for array and bit for bit, buildSurface() of that frame's
+// molecule (the vdW and SAS spheres, which no builder keeps, are simply rebuilt).
+class SurfaceBuilder {
+ public:
+  explicit SurfaceBuilder(const SurfaceRequest& request);
+  ~SurfaceBuilder();
+  SurfaceBuilder(SurfaceBuilder&&) noexcept;
+  SurfaceBuilder& operator=(SurfaceBuilder&&) noexcept;
+
+  // A full build of `molecule` (its radii are kept for the updates that follow). The list is
+  // the caller's: the builder keeps its own, so the next frame can be built while this one is
+  // drawn.
+  PatchList build(const Molecule& molecule);
+  // `molecule` is the last one built with atoms moved[k] now elsewhere (nothing else changed):
+  // a partial update. std::logic_error before the first build().
+  PatchList update(const Molecule& molecule, std::span<const std::uint32_t> moved);
+  // `molecule` is the last one built with any atoms moved (found by comparing the centres).
+  PatchList update(const Molecule& molecule);
+  // Atoms recomputed by the last call (the builders' own count; every atom for a full build).
+  std::size_t lastRecomputed() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
 
 // Throws std::invalid_argument, naming `source` and what differs, unless `list` was built from
 // `molecule` (atom count, input checksum) with this request (surface, probe or shrink factor).

@@ -213,27 +213,47 @@ SceneHit ScenePatches::intersectAll(const Ray& ray, double tMin, double tMax) co
 // ---------------------------------------------------------------------------------------
 // PatchScene
 
-struct PatchScene::Embree {
+struct EmbreeDevice::Impl {
   RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  PatchKind kindOfGeometry[view::kPatchKindCount] = {};  // by Embree geometry id
   std::mutex errorMutex;
   std::string error;
 
-  ~Embree() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
+  Impl() {
+    device = rtcNewDevice(nullptr);
+    if (!device) throw std::runtime_error("Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    rtcSetDeviceErrorFunction(device, &Impl::onError, this);
   }
-  // Embree reports errors through this callback; the owner checks after each commit.
+  ~Impl() { rtcReleaseDevice(device); }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  // Embree reports errors through this callback; the scene checks after each commit.
   static void onError(void* self, RTCError code, const char* message) {
-    auto* e = static_cast<Embree*>(self);
+    auto* e = static_cast<Impl*>(self);
     std::lock_guard lock(e->errorMutex);
     if (e->error.empty()) e->error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
   }
+  // Throws the first error since the last check, and forgets it.
   void check(const char* what) {
     std::lock_guard lock(errorMutex);
-    if (!error.empty()) throw std::runtime_error(std::string(what) + ": " + error);
+    if (error.empty()) return;
+    const std::string message = std::string(what) + ": " + error;
+    error.clear();
+    throw std::runtime_error(message);
   }
+};
+
+EmbreeDevice::EmbreeDevice() : impl_(std::make_shared<Impl>()) {}
+
+struct PatchScene::Embree {
+  std::shared_ptr<EmbreeDevice::Impl> shared;  // keeps the device alive as long as the scene
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  PatchKind kindOfGeometry[view::kPatchKindCount] = {};  // by Embree geometry id
+
+  ~Embree() {
+    if (scene) rtcReleaseScene(scene);
+  }
+  void check(const char* what) { shared->check(what); }
   // What each kind's geometry callbacks see, one per row of SceneKinds.
   GeometryDataOf<SceneKinds>::type geometryData;
   Bounds3d box;  // the scene's patches, padded like each patch's box
@@ -257,13 +277,13 @@ struct PatchScene::Embree {
   }
 };
 
-PatchScene::PatchScene(ScenePatches patches) : patches_(std::move(patches)), embree_(std::make_unique<Embree>()) {
+PatchScene::PatchScene(ScenePatches patches, const EmbreeDevice& device)
+    : patches_(std::move(patches)), embree_(std::make_unique<Embree>()) {
   const auto start = std::chrono::steady_clock::now();
   if (patches_.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument("scene: too many patches for 32-bit ids");
-  embree_->device = rtcNewDevice(nullptr);
-  if (!embree_->device) throw std::runtime_error("Embree: cannot create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
-  rtcSetDeviceErrorFunction(embree_->device, &Embree::onError, embree_.get());
+  embree_->shared = device.impl();
+  embree_->device = embree_->shared->device;
   embree_->scene = rtcNewScene(embree_->device);
   rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
   // A float ray shifted to the scene's box (enterBox) strays from its double original by at

@@ -63,9 +63,23 @@ struct ScenePatches {
   SceneHit intersectPatch(PatchKind kind, std::uint32_t patch, const Ray& ray, double tMin, double tMax) const;
 };
 
+// One Embree device (its thread pool and settings), created once and shared by the scenes of
+// many frames (a trajectory builds a scene per frame). Copies share the device. Scenes built
+// on one device must not be committed concurrently (errors are reported per device).
+class EmbreeDevice {
+ public:
+  EmbreeDevice();
+  struct Impl;
+  const std::shared_ptr<Impl>& impl() const { return impl_; }
+
+ private:
+  std::shared_ptr<Impl> impl_;
+};
+
 class PatchScene {
  public:
-  explicit PatchScene(ScenePatches patches);
+  // A scene of the patches on `device` (a fresh device unless one is given).
+  explicit PatchScene(ScenePatches patches, const EmbreeDevice& device = EmbreeDevice());
   ~PatchScene();
   PatchScene(const PatchScene&) = delete;
   PatchScene& operator=(const PatchScene&) = delete;

@@ -9,9 +9,11 @@
 #include <gemmi/pdb.hpp>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -28,6 +30,11 @@ namespace surftrace::build::detail {
 // radii and no selection. `text` is the decompressed file.
 Molecule readPdbWithGemmi(std::string text, const std::string& path, int model);
 Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, int model);
+// Called by the mmCIF trajectory reader (text_trajectory.cpp): the positions of every model,
+// models in order of first appearance, atoms in file order, and the unit cell from _cell.*
+// when the file gives all six numbers.
+std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
+    const std::string& text, const std::string& path, std::optional<std::array<double, 6>>& cell);
 
 namespace {
 
@@ -668,5 +675,102 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
 }
 
 }  // namespace
+
+// Only the coordinates and the model number of each _atom_site row are read: the atoms'
+// records come from the topology, and the trajectory needs the positions of every model.
+std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
+    const std::string& text, const std::string& path, std::optional<std::array<double, 6>>& cell) {
+  gemmi::cif::Document document;
+  try {
+    document = gemmi::cif::read_memory(text.data(), text.size(), path.c_str());
+  } catch (const tao::pegtl::parse_error& e) {
+    const int line = e.positions().empty() ? 0 : static_cast<int>(e.positions().front().line);
+    throw InputError(path, line, "mmCIF syntax: " + std::string(e.message()));
+  } catch (const std::exception& e) {
+    throw fromGemmi(path, e);
+  }
+  if (document.blocks.empty()) throw InputError(path, 0, "no data_ block");
+  gemmi::cif::Block& block = document.blocks.front();
+
+  // A value as a number: standard uncertainties ("1.234(5)") dropped, '?' and '.' absent.
+  auto numberOf = [](const std::string& raw) -> std::optional<double> {
+    if (gemmi::cif::is_null(raw)) return std::nullopt;
+    std::string_view value = trim(raw);
+    if (const std::size_t su = value.find('(');
+        su != std::string_view::npos && !value.empty() && value.back() == ')')
+      value = value.substr(0, su);
+    double result = 0.0;
+    if (!parseWhole(value, result)) return std::nullopt;
+    return result;
+  };
+
+  try {
+    cell.reset();
+    std::array<double, 6> values{};
+    const char* cellTags[] = {"_cell.length_a",    "_cell.length_b",   "_cell.length_c",
+                              "_cell.angle_alpha", "_cell.angle_beta", "_cell.angle_gamma"};
+    bool complete = true;
+    for (std::size_t i = 0; i < 6 && complete; ++i) {
+      const std::string* raw = block.find_value(cellTags[i]);
+      const std::optional<double> v = raw ? numberOf(*raw) : std::nullopt;
+      complete = v && std::isfinite(*v);
+      if (complete) values[i] = *v;
+    }
+    // A cell of 1 Å edges is the PDB's placeholder for "no cell" (NMR entries).
+    if (complete && !(values[0] == 1.0 && values[1] == 1.0 && values[2] == 1.0)) cell = values;
+
+    enum Column { kX, kY, kZ, kModel };
+    gemmi::cif::Table table =
+        block.find("_atom_site.", {"Cartn_x", "Cartn_y", "Cartn_z", "?pdbx_PDB_model_num"});
+    if (!table.ok()) {
+      if (block.find_mmcif_category("_atom_site.").ok())
+        throw InputError(path, 0, "_atom_site lacks one of the Cartn_x, Cartn_y, Cartn_z columns");
+      throw InputError(path, 0, "no _atom_site records (no atoms) in data_" + block.name);
+    }
+    const std::size_t rows = table.length();
+    std::vector<int> rowLines;
+    if (table.loop_item != nullptr)
+      rowLines = loopRowLines(text, table.loop_item->line_number,
+                              table.loop_item->loop.tags.size(), table.loop_item->loop.values.size());
+    rowLines.resize(rows, 0);
+
+    std::vector<std::string> names;  // model numbers in order of first appearance
+    std::vector<std::vector<glm::dvec3>> models;
+    std::size_t current = 0;
+    for (std::size_t r = 0; r < rows; ++r) {
+      gemmi::cif::Table::Row row = table[static_cast<int>(r)];
+      const std::string name = row.has2(kModel) ? gemmi::cif::as_string(row[kModel]) : "1";
+      if (models.empty() || names[current] != name) {
+        auto it = std::find(names.begin(), names.end(), name);
+        current = static_cast<std::size_t>(it - names.begin());
+        if (it == names.end()) {
+          names.push_back(name);
+          models.emplace_back();
+        }
+      }
+      glm::dvec3 position;
+      const char* columns[] = {"Cartn_x", "Cartn_y", "Cartn_z"};
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::string& raw = row[static_cast<std::size_t>(axis)];
+        const std::optional<double> v = numberOf(raw);
+        if (!v)
+          throw InputError(path, rowLines[r],
+                           "expected a number for " + cifTag(columns[axis]) + ", got " +
+                               inQuotes(raw));
+        if (!std::isfinite(*v))
+          throw InputError(path, rowLines[r],
+                           cifTag(columns[axis]) + " is not finite: " + inQuotes(raw));
+        position[axis] = *v;
+      }
+      models[current].push_back(position);
+    }
+    if (models.empty()) throw InputError(path, 0, "no atoms in the _atom_site table");
+    return models;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, 0, "mmCIF: " + std::string(e.what()));
+  }
+}
 
 }  // namespace surftrace::build::detail

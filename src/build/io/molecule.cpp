@@ -23,6 +23,7 @@
 
 #include "build/io/error.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/topology_formats.hpp"
 
 namespace surftrace::build {
 
@@ -225,11 +226,19 @@ MoleculeFormat formatFromPath(const fs::path& path, const std::string& name) {
   if (ext == "pqr") return MoleculeFormat::Pqr;
   if (ext == "xyzr" || ext == "xyzrn") return MoleculeFormat::Xyzr;
   if (ext == "xyz") return MoleculeFormat::Xyz;
+  if (ext == "gro") return MoleculeFormat::Gro;
+  if (ext == "psf") return MoleculeFormat::Psf;
+  if (ext == "dcd" || ext == "xtc")
+    throw InputError(name, 0,
+                     "is a trajectory (." + ext +
+                         "), which holds coordinates but no atoms: give it after its topology, "
+                         "e.g. `surftrace trajectory TOPOLOGY.psf " +
+                         path.filename().string() + " -o frames/%05d.png`");
   throw InputError(name, 0,
                    "cannot tell the format from the name (extension " +
                        inQuotes(ext.empty() ? "" : "." + ext) +
-                       "); expected .pdb, .ent, .cif, .mmcif, .pqr, .xyzr or .xyz, optionally "
-                       "followed by .gz, or give the format explicitly");
+                       "); expected .pdb, .ent, .cif, .mmcif, .pqr, .xyzr, .xyz, .gro or .psf, "
+                       "optionally followed by .gz, or give the format explicitly");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -818,6 +827,10 @@ const char* formatName(MoleculeFormat format) {
       return "XYZR";
     case MoleculeFormat::Xyz:
       return "XYZ";
+    case MoleculeFormat::Gro:
+      return "GRO";
+    case MoleculeFormat::Psf:
+      return "PSF";
   }
   return "unknown";
 }
@@ -871,6 +884,21 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
     case MoleculeFormat::Xyz:
       molecule = parseXyz(text, name, options.model);
       break;
+    case MoleculeFormat::Gro:
+      if (options.model != 1)
+        throw InputError(name, 0,
+                         "--model " + std::to_string(options.model) +
+                             ": a GRO file's later frames are a trajectory; read them with "
+                             "`surftrace trajectory TOPOLOGY " + name + "`");
+      molecule = detail::parseGro(text, name);
+      break;
+    case MoleculeFormat::Psf:
+      if (!options.topologyOnly)
+        throw InputError(name, 0,
+                         "a PSF is a topology without coordinates: give it with a trajectory, e.g. "
+                         "`surftrace trajectory " + name + " TRAJECTORY.dcd -o frames/%05d.png`");
+      molecule = detail::parsePsf(text, name);
+      break;
     case MoleculeFormat::Auto:
       SURFTRACE_ASSERT(false);
       break;
@@ -879,10 +907,12 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   molecule.format = format;
   molecule.modelUsed = options.model;
   molecule.inputCrc32 = crc;
+  molecule.fileAtomCount = molecule.size();
+  for (std::size_t i = 0; i < molecule.size(); ++i) molecule.atoms[i].fileIndex = i;
 
   selectAtoms(molecule, options, name);
   assignRadii(molecule, options, name);
-  validateMolecule(molecule);
+  if (!options.topologyOnly) validateMolecule(molecule);
   return molecule;
 }
 

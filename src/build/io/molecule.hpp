@@ -30,10 +30,15 @@ struct AtomRecord {
   bool hetatm = false;
   int line = 0;              // 1-based line in the source file; 0 when unknown
   char altLoc = ' ';         // alternate location indicator; ' ' when none
+  // 0-based position among the atoms of the model read, before any selection: the atom's
+  // index in a trajectory whose topology this file is.
+  std::size_t fileIndex = 0;
 };
 
-// Which input format a file holds. `Auto` decides from the extension (after .gz).
-enum class MoleculeFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyz };
+// Which input format a file holds. `Auto` decides from the extension (after .gz). GRO is
+// GROMACS's (its first frame); PSF is a CHARMM/NAMD topology without coordinates, read only
+// as the topology of a trajectory (ReadOptions::topologyOnly).
+enum class MoleculeFormat { Auto, Pdb, Mmcif, Pqr, Xyzr, Xyz, Gro, Psf };
 
 // How to read a structure file. Defaults: first model, no waters, hydrogens kept,
 // all chains, radii by element (Bondi, Mantina, Alvarez: elementRadius).
@@ -48,6 +53,9 @@ struct ReadOptions {
   // PQR/XYZR atoms with radius exactly 0 (PDB2PQR gives some hydrogens, e.g. AMBER hydroxyl
   // H, no radius) are an error unless this is set; then they are left out and counted.
   bool dropZeroRadius = false;
+  // Reading the topology of a trajectory: a file without coordinates (PSF) is accepted and its
+  // centres are NaN until a frame sets them; nothing checks the centres.
+  bool topologyOnly = false;
 };
 
 // Counts of what was read but left out, so `surftrace info` can say what and why.
@@ -69,6 +77,7 @@ struct Molecule {
   std::vector<AtomRecord> atoms;        // same order as centers
   int modelCount = 1;                   // models/frames present in the file
   int modelUsed = 1;
+  std::size_t fileAtomCount = 0;        // atoms of the model read, before any selection
   std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), or "table:<path>"
   // How many atoms took their radius from each source, indexed by RadiusSource ("bondi"
   // is the chain Bondi, Mantina, Alvarez; see elementRadius).

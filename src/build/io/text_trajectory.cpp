@@ -1,0 +1,541 @@
+// Trajectories in text files: GRO and XYZ frames one after another and the models of a PDB
+// or mmCIF file, gzipped or not, indexed once when opened and read one frame at a time.
+#include "build/io/trajectory.hpp"
+
+#define ZLIB_CONST
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+#include "build/io/error.hpp"
+#include "build/io/topology_formats.hpp"
+
+namespace surftrace::build {
+
+namespace detail {
+// Defined in gemmi_impl.cpp, the one translation unit that compiles gemmi.
+std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
+    const std::string& text, const std::string& path, std::optional<std::array<double, 6>>& cell);
+}  // namespace detail
+
+namespace {
+
+namespace fs = std::filesystem;
+using Cell = std::array<double, 6>;
+
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// (Built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string(s) + "'".)
+std::string inQuotes(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 2);
+  out.append(1, '\'').append(s).append(1, '\'');
+  return out;
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    while (pos < line.size() && isSpace(line[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < line.size() && !isSpace(line[pos])) ++pos;
+    if (pos > start) fields.push_back(line.substr(start, pos - start));
+  }
+  return fields;
+}
+
+template <typename T>
+std::optional<T> parseWhole(std::string_view text) {
+  text = trim(text);
+  T value{};
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
+  return value;
+}
+
+std::string frameName(std::size_t index) { return "frame " + std::to_string(index + 1); }
+
+// Lines of a text from a byte offset on, without "\r\n", counting from the line given.
+class LineCursor {
+ public:
+  LineCursor(const std::string& text, std::size_t offset, int firstLine)
+      : text_(text), pos_(offset), number_(firstLine - 1) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    line_ = pos_;
+    const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
+    const std::size_t end =
+        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
+    line = std::string_view(text_.data() + pos_, end - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = end + 1;
+    ++number_;
+    return true;
+  }
+  std::size_t skip(std::size_t count) {
+    std::size_t skipped = 0;
+    std::string_view line;
+    while (skipped < count && next(line)) ++skipped;
+    return skipped;
+  }
+  std::size_t offset() const { return std::min(pos_, text_.size()); }  // of the next line
+  std::size_t lineOffset() const { return line_; }                     // of the line last read
+  int number() const { return number_; }                               // of the line last read
+
+ private:
+  const std::string& text_;
+  std::size_t pos_;
+  std::size_t line_ = 0;
+  int number_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Bytes (as readMolecule takes them: gzip by its magic bytes, all members)
+
+std::string readFileBytes(const fs::path& path, const std::string& name) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(name, 0, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, 0, std::string("cannot open: ") + std::strerror(errno));
+  std::string bytes;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw InputError(name, 0, "read error");
+  return bytes;
+}
+
+bool hasGzipMagic(const std::string& bytes, std::size_t at = 0) {
+  return bytes.size() >= at + 2 && static_cast<unsigned char>(bytes[at]) == 0x1f &&
+         static_cast<unsigned char>(bytes[at + 1]) == 0x8b;
+}
+
+std::string gunzip(const std::string& bytes, const std::string& name) {
+  z_stream zs{};
+  if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::bad_alloc();
+  struct Closer {
+    z_stream* zs;
+    ~Closer() { inflateEnd(zs); }
+  } closer{&zs};
+
+  std::string out(std::max<std::size_t>(bytes.size() * 4, 1 << 16), '\0');
+  std::size_t consumed = 0;
+  std::size_t produced = 0;
+  for (;;) {
+    if (zs.avail_in == 0 && consumed < bytes.size()) {
+      const std::size_t chunk = std::min<std::size_t>(bytes.size() - consumed, UINT_MAX);
+      zs.next_in = reinterpret_cast<const Bytef*>(bytes.data() + consumed);
+      zs.avail_in = static_cast<uInt>(chunk);
+      consumed += chunk;
+    }
+    if (produced == out.size()) out.resize(out.size() * 2);
+    const std::size_t room = std::min<std::size_t>(out.size() - produced, UINT_MAX);
+    zs.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
+    zs.avail_out = static_cast<uInt>(room);
+    const int ret = inflate(&zs, Z_NO_FLUSH);
+    produced += room - zs.avail_out;
+    if (ret == Z_STREAM_END) {
+      // Another gzip member may follow, as gzip(1) reads them; anything else is ignored.
+      const std::size_t at = bytes.size() - (zs.avail_in + (bytes.size() - consumed));
+      if (hasGzipMagic(bytes, at)) {
+        inflateReset(&zs);
+        continue;
+      }
+      break;
+    }
+    if (ret == Z_MEM_ERROR) throw std::bad_alloc();
+    if (ret == Z_DATA_ERROR || ret == Z_STREAM_ERROR || ret == Z_NEED_DICT)
+      throw InputError(name, 0,
+                       std::string("corrupt gzip data (") + (zs.msg ? zs.msg : "zlib error") +
+                           ") after " + std::to_string(produced) + " decompressed bytes");
+    if (zs.avail_in == 0 && consumed == bytes.size() && zs.avail_out != 0)
+      throw InputError(
+          name, 0,
+          "the gzip stream is truncated after " + std::to_string(produced) + " decompressed bytes");
+  }
+  out.resize(produced);
+  return out;
+}
+
+// The decompressed text of a trajectory file; InputError for an empty or binary file.
+std::string readText(const fs::path& path, const std::string& name) {
+  std::string bytes = readFileBytes(path, name);
+  const bool gzipped = hasGzipMagic(bytes);
+  const std::string file = path.filename().string();
+  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
+    throw InputError(name, 0,
+                     "the name ends in .gz but the file is not gzip-compressed (it does not "
+                     "start with the gzip magic bytes 1f 8b)");
+  std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
+  if (text.empty())
+    throw InputError(name, 0, gzipped ? "the file decompresses to nothing" : "the file is empty");
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' && c != 0x1a) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", c);
+      const int line = 1 + static_cast<int>(std::count(
+                               text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i), '\n'));
+      throw InputError(name, line,
+                       std::string("binary data (byte ") + hex + " at offset " + std::to_string(i) +
+                           "); expected a text trajectory");
+    }
+  }
+  return text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frame index
+
+struct Span {
+  std::size_t offset = 0;  // first byte of the frame
+  std::size_t end = 0;     // one past its last byte (PDB)
+  int line = 0;            // 1-based line of its first byte
+  std::size_t atoms = 0;
+  std::optional<Cell> cell;  // PDB: CRYST1
+};
+
+// Walks the frames of a file, ending the index at the first frame that cannot be complete.
+// A problem in the first frame is an error (there is nothing to read); after that it is a note.
+class IndexWalk {
+ public:
+  IndexWalk(const std::string& path, std::vector<Span>& spans, std::string& note)
+      : path_(path), spans_(spans), note_(note) {}
+  void stop(int line, const std::string& why) {
+    if (spans_.empty()) throw InputError(path_, line, why);
+    note_ = path_ + ":" + std::to_string(line) + ": " + why + "; " +
+            (spans_.size() == 1 ? std::string("only frame 1 is read")
+                                : "only frames 1-" + std::to_string(spans_.size()) + " are read");
+  }
+
+ private:
+  const std::string& path_;
+  std::vector<Span>& spans_;
+  std::string& note_;
+};
+
+// XYZ: a count line, a comment line, then that many atom lines; blank lines between frames.
+std::vector<Span> indexXyz(const std::string& text, const std::string& path, std::string& note) {
+  std::vector<Span> spans;
+  IndexWalk walk(path, spans, note);
+  LineCursor cursor(text, 0, 1);
+  std::string_view line;
+  for (;;) {
+    bool found = false;
+    while ((found = cursor.next(line)) && trim(line).empty()) {
+    }
+    if (!found) break;
+    Span span;
+    span.offset = cursor.lineOffset();
+    span.line = cursor.number();
+    const std::string frame = frameName(spans.size());
+    const std::optional<long long> count = parseWhole<long long>(line);
+    if (!count || *count < 0) {
+      walk.stop(span.line, "expected the atom count of " + frame + ", got " + inQuotes(trim(line)));
+      break;
+    }
+    span.atoms = static_cast<std::size_t>(*count);
+    const std::size_t present = cursor.skip(span.atoms + 1);
+    if (present < span.atoms + 1) {
+      walk.stop(span.line, "the atom count of " + frame + " is " + std::to_string(span.atoms) +
+                               ", but the file ends " + std::to_string(present) +
+                               " lines later, before its comment line and atoms are complete");
+      break;
+    }
+    span.end = cursor.offset();
+    spans.push_back(span);
+  }
+  if (spans.empty()) throw InputError(path, 0, "no XYZ frame (the file is blank)");
+  return spans;
+}
+
+bool recordIs(std::string_view line, std::string_view name) {
+  if (line.size() < name.size()) return false;
+  for (std::size_t i = 0; i < name.size(); ++i)
+    if (upper(line[i]) != name[i]) return false;
+  return true;
+}
+
+// END, but not ENDMDL: as gemmi (which readMolecule uses) reads it, "END" then the end of the
+// line or a byte whose bits 0xD0 are clear (space, tab, CR, '!' to '/').
+bool isEndRecord(std::string_view line) {
+  if (!recordIs(line, "END")) return false;
+  return line.size() == 3 || (static_cast<unsigned char>(line[3]) & 0xD0) == 0;
+}
+
+// ATOM and HETATM records as gemmi tells them: the first four characters, any case.
+bool isAtomRecord(std::string_view line) {
+  return recordIs(line, "ATOM") || recordIs(line, "HETA");
+}
+
+// CRYST1 a b c alpha beta gamma in columns 7-54; none for the 1 Å cube that stands for "no
+// cell" in NMR entries, or for a record that does not read.
+std::optional<Cell> cryst1(std::string_view line) {
+  const std::size_t columns[7] = {6, 15, 24, 33, 40, 47, 54};
+  Cell cell{};
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (line.size() <= columns[i]) return std::nullopt;
+    const std::optional<double> v = parseWhole<double>(
+        line.substr(columns[i], std::min(line.size(), columns[i + 1]) - columns[i]));
+    if (!v || !std::isfinite(*v)) return std::nullopt;
+    cell[i] = *v;
+  }
+  if (cell == Cell{1.0, 1.0, 1.0, 90.0, 90.0, 90.0}) return std::nullopt;
+  return cell;
+}
+
+// PDB: each MODEL record starts a frame and ENDMDL (or the next MODEL) ends it; a file without
+// MODEL records is one frame. END ends the file, as for readMolecule. A CRYST1 record before
+// the first model gives every frame its cell, one inside a model that model's.
+std::vector<Span> indexPdb(const std::string& text, const std::string& path, std::string& note) {
+  std::vector<Span> spans;
+  Span implicit;  // the whole file, while no MODEL record has been seen
+  implicit.line = 1;
+  std::optional<Span> open;
+  std::optional<Cell> headerCell;
+  std::size_t outside = 0;  // atom records outside every model
+  bool models = false;
+  LineCursor cursor(text, 0, 1);
+  std::string_view line;
+  std::size_t stopAt = text.size();
+  const auto close = [&](std::size_t end) {
+    open->end = end;
+    spans.push_back(*open);
+    open.reset();
+  };
+  while (cursor.next(line)) {
+    if (recordIs(line, "MODEL")) {
+      if (!models) outside = implicit.atoms;
+      models = true;
+      if (open) close(cursor.lineOffset());
+      open = Span{cursor.lineOffset(), 0, cursor.number(), 0, headerCell};
+    } else if (recordIs(line, "ENDMDL")) {
+      if (open) close(cursor.offset());
+    } else if (isEndRecord(line)) {
+      stopAt = cursor.lineOffset();
+      break;
+    } else if (isAtomRecord(line)) {
+      if (open)
+        ++open->atoms;
+      else if (!models)
+        ++implicit.atoms;
+      else
+        ++outside;
+    } else if (recordIs(line, "CRYST1")) {
+      if (open)
+        open->cell = cryst1(line);
+      else
+        headerCell = cryst1(line);
+    }
+  }
+  if (open) close(stopAt);
+  if (!models) {
+    implicit.end = stopAt;
+    implicit.cell = headerCell;
+    spans.push_back(implicit);
+  } else if (outside > 0) {
+    note = path + ": " + std::to_string(outside) +
+           " ATOM/HETATM records lie outside every MODEL ... ENDMDL block and belong to no frame";
+  }
+  if (spans.front().atoms == 0)
+    throw InputError(
+        path, spans.front().line,
+        models ? "the first MODEL has no ATOM or HETATM records" : "no ATOM or HETATM records");
+  return spans;
+}
+
+TrajectoryFormat formatOf(const fs::path& path, const std::string& name) {
+  std::string file = path.filename().string();
+  for (char& c : file) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
+  const std::string ext = fs::path(file).extension().string();
+  if (ext == ".gro") return TrajectoryFormat::Gro;
+  if (ext == ".xyz") return TrajectoryFormat::Xyz;
+  if (ext == ".pdb" || ext == ".ent") return TrajectoryFormat::Pdb;
+  if (ext == ".cif" || ext == ".mmcif") return TrajectoryFormat::Mmcif;
+  throw InputError(name, 0,
+                   "cannot tell the text trajectory format from the extension " + inQuotes(ext) +
+                       "; expected .gro, .xyz, .pdb, .ent, .cif or .mmcif, optionally with .gz");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The reader
+
+class TextFrames final : public FrameSource {
+ public:
+  TextFrames(const fs::path& file, TrajectoryFormat format)
+      : FrameSource(file.string()), format_(format) {
+    text_ = readText(file, path());
+    std::string note;
+    switch (format_) {
+      case TrajectoryFormat::Gro:
+        for (const detail::GroFrameSpan& g : detail::indexGroFrames(text_, path(), note))
+          spans_.push_back(Span{g.offset, 0, g.line, g.atoms, std::nullopt});
+        break;
+      case TrajectoryFormat::Xyz:
+        spans_ = indexXyz(text_, path(), note);
+        break;
+      case TrajectoryFormat::Pdb:
+        spans_ = indexPdb(text_, path(), note);
+        break;
+      case TrajectoryFormat::Mmcif:
+        // gemmi parses the whole document anyway, so every model is kept (3 doubles an atom).
+        models_ = detail::readMmcifModelsWithGemmi(text_, path(), cifCell_);
+        text_ = std::string();
+        for (const auto& model : models_) spans_.push_back(Span{0, 0, 0, model.size(), cifCell_});
+        break;
+      default:
+        throw InputError(path(), 0, "DCD and XTC are binary formats, not text trajectories");
+    }
+    if (!note.empty()) notes_.push_back(note);
+    atoms_ = spans_.front().atoms;
+    std::size_t differing = 0;
+    for (std::size_t k = 1; k < spans_.size(); ++k) {
+      if (spans_[k].atoms == atoms_) continue;
+      if (differing++ == 0)
+        notes_.push_back(path() + ": " + frameName(k) + " has " + std::to_string(spans_[k].atoms) +
+                         " atoms, frame 1 has " + std::to_string(atoms_) +
+                         "; frames of another atom count cannot be read");
+    }
+  }
+
+  std::size_t atomCount() const override { return atoms_; }
+  std::size_t frameCount() const override { return spans_.size(); }
+
+  void read(std::size_t index, Frame& frame) override {
+    if (index >= spans_.size())
+      throw InputError(path(), 0,
+                       frameName(index) + " was asked for, but the file has " +
+                           std::to_string(spans_.size()) +
+                           (spans_.size() == 1 ? " frame" : " frames"));
+    const Span& span = spans_[index];
+    if (span.atoms != atoms_)
+      throw InputError(path(), span.line,
+                       frameName(index) + " has " + std::to_string(span.atoms) +
+                           " atoms, but frame 1 has " + std::to_string(atoms_) +
+                           "; every frame must hold the same atoms");
+    frame.time = static_cast<double>(index);
+    frame.step = static_cast<long long>(index);
+    frame.cell = span.cell;
+    switch (format_) {
+      case TrajectoryFormat::Gro:
+        detail::readGroFrame(text_, path(),
+                             detail::GroFrameSpan{span.offset, span.line, span.atoms}, index, frame,
+                             nullptr);
+        break;
+      case TrajectoryFormat::Xyz:
+        readXyz(span, index, frame);
+        break;
+      case TrajectoryFormat::Pdb:
+        readPdb(span, index, frame);
+        break;
+      case TrajectoryFormat::Mmcif:
+        frame.positions = models_[index];
+        break;
+      default:
+        SURFTRACE_ASSERT(false);
+    }
+  }
+
+ private:
+  void readXyz(const Span& span, std::size_t index, Frame& frame) const {
+    LineCursor cursor(text_, span.offset, span.line);
+    cursor.skip(2);  // the count and the comment
+    frame.positions.resize(span.atoms);
+    std::string_view line;
+    for (std::size_t i = 0; i < span.atoms; ++i) {
+      if (!cursor.next(line))
+        throw InputError(path(), cursor.number(),
+                         "the file ends inside " + frameName(index));  // the index says not
+      const std::vector<std::string_view> f = splitFields(line);
+      if (f.size() < 4)
+        throw InputError(path(), cursor.number(),
+                         "expected 'element x y z' for atom " + std::to_string(i + 1) + " of " +
+                             std::to_string(span.atoms) + " of " + frameName(index) + ", got " +
+                             inQuotes(trim(line)) + " (is the frame cut short?)");
+      for (std::size_t k = 0; k < 3; ++k)
+        frame.positions[i][static_cast<int>(k)] = coordinate(
+            f[k + 1], "xyz"[k], index, cursor.number(), "field " + std::to_string(k + 2));
+    }
+  }
+
+  void readPdb(const Span& span, std::size_t index, Frame& frame) const {
+    frame.positions.resize(span.atoms);
+    LineCursor cursor(text_, span.offset, span.line);
+    std::string_view line;
+    std::size_t i = 0;
+    while (cursor.offset() < span.end && cursor.next(line)) {
+      if (!isAtomRecord(line)) continue;
+      if (line.size() < 54)
+        throw InputError(path(), cursor.number(),
+                         "the ATOM/HETATM record of " + frameName(index) + " ends at column " +
+                             std::to_string(line.size()) + "; expected x, y, z in columns 31-54");
+      SURFTRACE_ASSERT(i < span.atoms);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t first = 30 + 8 * k;
+        frame.positions[i][static_cast<int>(k)] =
+            coordinate(line.substr(first, 8), "xyz"[k], index, cursor.number(),
+                       "columns " + std::to_string(first + 1) + "-" + std::to_string(first + 8));
+      }
+      ++i;
+    }
+    SURFTRACE_ASSERT(i == span.atoms);
+  }
+
+  double coordinate(std::string_view field, char axis, std::size_t index, int line,
+                    const std::string& where) const {
+    const std::optional<double> v = parseWhole<double>(field);
+    if (!v)
+      throw InputError(path(), line,
+                       std::string("expected a number for ") + axis + " (" + where + ") in " +
+                           frameName(index) + ", got " + inQuotes(field));
+    if (!std::isfinite(*v))
+      throw InputError(path(), line,
+                       std::string(1, axis) + " (" + where + ") in " + frameName(index) +
+                           " is not finite: " + inQuotes(trim(field)));
+    return *v;
+  }
+
+  TrajectoryFormat format_;
+  std::string text_;  // decompressed; empty for mmCIF, whose models are kept instead
+  std::vector<Span> spans_;
+  std::vector<std::vector<glm::dvec3>> models_;
+  std::optional<Cell> cifCell_;
+  std::size_t atoms_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> openTextTrajectory(const std::filesystem::path& path,
+                                                TrajectoryFormat format) {
+  if (format == TrajectoryFormat::Auto) format = formatOf(path, path.string());
+  return std::make_unique<TextFrames>(path, format);
+}
+
+}  // namespace surftrace::build

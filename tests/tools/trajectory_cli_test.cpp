@@ -1,0 +1,243 @@
+// `surftrace trajectory` and `surftrace area TOP TRAJ` end to end, on the AdK DIMS trajectory
+// (3341 atoms, 98 frames, CHARMM DCD with a PSF topology). The oracle of every frame is an
+// independent `surftrace render` of that frame alone (its own process, a fresh build, no
+// builder reuse, no pipeline) with the camera the trajectory wrote into the frame's metadata.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "run_tool.hpp"
+#include "view/camera.hpp"
+#include "view/image_io.hpp"
+
+namespace surftrace::tools::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kData = SURFTRACE_TEST_DATA;
+const std::string kPsf = kData + "/trajectories/adk_dims/adk.psf.gz";
+const std::string kDcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
+
+fs::path freshDirectory(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("surftrace_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string vec(const glm::dvec3& v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << v.x << ',' << v.y << ',' << v.z;
+  return out.str();
+}
+
+std::string bytesOf(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Every buffer of two renderings equal, bit for bit.
+void expectSameBuffers(const view::FrameBuffers& a, const view::FrameBuffers& b, const std::string& what) {
+  ASSERT_EQ(a.width, b.width) << what;
+  ASSERT_EQ(a.height, b.height) << what;
+  EXPECT_TRUE(a.rgba == b.rgba) << what << ": colour differs";
+  EXPECT_TRUE(a.depth == b.depth) << what << ": depth differs";
+  EXPECT_TRUE(a.normal == b.normal) << what << ": normal differs";
+  EXPECT_TRUE(a.kind == b.kind) << what << ": patch kind differs";
+  EXPECT_TRUE(a.patchId == b.patchId) << what << ": patch id differs";
+  EXPECT_TRUE(a.atomId == b.atomId) << what << ": atom id differs";
+}
+
+// Renders `frames` (a --frames text) with `options` and checks each frame against an independent
+// `render` of that frame with the trajectory's camera; returns the frames written.
+std::size_t checkAgainstIndependentRenders(const std::string& name, const std::string& options, std::size_t stride) {
+  const fs::path dir = freshDirectory(name);
+  const Result run = runTool("trajectory " + kPsf + " " + kDcd + " --exr " + (dir / "%05d.exr").string() +
+                             " --size 40x32 --quiet " + options);
+  EXPECT_EQ(run.status, 0) << run.output;
+  std::size_t checked = 0, written = 0;
+  for (std::size_t k = 0; k < 98; ++k) {
+    char file[32];
+    std::snprintf(file, sizeof file, "%05zu.exr", k);
+    if (!fs::exists(dir / file)) continue;
+    ++written;
+    if (k % stride != 0) continue;
+    view::ImageMetadata meta;
+    const view::FrameBuffers frame = view::readExr((dir / file).string(), &meta);
+    EXPECT_EQ(meta.at("surftrace:frame"), std::to_string(k));
+    const view::Camera camera = view::cameraFromJson(meta.at("surftrace:camera"));
+    const fs::path alone = dir / ("alone_" + std::string(file));
+    std::ostringstream fov;
+    fov.precision(17);
+    fov << camera.fovY;
+    const Result r = runTool("render " + kPsf + " --trajectory " + kDcd + " --frame " + std::to_string(k) +
+                             " --size 40x32 --quiet --eye " + vec(camera.eye) + " --look-at " + vec(camera.lookAt) +
+                             " --up " + vec(camera.up) + " --fov " + fov.str() + " --exr " + alone.string() + " " +
+                             options.substr(0, options.find(" --frames")));
+    EXPECT_EQ(r.status, 0) << r.output;
+    if (r.status != 0) break;
+    expectSameBuffers(frame, view::readExr(alone.string()), name + " frame " + std::to_string(k));
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u);
+  fs::remove_all(dir);
+  return written;
+}
+
+TEST(TrajectoryCli, EveryFrameOfAdkEqualsAnIndependentRender) {
+  // All 98 frames, each against its own process (the "done" criterion).
+  EXPECT_EQ(checkAgainstIndependentRenders("adk_ses", "", 1), 98u);
+}
+
+TEST(TrajectoryCli, SkinFramesEqualIndependentRenders) {
+  EXPECT_EQ(checkAgainstIndependentRenders("adk_mss", "--surface mss --shrink 0.5 --frames 0:98:12", 1), 9u);
+}
+
+TEST(TrajectoryCli, ShardsTogetherAreTheSingleRunEachFrameOnce) {
+  const fs::path dir = freshDirectory("shards");
+  const std::string common = "trajectory " + kPsf + " " + kDcd + " --frames 3:40 --size 32x32 --quiet --exr ";
+  ASSERT_EQ(runTool(common + (dir / "single/%03d.exr").string()).status, 0);
+  std::map<std::string, int> seen;
+  for (int i = 0; i < 4; ++i) {
+    const fs::path part = dir / ("shard" + std::to_string(i));
+    const Result r = runTool(common + (part / "%03d.exr").string() + " --shard " + std::to_string(i) + "/4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    ASSERT_TRUE(fs::is_directory(part)) << r.output;
+    for (const auto& f : fs::directory_iterator(part)) {
+      const std::string name = f.path().filename().string();
+      ++seen[name];
+      // k mod 4 = i for each frame this shard wrote.
+      EXPECT_EQ(std::stoi(name) % 4, i) << name;
+      // The same pixels and buffers (the files' metadata differ: each records its command line).
+      expectSameBuffers(view::readExr(f.path().string()), view::readExr((dir / "single" / name).string()), name);
+    }
+  }
+  std::set<std::string> single;
+  for (const auto& f : fs::directory_iterator(dir / "single")) single.insert(f.path().filename().string());
+  EXPECT_EQ(single.size(), 37u);  // 3, 4, ..., 39
+  EXPECT_EQ(seen.size(), single.size());
+  for (const auto& [name, count] : seen) EXPECT_EQ(count, 1) << name << " written by " << count << " shards";
+
+  // A Slurm array task chooses its shard from the environment.
+  const fs::path slurm = dir / "slurm";
+  const std::string env = "SLURM_ARRAY_TASK_ID=7 SLURM_ARRAY_TASK_MIN=5 SLURM_ARRAY_TASK_COUNT=4 ";
+  const std::string cmd = env + SURFTRACE_TOOL + std::string(" trajectory ") + kPsf + " " + kDcd +
+                          " --frames 3:40 --size 32x32 --quiet -o " + (slurm / "%03d.png").string() + " > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::size_t frames = 0;
+  for (const auto& f : fs::directory_iterator(slurm)) {
+    EXPECT_EQ(std::stoi(f.path().filename().string()) % 4, 2);
+    ++frames;
+  }
+  EXPECT_EQ(frames, 9u);  // 6, 10, ..., 38
+  fs::remove_all(dir);
+}
+
+TEST(TrajectoryCli, ResumeRendersOnlyWhatIsMissing) {
+  const fs::path dir = freshDirectory("resume");
+  const std::string cmd = "trajectory " + kPsf + " " + kDcd + " --frames 0:6 --size 24x24 --quiet -o " +
+                          (dir / "%02d.png").string() + " --timings " + (dir / "t.csv").string();
+  ASSERT_EQ(runTool(cmd).status, 0);
+  const std::string kept = bytesOf(dir / "02.png");  // the same command: the same bytes
+  fs::remove(dir / "01.png");
+  fs::remove(dir / "04.png");
+  const Result r = runTool(cmd + " --resume");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("2 to render, 4 done already"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "01.png") && fs::exists(dir / "04.png"));
+  EXPECT_EQ(bytesOf(dir / "02.png"), kept);
+  // The timings list the frames this run rendered, one row each.
+  std::ifstream csv(dir / "t.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("frame,time_ps,read_ms,build_ms,render_ms", 0), 0u) << header;
+  std::set<int> rows;
+  while (std::getline(csv, row)) rows.insert(std::stoi(row));
+  EXPECT_EQ(rows, (std::set<int>{1, 4}));
+  // No half-written files are left behind.
+  for (const auto& f : fs::directory_iterator(dir)) EXPECT_EQ(f.path().filename().string().find(".partial"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// What a command wrote to stdout, without the notes it gave on stderr (runTool captures both).
+std::string withoutNotes(const std::string& output) {
+  std::istringstream in(output);
+  std::string out;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("surftrace: note:", 0) != 0) out += line + "\n";
+  return out;
+}
+
+TEST(TrajectoryCli, AreasOverTimeOneRowPerFrame) {
+  const Result r = runTool("area " + kPsf + " " + kDcd + " --frames 0:98:24 --format csv");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::istringstream in(withoutNotes(r.output));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "frame,time_ps,sas,ses,ses_convex,ses_toroidal,ses_concave,ses_volume");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    double v[8];
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5],
+                          &v[6], &v[7]),
+              8)
+        << line;
+    EXPECT_EQ(v[0], 24.0 * rows);
+    // The SES by kind adds up, and lies between the SAS (an upper bound) and nothing.
+    EXPECT_NEAR(v[4] + v[5] + v[6], v[3], 1e-5 * v[3]);
+    EXPECT_GT(v[3], 0.0);
+    EXPECT_LT(v[3], v[2]);
+    // Each row (a builder updated frame after frame) equals that frame alone (a fresh build).
+    const Result alone = runTool("area " + kPsf + " " + kDcd + " --format csv --frames " + std::to_string(24 * rows));
+    ASSERT_EQ(alone.status, 0) << alone.output;
+    const std::string single = withoutNotes(alone.output);
+    EXPECT_EQ(single.substr(single.find('\n') + 1), line + "\n");
+    ++rows;
+  }
+  EXPECT_EQ(rows, 5);
+}
+
+TEST(TrajectoryCli, BadInputIsAClearError) {
+  const std::string sample = kData + "/trajectories/sampletrajectory/sampletrajectory.dcd";
+  Result r = runTool("trajectory " + kPsf + " " + sample + " -o /tmp/x/%d.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("115 atoms per frame"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("3341"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/frame.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("no conversion for the frame number"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d_%d.png");
+  EXPECT_NE(r.output.find("more than one conversion"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%s.png");
+  EXPECT_NE(r.output.find("'%s' is not %d"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --frames 100:");
+  EXPECT_NE(r.output.find("frame 100 does not exist: the trajectory holds frames 0 to 97"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --frames 0:10:0");
+  EXPECT_NE(r.output.find("the step must be at least 1"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --shard 4/4");
+  EXPECT_NE(r.output.find("expected i/n with 0 <= i < n"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resid 900-999'");
+  EXPECT_NE(r.output.find("selects no atom (the molecule has residues 1 to 214)"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'residue 9'");
+  EXPECT_NE(r.output.find("unknown keyword 'residue'"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd);
+  EXPECT_NE(r.output.find("nothing to write"), std::string::npos) << r.output;
+  r = runTool("render " + kPsf + " -o /tmp/x.png");
+  EXPECT_NE(r.output.find("a PSF is a topology without coordinates"), std::string::npos) << r.output;
+  r = runTool("render " + kDcd + " -o /tmp/x.png");
+  EXPECT_NE(r.output.find("is a trajectory (.dcd)"), std::string::npos) << r.output;
+  const std::string cmd = std::string("SLURM_ARRAY_TASK_ID=x SLURM_ARRAY_TASK_COUNT=4 ") + SURFTRACE_TOOL +
+                          " trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png 2>&1 | grep -q \"SLURM_ARRAY_TASK_ID='x'\"";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+}
+
+}  // namespace
+}  // namespace surftrace::tools::test

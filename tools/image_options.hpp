@@ -1,0 +1,75 @@
+// The options that say what an image looks like (size, view, camera, colours, samples,
+// shadows, ambient occlusion), shared by `render` and `trajectory`, and the progress bar.
+#pragma once
+
+#include <chrono>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <glm/vec3.hpp>
+
+#include "build/io/molecule.hpp"
+#include "build/patch_list.hpp"
+#include "view/render_options.hpp"
+
+namespace surftrace::tools {
+
+struct ImageOptions {
+  std::string size = "1024x1024";
+  std::string view = "front";
+  std::string eye, lookAt, up;
+  double fov = 30.0;
+  bool ortho = false;
+  std::string color = "patch";
+  std::string uniformColor = "0.8,0.8,0.8";
+  std::string background = "1,1,1";
+  int spp = 1;
+  bool shadows = false;
+  int ao = 0;
+  double aoDistance = 8.0;
+};
+
+void addImageOptions(CLI::App& cmd, ImageOptions& options);
+
+// The image options checked and parsed (std::invalid_argument naming the option otherwise);
+// the camera is framed later, when the surface is known.
+struct ImageSetup {
+  view::RenderOptions render;
+  glm::dvec3 viewDirection{0, 0, -1};
+  std::optional<glm::dvec3> eye, lookAt, up;
+  glm::vec3 uniformColor{0.8f};
+};
+ImageSetup resolveImageOptions(const ImageOptions& options);
+
+// Frames render.camera on what the surface can reach, as `render` does for a structure: the
+// skin's patches lie in their bounding balls; r + rp bounds the SES and the SAS; r the vdW
+// balls. Then --eye, --look-at and --up override the framing, and the camera is validated.
+void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule);
+// The same over several molecules' spheres (every frame of a trajectory): `centers` and
+// `reach` list every sphere to keep in view.
+void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach);
+
+glm::dvec3 parseVector(const std::string& option, const std::string& text);
+
+// A one-line progress bar on stderr, drawn only when stderr is a terminal.
+class ProgressBar {
+ public:
+  // `label` starts the line ("rendering", "frames").
+  ProgressBar(bool enabled, std::string label);
+  // A fraction of one piece of work.
+  void update(double fraction);
+  // `done` of `total` items, with items per second and the time left.
+  void items(std::size_t done, std::size_t total, const char* unit);
+
+ private:
+  bool enabled_;
+  std::string label_;
+  std::mutex mutex_;
+  int last_ = -1;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace surftrace::tools

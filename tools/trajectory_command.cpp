@@ -1,0 +1,443 @@
+// `surftrace trajectory`: a molecular surface frame after frame from an MD trajectory, with
+// one camera for the whole run, partial updates for the atoms declared flexible, the build of
+// frame k+1 overlapped with the drawing of frame k, and frames shared out over processes
+// (--shard, Slurm job arrays).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include <embree3/rtcore_config.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/global_control.h>
+#include <tbb/parallel_pipeline.h>
+
+#include "build/io/atom_selection.hpp"
+#include "build/io/trajectory.hpp"
+#include "build/surface.hpp"
+#include "commands.hpp"
+#include "image_options.hpp"
+#include "option_checks.hpp"
+#include "trace/patch_scene.hpp"
+#include "trace/render.hpp"
+#include "trajectory_plan.hpp"
+#include "view/atom_colors.hpp"
+#include "view/camera.hpp"
+#include "view/image_io.hpp"
+
+namespace surftrace::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TrajectoryOptions {
+  std::string topology, trajectory;
+  build::ReadOptions read;
+  std::string surface = "ses";
+  double probe = 1.4;
+  double shrink = 0.5;
+  bool dropCavities = false;
+  ImageOptions image;
+  std::string output, exr;
+  std::string frames;
+  std::string frameCamera = "first";
+  std::string flexible;
+  bool resume = false;
+  std::string timings;
+  std::string mp4;
+  double fps = 25.0;
+  std::string shard;
+  int threads = 0;
+  bool quiet = false;
+  std::string commandLine;
+};
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::optional<fs::path> findOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return std::nullopt;
+  std::string_view rest(path);
+  while (!rest.empty()) {
+    const std::size_t colon = rest.find(':');
+    const fs::path candidate = fs::path(std::string(rest.substr(0, colon))) / program;
+    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+    if (colon == std::string_view::npos) break;
+    rest.remove_prefix(colon + 1);
+  }
+  return std::nullopt;
+}
+
+// Runs a program with arguments (no shell); its exit status.
+int runProgram(const std::vector<std::string>& argv) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("cannot start " + argv[0]);
+  if (pid == 0) {
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw std::runtime_error("waiting for " + argv[0] + " failed");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+// Writes through a temporary file beside `path` and renames it, so that a file that exists is
+// complete (what --resume relies on).
+template <class Write>
+void writeAtomically(const std::string& path, Write&& write) {
+  const fs::path target(path);
+  if (target.has_parent_path()) fs::create_directories(target.parent_path());
+  const fs::path partial =
+      target.parent_path() / ("." + target.filename().string() + ".partial" + target.extension().string());
+  write(partial.string());
+  fs::rename(partial, target);
+}
+
+bool complete(const std::string& path) {
+  std::error_code ec;
+  return path.empty() || (fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0);
+}
+
+// The request's patch list parameters without building it, for framing as `render` frames.
+build::PatchList paramsOnly(const build::SurfaceRequest& request) {
+  build::PatchList list;
+  const bool skinAsBalls = request.surface == build::SurfaceKind::Mss && request.shrinkFactor >= 1.0;
+  list.params.surface = skinAsBalls ? build::SurfaceKind::Vdw : request.surface;
+  list.params.probeRadius = request.probeRadius;
+  return list;
+}
+
+// How far the surface can reach beyond an atom's centre: r + rp for the SES and SAS, r for the
+// vdW balls, r/√s for the skin (it lies in the union of the balls of radius √w_i = r_i/√s).
+double reachOf(double radius, const build::SurfaceRequest& request) {
+  switch (request.surface) {
+    case build::SurfaceKind::Ses:
+    case build::SurfaceKind::Sas: return radius + request.probeRadius;
+    case build::SurfaceKind::Vdw: return radius;
+    case build::SurfaceKind::Mss: return radius / std::sqrt(std::min(request.shrinkFactor, 1.0));
+  }
+  return radius;
+}
+
+struct Work {
+  std::size_t frame = 0;
+  double time = 0.0;
+  double readMs = 0.0, buildMs = 0.0, renderMs = 0.0, writeMs = 0.0;
+  std::size_t moved = 0, recomputed = 0, patches = 0;
+  build::PatchList list;
+  view::FrameBuffers image;
+};
+
+void runTrajectory(const TrajectoryOptions& o) {
+  // Every option is checked before the slow work starts.
+  if (o.output.empty() && o.exr.empty())
+    throw std::invalid_argument("nothing to write: give -o frames/%05d.png and/or --exr frames/%05d.exr");
+  const FramePattern png = o.output.empty() ? FramePattern() : FramePattern("-o", o.output);
+  const FramePattern exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
+  ImageSetup setup = resolveImageOptions(o.image);
+  const build::SurfaceRequest request{build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
+  const Shard shard = shardFromEnvironment(o.shard);
+  std::optional<fs::path> ffmpeg;
+  if (!o.mp4.empty()) {
+    if (o.output.empty()) throw std::invalid_argument("--mp4 is made from the PNG frames: give -o frames/%05d.png too");
+    if (shard.count > 1)
+      throw std::invalid_argument("--mp4 needs every frame, but this process renders a shard (" + shard.origin +
+                                  "): make the movie once all shards are done, e.g. with ffmpeg");
+    ffmpeg = findOnPath("ffmpeg");
+    if (!ffmpeg) throw std::invalid_argument("--mp4 needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
+  }
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<std::size_t>(o.threads));
+
+  const auto start = std::chrono::steady_clock::now();
+  build::Trajectory trajectory(o.topology, o.trajectory, o.read);
+  for (const std::string& note : trajectory.source().notes())
+    std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
+  const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
+
+  // The reference frame: the first one selected, whichever shard this is, so that every shard
+  // has the same camera and the same rigid atoms.
+  trajectory.load(frames.front());
+  const build::Molecule reference = trajectory.molecule();
+  std::vector<std::uint32_t> flexible;
+  std::vector<char> isFlexible;
+  if (!o.flexible.empty()) {
+    flexible = build::selectAtoms(reference, o.flexible);
+    isFlexible.assign(reference.size(), 0);
+    for (std::uint32_t i : flexible) isFlexible[i] = 1;
+  }
+
+  // One camera for the whole run.
+  if (o.frameCamera == "first") {
+    const build::PatchList framing = request.surface == build::SurfaceKind::Mss && request.shrinkFactor < 1.0
+                                         ? build::buildSurface(reference, request)
+                                         : paramsOnly(request);
+    frameSurface(setup, framing, reference);
+  } else {
+    // Every selected frame in view: each atom's sphere around the box of its centres.
+    std::vector<glm::dvec3> lo(reference.centers), hi(reference.centers);
+    for (std::size_t k : frames) {
+      trajectory.load(k);
+      const auto& c = trajectory.molecule().centers;
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        if (!isFlexible.empty() && !isFlexible[i]) continue;
+        lo[i] = glm::min(lo[i], c[i]), hi[i] = glm::max(hi[i], c[i]);
+      }
+    }
+    std::vector<glm::dvec3> centers(reference.size());
+    std::vector<double> reach(reference.size());
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      centers[i] = 0.5 * (lo[i] + hi[i]);
+      reach[i] = reachOf(reference.radii[i], request) + 0.5 * glm::length(hi[i] - lo[i]);
+    }
+    frameSpheres(setup, centers, reach);
+  }
+  view::RenderOptions& ro = setup.render;
+  const std::vector<glm::vec3> colors = view::atomColors(reference, ro.color, setup.uniformColor);
+
+  // This process's frames, less those a finished earlier run wrote (--resume).
+  std::vector<std::size_t> todo;
+  std::size_t skipped = 0, others = 0;
+  for (std::size_t k : frames) {
+    if (k % shard.count != shard.index) {
+      ++others;
+      continue;
+    }
+    const bool done = o.resume && complete(png.empty() ? "" : png(k)) && complete(exr.empty() ? "" : exr(k));
+    if (done)
+      ++skipped;
+    else
+      todo.push_back(k);
+  }
+  const double setupMs = millisecondsSince(start);
+  std::printf("%s + %s: %zu atoms (%zu in the file), %zu frames; %zu selected%s, %zu to render%s%s\n",
+              o.topology.c_str(), o.trajectory.c_str(), reference.size(), reference.fileAtomCount,
+              trajectory.frameCount(), frames.size(),
+              shard.count > 1 ? (", " + std::to_string(frames.size() - others) + " in " + shard.origin).c_str() : "",
+              todo.size(), skipped ? (", " + std::to_string(skipped) + " done already (--resume)").c_str() : "",
+              flexible.empty() ? "" : (", " + std::to_string(flexible.size()) + " flexible atoms").c_str());
+  std::fflush(stdout);
+
+  std::ofstream timings;
+  if (!o.timings.empty()) {
+    if (fs::path(o.timings).has_parent_path()) fs::create_directories(fs::path(o.timings).parent_path());
+    timings.open(o.timings);
+    if (!timings) throw std::invalid_argument("--timings " + o.timings + ": cannot write the file");
+    timings << "frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n";
+  }
+
+  const trace::EmbreeDevice device;
+  build::SurfaceBuilder builder(request);
+  build::Molecule current = reference;
+  bool built = false;
+  double rigidDrift = 0.0;  // how far atoms held rigid actually moved in the trajectory
+  std::size_t next = 0, written = 0;
+  std::vector<double> readMs, buildMs, renderMs, writeMs;
+  ProgressBar bar(!o.quiet, "frames");
+  bar.items(0, todo.size(), "frames");
+  const auto loopStart = std::chrono::steady_clock::now();
+
+  // Build of frame k+1 beside the drawing of frame k and the writing of frame k-1.
+  tbb::parallel_pipeline(
+      3,
+      tbb::make_filter<void, std::shared_ptr<Work>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
+            if (next == todo.size()) {
+              fc.stop();
+              return nullptr;
+            }
+            auto w = std::make_shared<Work>();
+            w->frame = todo[next++];
+            auto t = std::chrono::steady_clock::now();
+            trajectory.load(w->frame);
+            w->time = trajectory.frame().time;
+            const auto& c = trajectory.molecule().centers;
+            if (flexible.empty()) {
+              current.centers = c;
+            } else {
+              for (std::uint32_t i : flexible) current.centers[i] = c[i];
+              for (std::size_t i = 0; i < c.size(); ++i)
+                if (!isFlexible[i]) rigidDrift = std::max(rigidDrift, glm::length(c[i] - reference.centers[i]));
+            }
+            w->readMs = millisecondsSince(t);
+            t = std::chrono::steady_clock::now();
+            if (!built) {
+              w->list = builder.build(current);
+              built = true;
+            } else {
+              w->list = flexible.empty() ? builder.update(current) : builder.update(current, flexible);
+            }
+            w->buildMs = millisecondsSince(t);
+            w->recomputed = builder.lastRecomputed();
+            w->patches = w->list.patchCount();
+            w->moved = flexible.empty() ? current.size() : flexible.size();
+            return w;
+          }) &
+          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
+              tbb::filter_mode::serial_in_order,
+              [&](std::shared_ptr<Work> w) {
+                const auto t = std::chrono::steady_clock::now();
+                const trace::PatchScene scene(trace::ScenePatches::fromPatchList(w->list), device);
+                w->image = trace::render(scene, ro, colors);
+                w->renderMs = millisecondsSince(t);
+                w->list = build::PatchList();
+                return w;
+              }) &
+          tbb::make_filter<std::shared_ptr<Work>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> w) {
+                const auto t = std::chrono::steady_clock::now();
+                view::ImageMetadata meta;
+                meta["surftrace:renderer"] =
+                    std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+                meta["surftrace:engine"] = "embree";
+                meta["surftrace:camera"] = view::cameraToJson(ro.camera);
+                meta["surftrace:surface"] = o.surface;
+                meta["surftrace:probe_radius"] = std::to_string(o.probe);
+                if (request.surface == build::SurfaceKind::Mss) meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
+                meta["surftrace:input"] = o.topology;
+                meta["surftrace:trajectory"] = o.trajectory;
+                meta["surftrace:frame"] = std::to_string(w->frame);
+                meta["surftrace:time_ps"] = std::to_string(w->time);
+                meta["surftrace:color"] = o.image.color;
+                meta["surftrace:command"] = o.commandLine;
+                meta["Software"] = "surftrace 0.1.0";
+                if (!png.empty()) writeAtomically(png(w->frame), [&](const std::string& p) { view::writePng(p, w->image, meta); });
+                if (!exr.empty()) writeAtomically(exr(w->frame), [&](const std::string& p) { view::writeExr(p, w->image, meta); });
+                w->writeMs = millisecondsSince(t);
+                readMs.push_back(w->readMs), buildMs.push_back(w->buildMs);
+                renderMs.push_back(w->renderMs), writeMs.push_back(w->writeMs);
+                if (timings)
+                  timings << w->frame << ',' << w->time << ',' << w->readMs << ',' << w->buildMs << ',' << w->renderMs
+                          << ',' << w->writeMs << ',' << w->moved << ',' << w->recomputed << ',' << w->patches
+                          << '\n';
+                // One line per frame when nobody watches a bar (the logs of batch jobs).
+                if (!o.quiet && !isatty(STDERR_FILENO))
+                  std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w->frame, w->buildMs, w->renderMs);
+                bar.items(++written, todo.size(), "frames");
+              }));
+
+  const double loopSeconds = millisecondsSince(loopStart) * 1e-3;
+  std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms); medians per frame: read %.2f ms, "
+              "build %.2f ms, render %.2f ms, write %.2f ms\n",
+              written, loopSeconds, loopSeconds > 0 ? static_cast<double>(written) / loopSeconds : 0.0, setupMs,
+              median(readMs), median(buildMs), median(renderMs), median(writeMs));
+  if (!flexible.empty())
+    std::printf("atoms outside --flexible were held at frame %zu; in the trajectory they moved up to %.3f Å\n",
+                frames.front(), rigidDrift);
+  if (!png.empty() && !todo.empty()) std::printf("wrote %s ... %s\n", png(todo.front()).c_str(), png(todo.back()).c_str());
+  if (!exr.empty() && !todo.empty()) std::printf("wrote %s ... %s\n", exr(todo.front()).c_str(), exr(todo.back()).c_str());
+
+  if (ffmpeg) {
+    // ffmpeg's image sequences must be numbered without gaps: link the frames as 0, 1, 2, ...
+    const fs::path links = fs::path(o.mp4).parent_path() / ("." + fs::path(o.mp4).filename().string() + ".frames");
+    fs::remove_all(links);
+    fs::create_directories(links);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%08zu.png", i);
+      fs::create_symlink(fs::absolute(png(frames[i])), links / name);
+    }
+    const int status = runProgram({ffmpeg->string(), "-y", "-loglevel", "error", "-framerate", std::to_string(o.fps),
+                                   "-i", (links / "%08d.png").string(), "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                                   "-c:v", "libx264", "-pix_fmt", "yuv420p", o.mp4});
+    fs::remove_all(links);
+    if (status != 0) throw std::runtime_error("ffmpeg failed (exit " + std::to_string(status) + ") making " + o.mp4);
+    std::printf("wrote %s (%zu frames at %g frames/s)\n", o.mp4.c_str(), frames.size(), o.fps);
+  }
+}
+
+}  // namespace
+
+void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
+  auto o = std::make_shared<TrajectoryOptions>();
+  o->commandLine = commandLine;
+  auto* cmd = app.add_subcommand(
+      "trajectory",
+      "Ray-trace a molecular surface frame after frame from a molecular-dynamics trajectory (one camera for the whole "
+      "run, partial updates for --flexible atoms, frames shared out with --shard or a Slurm job array)");
+  cmd->footer(
+      "Frames are numbered from 0 (as in MDAnalysis and VMD): -o f/%05d.png writes frame 7 to f/00007.png.\n"
+      "Examples:\n"
+      "  surftrace trajectory adk.psf adk_dims.dcd -o frames/%05d.png --size 512x512\n"
+      "  surftrace trajectory adk.psf adk_dims.dcd --frames 0:98:4 --surface mss --shrink 0.5 -o f/%03d.png --mp4 adk.mp4\n"
+      "  surftrace trajectory top.gro traj.xtc --flexible 'resid 120-160' -o f/%05d.png --timings t.csv\n"
+      "  sbatch --array=0-3 ...  (each task renders the frames k with k mod 4 = SLURM_ARRAY_TASK_ID; see the README)");
+  cmd->add_option("TOPOLOGY", o->topology,
+                  "The atoms: PSF (CHARMM/NAMD), GRO, PDB or mmCIF (gzipped allowed), in the trajectory's atom order")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("TRAJECTORY", o->trajectory,
+                  "The coordinates per frame: DCD (CHARMM/NAMD), XTC (GROMACS), GRO or XYZ frames one after another, "
+                  "or a multi-model PDB/mmCIF")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--surface", o->surface,
+                  "ses (solvent excluded), mss (molecular skin, --shrink), vdw (atom spheres) or sas (r + probe)")
+      ->check(CLI::IsMember({"ses", "mss", "vdw", "sas"}))
+      ->default_val("ses");
+  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
+  addShrinkOption(*cmd, o->shrink);
+  cmd->add_flag("--drop-cavities", o->dropCavities, "Leave out the inner SES components of buried cavities");
+  cmd->add_option("-o,--output", o->output,
+                  "PNG file name pattern with one integer conversion for the frame number, e.g. frames/%05d.png "
+                  "(folders are made as needed)");
+  cmd->add_option("--exr", o->exr, "EXR pattern (colour, depth, normal, ids, flags per frame), e.g. frames/%05d.exr");
+  cmd->add_option("--frames", o->frames,
+                  "Frames a:b:step: a, a+step, ... below b, numbered from 0 (default: all); a single number is one "
+                  "frame");
+  cmd->add_option("--frame-camera", o->frameCamera,
+                  "Frame the camera on the first selected frame (first) or keep every selected frame in view (all); "
+                  "either way it stays fixed for the whole run, so a movie does not jitter")
+      ->check(CLI::IsMember({"first", "all"}))
+      ->default_val("first");
+  cmd->add_option("--flexible", o->flexible,
+                  "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
+                  "a partial update: terms like 'resid 120-160', 'chain A', 'resname LIG', 'name CA', 'atom 1-250' "
+                  "(positions in the topology from 1), separated by commas (their union)");
+  cmd->add_flag("--resume", o->resume,
+                "Skip the frames whose output files exist (files are written whole, through a temporary name, so an "
+                "interrupted run leaves none half-written)");
+  cmd->add_option("--timings", o->timings, "Write per-frame timings (read, build, render, write in ms) to this CSV");
+  cmd->add_option("--mp4", o->mp4, "Also make an H.264 movie of the PNG frames with ffmpeg (must be on PATH)");
+  cmd->add_option("--fps", o->fps, "Frames per second of the --mp4 movie")->check(positive())->default_val(25.0);
+  cmd->add_option("--shard", o->shard,
+                  "i/n: render only the frames k with k mod n = i (0 <= i < n). Without it, a Slurm array task's "
+                  "SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT choose the shard");
+  addImageOptions(*cmd, o->image);
+  cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
+      ->check(wholeIn(0, 4096));
+  cmd->add_flag("--quiet", o->quiet, "No progress bar and no per-frame lines");
+  addMoleculeOptions(*cmd, o->read);
+  cmd->callback([o] { runTrajectory(*o); });
+}
+
+}  // namespace surftrace::tools
