@@ -5,17 +5,22 @@
 #   1. starts a private one-node Slurm cluster on localhost (slurm_cluster.sh) in a
 #      temporary directory; it is stopped again on exit, whatever happens;
 #   2. submits surftrace_array.sbatch with `sbatch --array=0-3 --wait`; every task
-#      runs `srun SURFTRACE trajectory TOPOLOGY TRAJECTORY -o OUTDIR_slurm/%05d.png
-#      [extra options]` and picks its shard from SLURM_ARRAY_TASK_ID/COUNT itself;
-#   3. runs the same command once locally, unsharded, into OUTDIR_single;
+#      runs `srun SURFTRACE trajectory TOPOLOGY TRAJECTORY -o frames/%05d.png
+#      [extra options]` in WORK/slurm (OUTDIR_slurm = WORK/slurm/frames) and picks
+#      its shard from SLURM_ARRAY_TASK_ID/COUNT itself;
+#   3. runs the very same command line once locally, unsharded, in WORK/single
+#      (OUTDIR_single = WORK/single/frames);
 #   4. checks: all 4 tasks ran (as job steps) and succeeded, the two sets of frame
 #      files are equal, every frame was written exactly once and by the task that
 #      owns it (k mod 4 == task), and every file is byte-identical (cmp) to the
 #      single run's.
+# The output pattern is relative and the inputs absolute, so that both runs have the
+# same command line: surftrace records its command line in the PNG metadata
+# (tEXt "surftrace:command"), so a different -o path alone makes the bytes differ.
 # To count writes without relying on the command's stdout, the job runs SURFTRACE
-# through a small recorder: the real binary (same arguments, same SLURM_*
-# environment) writes into a fresh private directory, the recorder lists what
-# appeared there in a per-task ledger and then moves it into OUTDIR_slurm.
+# through a small recorder: it runs the real binary with the same arguments and the
+# same SLURM_* environment, but from a fresh, empty private working directory, lists
+# what appeared there in a per-task ledger and then moves it into OUTDIR_slurm.
 #
 # Exit status: 0 pass (one summary line on stdout), 1 fail (with the reason and the
 # logs), 2 usage, 77 skip: only when the Slurm/munge programs are not installed.
@@ -106,14 +111,27 @@ unset $(compgen -e | grep '^SLURM_') 2>/dev/null
 WORK=$(mktemp -d "${SURFTRACE_SLURM_TMP:-/tmp}/surftrace-slurm.XXXXXX") || fail "mktemp failed"
 chmod 0711 "$WORK"   # munged wants every directory above its socket searchable by all
 CLUSTER=$WORK/cluster
-OUT_SLURM=$WORK/OUTDIR_slurm
-OUT_SINGLE=$WORK/OUTDIR_single
+PATTERN=frames/%05d.png                  # relative to the working directory
+OUT_SLURM=$WORK/slurm/frames             # OUTDIR_slurm
+OUT_SINGLE=$WORK/single/frames           # OUTDIR_single
 REC=$WORK/recorder
-mkdir -p "$OUT_SLURM" "$OUT_SINGLE" "$REC" "$WORK/logs" "$WORK/bin"
+mkdir -p "$WORK/slurm" "$WORK/single" "$REC" "$WORK/logs" "$WORK/bin"
+
+# long commands run in the background so that a signal is handled at once
+CHILD=""
+run_child() {
+    "$@" &
+    CHILD=$!
+    wait "$CHILD"
+    local rc=$?
+    CHILD=""
+    return "$rc"
+}
 
 cleanup() {
     local rc=$?
     trap - EXIT INT TERM HUP
+    [[ -n $CHILD ]] && kill -TERM "$CHILD" 2>/dev/null
     "$HERE/slurm_cluster.sh" stop "$CLUSTER"
     if [[ ${SURFTRACE_SLURM_KEEP:-0} == 1 ]]; then
         say "kept $WORK"
@@ -148,42 +166,42 @@ T_CLUSTER=$((SECONDS - t0))
 # --- 2. the array job ----------------------------------------------------------
 cat >"$WORK/bin/surftrace-recorder" <<'EOF'
 #!/usr/bin/env bash
-# Runs the real surftrace with the same arguments and environment, but with the
-# output pattern under OUTDIR redirected into a private, empty directory; then
-# records every file that appeared there in this task's ledger and moves it to OUTDIR.
+# Runs the real surftrace with the same arguments and environment, but in a fresh,
+# empty working directory (the output pattern is relative); then records every file
+# that appeared there in this task's ledger and moves it to OUTDIR in the job's
+# working directory.
 set -u
+start=$PWD
 priv=$(mktemp -d "$REC_DIR/private.XXXXXX") || exit 1
-args=()
-for a in "$@"; do
-    [[ $a == "$OUTDIR"/* ]] && a=$priv/${a#"$OUTDIR"/}
-    args+=("$a")
-done
-"$REAL_SURFTRACE" "${args[@]}"
+cd "$priv" || exit 1
+"$REAL_SURFTRACE" "$@"
 rc=$?
 task=${SLURM_ARRAY_TASK_ID:-none}
 {
     echo "# task=$task count=${SLURM_ARRAY_TASK_COUNT:-} min=${SLURM_ARRAY_TASK_MIN:-}" \
          "job=${SLURM_JOB_ID:-} step=${SLURM_STEP_ID:-} rc=$rc"
-    (cd "$priv" && find . -type f | sed 's|^\./||' | LC_ALL=C sort)
+    # paths relative to OUTDIR; anything written elsewhere is marked
+    find . -type f | sed 's|^\./||' | LC_ALL=C sort |
+        sed "s|^$OUTDIR/||; t; s|^|OUTSIDE-OUTDIR:|"
 } >"$REC_DIR/task_$task.$$.ledger"
-(cd "$priv" && find . -type f | sed 's|^\./||') | while IFS= read -r f; do
-    mkdir -p "$OUTDIR/$(dirname "$f")" && mv -f "$priv/$f" "$OUTDIR/$f"
+find . -type f | sed 's|^\./||' | while IFS= read -r f; do
+    mkdir -p "$start/$(dirname "$f")" && mv -f "$priv/$f" "$start/$f"
 done
 exit "$rc"
 EOF
 chmod +x "$WORK/bin/surftrace-recorder"
 
 # inputs of surftrace_array.sbatch, exported to the job (sbatch --export=ALL)
-export TOPOLOGY TRAJECTORY OUTDIR=$OUT_SLURM
+export TOPOLOGY TRAJECTORY OUTDIR=${PATTERN%/*}
 export SURFTRACE=$WORK/bin/surftrace-recorder REAL_SURFTRACE=$BIN REC_DIR=$REC
 export SURFTRACE_ARGS="${EXTRA[*]}"
 
 t0=$SECONDS
 say "cluster up in ${T_CLUSTER} s; submitting sbatch --array=0-$((NTASKS - 1)) --wait"
 JOBID=""
-timeout "$(left)" sbatch --wait --parsable --export=ALL \
+run_child timeout "$(left)" sbatch --wait --parsable --export=ALL \
     --array=0-$((NTASKS - 1)) --cpus-per-task=1 --job-name=surftrace-test \
-    --chdir="$WORK" --output="$WORK/logs/surftrace_%A_%a.out" \
+    --chdir="$WORK/slurm" --output="$WORK/logs/surftrace_%A_%a.out" \
     "$HERE/surftrace_array.sbatch" >"$WORK/sbatch.out" 2>"$WORK/sbatch.err"
 rc=$?
 JOBID=$(head -n1 "$WORK/sbatch.out" | cut -d';' -f1)
@@ -200,8 +218,8 @@ fi
 # --- 3. the same command in one local process, unsharded -----------------------
 t0=$SECONDS
 say "array job $JOBID done in ${T_ARRAY} s; running the single local process"
-env -u SLURM_CONF timeout "$(left)" "$BIN" trajectory "$TOPOLOGY" "$TRAJECTORY" \
-    -o "$OUT_SINGLE/%05d.png" "${EXTRA[@]}" >"$WORK/logs/single.out" 2>&1
+run_child env -C "$WORK/single" -u SLURM_CONF timeout "$(left)" "$BIN" trajectory \
+    "$TOPOLOGY" "$TRAJECTORY" -o "$PATTERN" "${EXTRA[@]}" >"$WORK/logs/single.out" 2>&1
 rc=$?
 T_SINGLE=$((SECONDS - t0))
 if ((rc != 0)); then
@@ -217,6 +235,15 @@ list_files() { (cd "$1" && find . -type f | sed 's|^\./||' | LC_ALL=C sort); }
 # 4a. every task ran exactly once, as a job step of this job, and succeeded
 declare -A owner=() seen=()
 problems=()
+# note PROBLEM: record it, but only the first 5 of a kind verbatim
+declare -A kind_count=()
+note() {
+    local kind=$1; shift
+    kind_count[$kind]=$(( ${kind_count[$kind]:-0} + 1 ))
+    ((kind_count[$kind] <= 5)) && problems+=("$*")
+    ((kind_count[$kind] == 6)) && problems+=("... (more of: $kind)")
+    return 0
+}
 for ((t = 0; t < NTASKS; t++)); do
     ledgers=("$REC/task_$t".*.ledger)
     [[ -e ${ledgers[0]} ]] || { problems+=("task $t never ran surftrace"); continue; }
@@ -226,12 +253,17 @@ for ((t = 0; t < NTASKS; t++)); do
             problems+=("task $t: unexpected ledger header: $(head -n1 "$l")")
         while IFS= read -r f; do
             [[ $f == \#* || -z $f ]] && continue
+            if [[ $f == OUTSIDE-OUTDIR:* ]]; then
+                problems+=("task $t wrote ${f#OUTSIDE-OUTDIR:} outside the output directory")
+                continue
+            fi
             seen[$f]=$(( ${seen[$f]:-0} + 1 ))
             owner[$f]+="$t "
             # 4b. the frame number in the name is k; task t owns k mod NTASKS == t
             b=$(basename "$f"); n=${b%%.*}
             if [[ $n =~ ^[0-9]+$ ]] && (( 10#$n % NTASKS != t )); then
-                problems+=("frame $f written by task $t, but it belongs to task $(( 10#$n % NTASKS ))")
+                note "frames in the wrong shard" \
+                    "frame $f written by task $t, but it belongs to task $(( 10#$n % NTASKS ))"
             fi
         done <"$l"
     done
@@ -241,7 +273,8 @@ others=$(find "$REC" -name '*.ledger' ! -name 'task_[0-9]*' | head -n3)
 
 # 4c. exactly once
 for f in "${!seen[@]}"; do
-    ((seen[$f] == 1)) || problems+=("frame $f written ${seen[$f]} times (tasks ${owner[$f]})")
+    ((seen[$f] == 1)) || note "frames written more than once" \
+        "frame $f written ${seen[$f]} times (tasks ${owner[$f]% })"
 done
 
 # 4d. same set of files as the single run
@@ -257,20 +290,17 @@ unrecorded=$(LC_ALL=C comm -23 "$WORK/list_slurm" <(printf '%s\n' "${!seen[@]}" 
 [[ -z $unrecorded ]] || problems+=("files in the slurm output that no task recorded: $unrecorded")
 
 # 4e. byte-identical
-ndiff=0
 while IFS= read -r f; do
     if [[ -f $OUT_SLURM/$f ]] && ! cmp -s "$OUT_SLURM/$f" "$OUT_SINGLE/$f"; then
-        ((ndiff < 5)) && problems+=("frame $f differs from the single run")
-        ndiff=$((ndiff + 1))
+        note "frames that differ" "frame $f differs from the single run"
     fi
 done <"$WORK/list_single"
-((ndiff <= 5)) || problems+=("... $ndiff frames differ in all")
 
 if ((${#problems[@]})); then
-    printf '  %s\n' "${problems[@]:0:30}"
-    ((${#problems[@]} > 30)) && echo "  ... ${#problems[@]} problems in all"
+    for k in "${!kind_count[@]}"; do problems+=("$k: ${kind_count[$k]}"); done
+    printf '  %s\n' "${problems[@]}"
     show_job_logs
-    fail "slurm array output does not match the single run (${#problems[@]} problems)"
+    fail "slurm array output does not match the single run (see the problems above)"
 fi
 
 say "timings: cluster start ${T_CLUSTER} s, array job ${T_ARRAY} s, single run ${T_SINGLE} s, total $((SECONDS - T_START)) s"

@@ -22,7 +22,9 @@ namespace surftrace::build {
 // One frame: every atom of the trajectory file, in file order, in Å.
 struct Frame {
   std::vector<glm::dvec3> positions;
-  double time = 0.0;   // ps where the format stores it (XTC, GRO); else the frame index
+  // ps: as stored (XTC, GRO titles with "t="), from the header's step and time step (DCD, as
+  // MDAnalysis computes it); else the frame index.
+  double time = 0.0;
   long long step = 0;  // MD step where stored (XTC, DCD start + k * interval); else the index
   // Unit cell a, b, c (Å) and alpha, beta, gamma (degrees) where the file stores one.
   std::optional<std::array<double, 6>> cell;
