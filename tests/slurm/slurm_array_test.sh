@@ -62,7 +62,7 @@ if [[ -z ${_SURFTRACE_SLURM_TEST_INNER:-} ]]; then
         exit 77
     fi
     export _SURFTRACE_SLURM_TEST_INNER=1
-    timeout -k "$KILL_GRACE" "$TOTAL_LIMIT" "$SELF" "$@"
+    timeout -k "$KILL_GRACE" "$TOTAL_LIMIT" bash "$SELF" "$@"
     rc=$?
     if ((rc == 124 || rc == 137)); then
         echo "FAIL: slurm array test did not finish within ${TOTAL_LIMIT} s (killed)"
@@ -73,12 +73,16 @@ fi
 
 # ---------------------------------------------------------------------------
 # inner process
+# fds 3/4: the test's own stdout/stderr, also valid inside redirected commands
+# (a signal trap may run while a redirection is in effect)
+exec 3>&1 4>&2
+say() { echo "slurm_array_test: $*" >&4; }
 T_START=$SECONDS
 DEADLINE=$((TOTAL_LIMIT - 30))   # leave time for the checks and the error report
 left() { local l=$((DEADLINE - SECONDS)); ((l > 1)) && echo "$l" || echo 1; }
 
 fail() {
-    echo "FAIL: $*"
+    echo "FAIL: $*" >&3
     exit 1
 }
 
@@ -132,7 +136,7 @@ cleanup() {
     local rc=$?
     trap - EXIT INT TERM HUP
     [[ -n $CHILD ]] && kill -TERM "$CHILD" 2>/dev/null
-    "$HERE/slurm_cluster.sh" stop "$CLUSTER"
+    bash "$HERE/slurm_cluster.sh" stop "$CLUSTER" >&4 2>&4
     if [[ ${SURFTRACE_SLURM_KEEP:-0} == 1 ]]; then
         say "kept $WORK"
     else
@@ -153,12 +157,12 @@ show_job_logs() {
         [[ -e $f ]] || continue
         echo "----- $f (first lines)"; head -n 5 "$f"
     done
-    "$HERE/slurm_cluster.sh" logs "$CLUSTER" 2>&1
+    bash "$HERE/slurm_cluster.sh" logs "$CLUSTER" 2>&1
 }
 
 # --- 1. cluster --------------------------------------------------------------
 t0=$SECONDS
-SLURM_CLUSTER_OWNER_PID=$$ timeout 90 "$HERE/slurm_cluster.sh" start "$CLUSTER" \
+SLURM_CLUSTER_OWNER_PID=$$ timeout 90 bash "$HERE/slurm_cluster.sh" start "$CLUSTER" \
     || fail "could not start the Slurm test cluster (see the log tails above)"
 export SLURM_CONF=$CLUSTER/etc/slurm.conf
 T_CLUSTER=$((SECONDS - t0))

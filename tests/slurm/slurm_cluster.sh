@@ -274,7 +274,7 @@ do_start() {
         OWNER=$owner SELF=$SELF DIR=$D setsid bash -c '
             while kill -0 "$OWNER" 2>/dev/null; do sleep 1; done
             echo "watchdog: owner $OWNER gone, stopping"
-            exec "$SELF" stop "$DIR"' </dev/null >>"$LOGD/watchdog.out" 2>&1 &
+            exec bash "$SELF" stop "$DIR"' </dev/null >>"$LOGD/watchdog.out" 2>&1 &
         echo $! >"$RUN/watchdog.pid"
     fi
     log "up in $D (ports $ctl_port/$d_port): export SLURM_CONF=$CONF"

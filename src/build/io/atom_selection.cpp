@@ -1,6 +1,8 @@
 // Atom selections (atom_selection.hpp).
 #include "build/io/atom_selection.hpp"
 
+#include "build/io/text_fields.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <limits>
@@ -12,11 +14,7 @@
 namespace surftrace::build {
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
+using text::trim;
 
 std::vector<std::string> words(std::string_view term) {
   std::vector<std::string> out;

@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "build/io/error.hpp"
+#include "build/io/text_fields.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/topology_formats.hpp"
 
@@ -37,56 +38,24 @@ Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, in
 
 namespace {
 
+using text::inQuotes;
+using text::isSpace;
+using text::parseWhole;
+using text::splitFields;
+using text::trim;
+using text::upper;
+
 namespace fs = std::filesystem;
 
-bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
-}
-char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
 
-// (Built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string(s) + "'".)
-std::string inQuotes(std::string_view s) {
-  std::string out;
-  out.reserve(s.size() + 2);
-  out.append(1, '\'').append(s).append(1, '\'');
-  return out;
-}
 
 std::string lowerCase(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
-std::vector<std::string_view> splitFields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  std::size_t pos = 0;
-  while (pos < line.size()) {
-    while (pos < line.size() && isSpace(line[pos])) ++pos;
-    const std::size_t start = pos;
-    while (pos < line.size() && !isSpace(line[pos])) ++pos;
-    if (pos > start) fields.push_back(line.substr(start, pos - start));
-  }
-  return fields;
-}
 
-// A whole field as a number: "+1.5" and ".721" are numbers, "1.2.3" and "" are not.
-template <typename T>
-std::optional<T> parseWhole(std::string_view text) {
-  text = trim(text);
-  T value{};
-  const char* first = text.data();
-  const char* last = text.data() + text.size();
-  if (first != last && *first == '+') ++first;
-  const auto [ptr, ec] = std::from_chars(first, last, value);
-  if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
-  return value;
-}
 std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
 std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
 

@@ -1,0 +1,57 @@
+// Small pieces of text parsing that every text reader (molecule.cpp, topology_formats.cpp,
+// text_trajectory.cpp) shares: whitespace, fields, whole numbers, quoting for messages.
+#pragma once
+
+#include <charconv>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace surftrace::build::text {
+
+inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+
+inline std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// 'value', for error messages. (Built by appending: GCC 12 gives a false -Wrestrict for
+// "'" + std::string(s) + "'".)
+inline std::string inQuotes(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + 2);
+  out.append(1, '\'').append(s).append(1, '\'');
+  return out;
+}
+
+// The whitespace-separated fields of a line.
+inline std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    while (pos < line.size() && isSpace(line[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < line.size() && !isSpace(line[pos])) ++pos;
+    if (pos > start) fields.push_back(line.substr(start, pos - start));
+  }
+  return fields;
+}
+
+// A whole field as a number: "+1.5", ".721" and "0.9E-01" are numbers, "1.2.3" and "" are not.
+template <typename T>
+std::optional<T> parseWhole(std::string_view text) {
+  text = trim(text);
+  T value{};
+  const char* first = text.data();
+  const char* last = text.data() + text.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, value);
+  if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
+  return value;
+}
+
+}  // namespace surftrace::build::text
