@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes the readers of untrusted files (PDB, mmCIF, PQR, XYZR, XYZ, .stp) with libFuzzer
 # under ASan+UBSan, seeded with tests/data. Usage: scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
-# (default 10 s each, all six targets: pdb mmcif pqr xyzr xyz stp). Corpora grow in
+# (default 10 s each, all nine targets: pdb mmcif pqr xyzr xyz stp dcd xtc gro). Corpora grow in
 # build/fuzz/corpus/<target> across runs; a crash is saved in build/fuzz/crashes/<target>/
 # and fails the run: reduce it, fix it, and add it to tests/data/bad (see tests/fuzz/README.md).
 set -euo pipefail
@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-10}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(pdb mmcif pqr xyzr xyz stp)
+[ ${#targets[@]} -eq 0 ] && targets=(pdb mmcif pqr xyzr xyz stp dcd xtc gro)
 
 if ! command -v clang++ >/dev/null 2>&1; then
   echo "fuzz: clang++ not found (Debian: clang, libclang-rt-14-dev); skipped" >&2
@@ -28,6 +28,9 @@ seeds_for() {
     xyzr) find tests/data tests/fuzz/seeds -type f -name '*.xyzr' ;;
     xyz) find tests/data tests/fuzz/seeds -type f -name '*.xyz' ;;
     stp) find tests/fuzz/seeds/stp -type f -name '*.stp' ;;
+    dcd) find tests/data -type f -name '*.dcd' -size -64k ;;
+    xtc) find tests/data -type f -name '*.xtc' -size -64k ;;
+    gro) find tests/data -type f -name '*.gro' -size -64k ;;
   esac
 }
 
