@@ -782,6 +782,25 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
 
 }  // namespace
 
+std::string text::textOfBytes(std::string bytes, const std::string& name) {
+  const bool gzipped = hasGzipMagic(bytes);
+  const std::string file = lowerCase(fs::path(name).filename().string());
+  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
+    throw InputError(
+        name, 0,
+        bytes.empty()
+            ? std::string("the file is empty (expected gzip data, as the name ends in .gz)")
+            : "the name ends in .gz but the file is not gzip-compressed "
+              "(it does not start with the gzip magic bytes 1f 8b)");
+  std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
+  checkText(text, name, gzipped);
+  return text;
+}
+
+std::string text::readTextFile(const fs::path& path, const std::string& name) {
+  return textOfBytes(readFileBytes(path, name), name);
+}
+
 const char* formatName(MoleculeFormat format) {
   switch (format) {
     case MoleculeFormat::Auto:
@@ -821,18 +840,7 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   const MoleculeFormat format =
       options.format == MoleculeFormat::Auto ? formatFromPath(path, name) : options.format;
 
-  const bool gzipped = hasGzipMagic(bytes);
-  std::string file = lowerCase(path.filename().string());
-  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
-    throw InputError(
-        name, 0,
-        bytes.empty()
-            ? std::string("the file is empty (expected gzip data, as the name ends in .gz)")
-            : "the name ends in .gz but the file is not gzip-compressed "
-              "(it does not start with the gzip magic bytes 1f 8b)");
-  std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
-  bytes = std::string();
-  checkText(text, name, gzipped);
+  const std::string text = text::textOfBytes(std::move(bytes), name);
   const auto crc = static_cast<std::uint32_t>(
       crc32_z(crc32_z(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()), text.size()));
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <charconv>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -53,5 +54,12 @@ std::optional<T> parseWhole(std::string_view text) {
   if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
   return value;
 }
+
+// A text input's bytes as text (molecule.cpp): gunzipped when they start with the gzip magic
+// (every member), refused when the name ends in .gz and they do not, and refused when empty or
+// binary (a control byte: InputError naming the line and offset). `name` stands for the file.
+std::string textOfBytes(std::string bytes, const std::string& name);
+// The same for a whole file read from disk.
+std::string readTextFile(const std::filesystem::path& path, const std::string& name);
 
 }  // namespace surftrace::build::text

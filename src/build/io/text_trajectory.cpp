@@ -2,19 +2,14 @@
 // or mmCIF file, gzipped or not, indexed once when opened and read one frame at a time.
 #include "build/io/trajectory.hpp"
 
-#define ZLIB_CONST
-#include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
-#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <new>
 #include <optional>
 #include <string_view>
@@ -84,101 +79,6 @@ class LineCursor {
   std::size_t line_ = 0;
   int number_;
 };
-
-// ---------------------------------------------------------------------------------------------
-// Bytes (as readMolecule takes them: gzip by its magic bytes, all members)
-
-std::string readFileBytes(const fs::path& path, const std::string& name) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(name, 0, "is a directory, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name, 0, std::string("cannot open: ") + std::strerror(errno));
-  std::string bytes;
-  char buffer[1 << 16];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
-    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw InputError(name, 0, "read error");
-  return bytes;
-}
-
-bool hasGzipMagic(const std::string& bytes, std::size_t at = 0) {
-  return bytes.size() >= at + 2 && static_cast<unsigned char>(bytes[at]) == 0x1f &&
-         static_cast<unsigned char>(bytes[at + 1]) == 0x8b;
-}
-
-std::string gunzip(const std::string& bytes, const std::string& name) {
-  z_stream zs{};
-  if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::bad_alloc();
-  struct Closer {
-    z_stream* zs;
-    ~Closer() { inflateEnd(zs); }
-  } closer{&zs};
-
-  std::string out(std::max<std::size_t>(bytes.size() * 4, 1 << 16), '\0');
-  std::size_t consumed = 0;
-  std::size_t produced = 0;
-  for (;;) {
-    if (zs.avail_in == 0 && consumed < bytes.size()) {
-      const std::size_t chunk = std::min<std::size_t>(bytes.size() - consumed, UINT_MAX);
-      zs.next_in = reinterpret_cast<const Bytef*>(bytes.data() + consumed);
-      zs.avail_in = static_cast<uInt>(chunk);
-      consumed += chunk;
-    }
-    if (produced == out.size()) out.resize(out.size() * 2);
-    const std::size_t room = std::min<std::size_t>(out.size() - produced, UINT_MAX);
-    zs.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
-    zs.avail_out = static_cast<uInt>(room);
-    const int ret = inflate(&zs, Z_NO_FLUSH);
-    produced += room - zs.avail_out;
-    if (ret == Z_STREAM_END) {
-      // Another gzip member may follow, as gzip(1) reads them; anything else is ignored.
-      const std::size_t at = bytes.size() - (zs.avail_in + (bytes.size() - consumed));
-      if (hasGzipMagic(bytes, at)) {
-        inflateReset(&zs);
-        continue;
-      }
-      break;
-    }
-    if (ret == Z_MEM_ERROR) throw std::bad_alloc();
-    if (ret == Z_DATA_ERROR || ret == Z_STREAM_ERROR || ret == Z_NEED_DICT)
-      throw InputError(name, 0,
-                       std::string("corrupt gzip data (") + (zs.msg ? zs.msg : "zlib error") +
-                           ") after " + std::to_string(produced) + " decompressed bytes");
-    if (zs.avail_in == 0 && consumed == bytes.size() && zs.avail_out != 0)
-      throw InputError(
-          name, 0,
-          "the gzip stream is truncated after " + std::to_string(produced) + " decompressed bytes");
-  }
-  out.resize(produced);
-  return out;
-}
-
-// The decompressed text of a trajectory file; InputError for an empty or binary file.
-std::string readText(const fs::path& path, const std::string& name) {
-  std::string bytes = readFileBytes(path, name);
-  const bool gzipped = hasGzipMagic(bytes);
-  const std::string file = path.filename().string();
-  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
-    throw InputError(name, 0,
-                     "the name ends in .gz but the file is not gzip-compressed (it does not "
-                     "start with the gzip magic bytes 1f 8b)");
-  std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
-  if (text.empty())
-    throw InputError(name, 0, gzipped ? "the file decompresses to nothing" : "the file is empty");
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' && c != 0x1a) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "0x%02x", c);
-      const int line = 1 + static_cast<int>(std::count(
-                               text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i), '\n'));
-      throw InputError(name, line,
-                       std::string("binary data (byte ") + hex + " at offset " + std::to_string(i) +
-                           "); expected a text trajectory");
-    }
-  }
-  return text;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Frame index
@@ -361,7 +261,7 @@ class TextFrames final : public FrameSource {
  public:
   TextFrames(const fs::path& file, TrajectoryFormat format)
       : FrameSource(file.string()), format_(format) {
-    text_ = readText(file, path());
+    text_ = text::readTextFile(file, path());
     std::string note;
     switch (format_) {
       case TrajectoryFormat::Gro:
