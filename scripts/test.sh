@@ -4,13 +4,27 @@
 # the file readers for about a minute (libFuzzer, ASan+UBSan; scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --tests
 jobs=$(nproc)
 
 echo "== Release build (warnings are errors) =="
 cmake --preset ci >/dev/null
 cmake --build --preset ci -j "$jobs"
 ctest --preset ci -j "$jobs"
+
+echo "== The oracle tests with a numpy-less python3 first on PATH (a pyenv or venv) =="
+# A python3 that cannot import numpy (no site-packages) shadows the system one: the oracle
+# interpreter chosen at configure time must still be one that imports numpy and MDAnalysis,
+# and the reader tests must pass under it.
+nonumpy=$(mktemp -d)
+trap 'rm -rf "$nonumpy"' EXIT
+printf '#!/bin/sh\nexec /usr/bin/python3 -I -S "$@"\n' > "$nonumpy/python3"
+chmod +x "$nonumpy/python3"
+if PATH="$nonumpy:$PATH" python3 -c 'import numpy' 2>/dev/null; then
+  echo "test.sh: the numpy-less python3 imports numpy" >&2; exit 1
+fi
+PATH="$nonumpy:$PATH" cmake -P cmake/OraclePython.cmake
+PATH="$nonumpy:$PATH" ./build/ci/tests/reader_tests --gtest_brief=1
 
 echo "== AddressSanitizer + UBSan build =="
 cmake --preset asan >/dev/null

@@ -15,6 +15,7 @@
 #include "build/mss/mss_area.hpp"
 #include "build/ses/surface_area.hpp"
 #include "build/surface.hpp"
+#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "image_options.hpp"
 #include "option_checks.hpp"
@@ -114,6 +115,7 @@ void runBuild(const BuildOptions& o) {
   if (isPatchListInput(o.path))
     throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
                                 "take it as it is");
+  build::prepareOutputPath(o.output, "-o");
   const Built b = readAndBuild(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;
@@ -244,9 +246,11 @@ void runAreaOverTime(const AreaOptions& o) {
       for (std::size_t c = 0; c < columns.size(); ++c) row[columns[c]] = values[c];
       rows.push_back(row);
     } else {
+      bar.clear();
       std::printf(o.format == "csv" ? "%zu,%.6g" : "%6zu %12.6g", frames[n], time);
       for (double v : values) std::printf(o.format == "csv" ? ",%.6f" : " %14.4f", v);
       std::printf("\n");
+      std::fflush(stdout);
     }
     bar.items(n + 1, frames.size(), "frames");
   }

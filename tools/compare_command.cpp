@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
@@ -25,7 +26,30 @@ struct LimitsExceeded : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The engine that made an image, from its metadata: "embree", "gl", or "" when not recorded
+// (an image from another program).
+std::string engineOf(const view::ImageMetadata& meta) {
+  if (const auto e = meta.find("surftrace:engine"); e != meta.end()) return e->second;
+  if (const auto r = meta.find("surftrace:renderer"); r != meta.end()) {
+    if (r->second.find(" gl:") != std::string::npos) return "gl";
+    if (r->second.find(" embree ") != std::string::npos) return "embree";
+  }
+  return "";
+}
+
+// Without --preset, the strict limits for the pair of engines: `exact` for two images of one
+// engine, `gl-vs-embree` otherwise (different engines, or one not recorded). Says which.
+std::string defaultPreset(const view::ImageMetadata& test, const view::ImageMetadata& ref) {
+  const std::string a = engineOf(test), b = engineOf(ref);
+  const std::string preset = !a.empty() && a == b ? "exact" : "gl-vs-embree";
+  std::printf("limits    --preset %s (engines: test %s, reference %s; pass --preset to choose)\n", preset.c_str(),
+              a.empty() ? "not recorded" : a.c_str(), b.empty() ? "not recorded" : b.c_str());
+  return preset;
+}
+
 void runCompare(const CompareOptions& o) {
+  if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
+  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
   view::ImageMetadata testMeta, refMeta;
   const view::FrameBuffers test = view::readExr(o.test, &testMeta);
   const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
@@ -45,11 +69,7 @@ void runCompare(const CompareOptions& o) {
   std::printf("test      %s (%s)\nreference %s (%s)\n%s\n", o.test.c_str(),
               testMeta.count("surftrace:renderer") ? testMeta.at("surftrace:renderer").c_str() : "?", o.reference.c_str(),
               refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?", c.summary().c_str());
-  if (!o.report.empty()) {
-    std::ofstream out(o.report);
-    out << c.json() << "\n";
-    if (!out) throw std::runtime_error(o.report + ": cannot write the report");
-  }
+  if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
   if (!o.diff.empty()) {
     const std::vector<float> rgb = view::differenceImage(test, ref);
     view::FrameBuffers image;
@@ -63,7 +83,8 @@ void runCompare(const CompareOptions& o) {
     view::writePng(o.diff, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
                                                          "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
   }
-  view::CompareThresholds limits = o.preset.empty() ? view::CompareThresholds{} : view::CompareThresholds::preset(o.preset);
+  const std::string preset = o.preset.empty() ? defaultPreset(testMeta, refMeta) : o.preset;
+  view::CompareThresholds limits = preset == "none" ? view::CompareThresholds{} : view::CompareThresholds::preset(preset);
   if (o.maxCoverage) limits.maxCoverageFraction = o.maxCoverage;
   if (o.maxDepthP99) limits.maxDepthP99Relative = o.maxDepthP99;
   if (o.minKind) limits.minKindAgreement = o.minKind;
@@ -71,7 +92,7 @@ void runCompare(const CompareOptions& o) {
   if (o.maxNormalP99) limits.maxNormalP99Degrees = o.maxNormalP99;
   const auto violations = limits.violations(c);
   if (violations.empty()) {
-    std::printf("PASS%s\n", o.preset.empty() ? "" : (" (" + o.preset + ")").c_str());
+    std::printf("PASS (%s)\n", preset == "none" ? "no limits: --preset none" : preset.c_str());
     return;
   }
   std::string text = "FAIL:";
@@ -93,8 +114,10 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--report", o->report, "Write the metrics as JSON here");
   cmd->add_option("--diff", o->diff, "Write a false-colour difference PNG here");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
-                                         "kinds > 99.9%) or exact (a re-render by the same engine)")
-      ->check(CLI::IsMember({"gl-vs-embree", "exact"}));
+                                         "kinds > 99.9%), exact (a re-render by the same engine), or none (report "
+                                         "the metrics, judge nothing). Default: exact when the two images' metadata "
+                                         "name the same engine, else gl-vs-embree")
+      ->check(CLI::IsMember({"gl-vs-embree", "exact", "none"}));
   cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
   cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));
   cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(numberIn(0, 1));

@@ -1,8 +1,10 @@
 // Image options shared by `render` and `trajectory` (image_options.hpp).
 #include "image_options.hpp"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -96,14 +98,49 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
     throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
   if (!o.eye.empty()) setup.eye = parseVector("--eye", o.eye);
   if (!o.lookAt.empty()) setup.lookAt = parseVector("--look-at", o.lookAt);
-  if (!o.up.empty()) setup.up = parseVector("--up", o.up);
+  if (!o.up.empty()) {
+    setup.up = parseVector("--up", o.up);
+    if (*setup.up == glm::dvec3(0.0)) throw std::invalid_argument("--up '" + o.up + "': the up vector must not be zero");
+  }
+  checkImageFitsInMemory(o.size, ro.camera.width, ro.camera.height);
   return setup;
+}
+
+void checkImageFitsInMemory(const std::string& sizeText, int width, int height) {
+  // The frame's buffers (colour, depth, view depth, normal, kind, patch and atom ids, flags:
+  // 52 bytes a pixel) and, while a file is written, its pixels and encoded bytes again.
+  constexpr double kBytesPerPixel = 52.0 + 52.0 + 60.0;
+  const double needed = kBytesPerPixel * static_cast<double>(width) * static_cast<double>(height);
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || pageSize <= 0) return;  // unknown: let the allocation decide
+  const double memory = static_cast<double>(pages) * static_cast<double>(pageSize);
+  if (needed > memory) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "--size %s: an image of %dx%d pixels needs about %.1f GiB for its buffers, more than this "
+                  "machine's %.1f GiB of memory; render it smaller",
+                  sizeText.c_str(), width, height, needed / 0x1p30, memory / 0x1p30);
+    throw std::invalid_argument(text);
+  }
 }
 
 void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule) {
   view::Camera& camera = setup.render.camera;
   if (list.params.surface == build::SurfaceKind::Mss) {
-    camera = view::frameSpheres(camera, list.mss.center, list.mss.boundRadius, setup.viewDirection);
+    // Two bounds of the skin, each loose somewhere: its patches' balls (tight for s near 1,
+    // but for small s a hyperboloid's ball grows as r/√s), and the hull of the atom centres
+    // grown by the largest radius (every ball of the skin's construction is centred in that
+    // hull, and shrunk to radius² <= Σλ_i r_i² <= r_max²; tight as s -> 0). A patch list read
+    // without its structure has the first alone.
+    const view::SphereCover patches{list.mss.center, list.mss.boundRadius};
+    if (molecule.centers.empty()) {
+      camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
+    } else {
+      const double rMax = *std::max_element(molecule.radii.begin(), molecule.radii.end());
+      const std::vector<double> grown(molecule.centers.size(), rMax);
+      const view::SphereCover covers[] = {patches, {molecule.centers, grown}};
+      camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
+    }
   } else {
     std::vector<double> reach(molecule.radii);
     if (list.params.surface != build::SurfaceKind::Vdw)
@@ -121,16 +158,52 @@ void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::s
 ProgressBar::ProgressBar(bool enabled, std::string label)
     : enabled_(enabled && isatty(STDERR_FILENO)), label_(std::move(label)) {}
 
+namespace {
+// The terminal's width in columns (80 when it does not say).
+std::size_t terminalColumns() {
+  winsize size{};
+  if (ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) return size.ws_col;
+  return 80;
+}
+}  // namespace
+
+void ProgressBar::draw(const std::string& before, double fraction, const std::string& after) {
+  // The bar shrinks first, then the text is cut, so that the line never wraps: a wrapped
+  // line cannot be redrawn in place.
+  const std::size_t columns = terminalColumns() - 1;
+  std::string line = before;
+  const std::size_t fixed = before.size() + after.size() + 3;  // " [" and "]"
+  const std::size_t width = columns > fixed ? std::min<std::size_t>(25, columns - fixed) : 0;
+  if (width >= 5) {
+    const auto filled = static_cast<std::size_t>(std::clamp(fraction, 0.0, 1.0) * static_cast<double>(width));
+    line += " [" + std::string(filled, '#') + std::string(width - filled, ' ') + "]";
+  }
+  line += after;
+  if (line.size() > columns) line.resize(columns);
+  std::fprintf(stderr, "\r%s\033[K", line.c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void ProgressBar::clear() {
+  if (!enabled_) return;
+  std::lock_guard lock(mutex_);
+  if (!drawn_) return;
+  std::fprintf(stderr, "\r\033[K");
+  std::fflush(stderr);
+  drawn_ = false;
+}
+
 void ProgressBar::update(double fraction) {
   if (!enabled_) return;
   std::lock_guard lock(mutex_);
   const int percent = static_cast<int>(100.0 * fraction);
   if (percent <= last_) return;
   last_ = percent;
-  const int bars = percent / 4;
-  std::fprintf(stderr, "\r%s [%-25s] %3d%%", label_.c_str(), std::string(static_cast<std::size_t>(bars), '#').c_str(),
-               percent);
-  if (percent >= 100) std::fprintf(stderr, "\n");
+  char after[32];
+  std::snprintf(after, sizeof after, " %3d%%", percent);
+  draw(label_, fraction, after);
+  if (percent >= 100) std::fprintf(stderr, "\n"), drawn_ = false;
 }
 
 void ProgressBar::items(std::size_t done, std::size_t total, const char* unit) {
@@ -139,11 +212,11 @@ void ProgressBar::items(std::size_t done, std::size_t total, const char* unit) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double rate = seconds > 0.0 ? static_cast<double>(done) / seconds : 0.0;
   const double left = rate > 0.0 ? static_cast<double>(total - done) / rate : 0.0;
-  const int bars = static_cast<int>(25 * done / total);
-  std::fprintf(stderr, "\r%s [%-25s] %zu/%zu %s, %.1f %s/s, ETA %02d:%02d ", label_.c_str(),
-               std::string(static_cast<std::size_t>(bars), '#').c_str(), done, total, unit, rate, unit,
-               static_cast<int>(left) / 60, static_cast<int>(left) % 60);
-  if (done >= total) std::fprintf(stderr, "\n");
+  char after[160];
+  std::snprintf(after, sizeof after, " %zu/%zu %s, %.1f %s/s, ETA %02d:%02d", done, total, unit, rate, unit,
+                static_cast<int>(left) / 60, static_cast<int>(left) % 60);
+  draw(label_, static_cast<double>(done) / static_cast<double>(total), after);
+  if (done >= total) std::fprintf(stderr, "\n"), drawn_ = false;
 }
 
 }  // namespace surftrace::tools

@@ -44,9 +44,14 @@ struct ImageSetup {
 };
 ImageSetup resolveImageOptions(const ImageOptions& options);
 
+// std::invalid_argument, naming `sizeText` and how much memory is needed, when an image of
+// width x height pixels would not fit in this machine's memory (checked before allocating).
+void checkImageFitsInMemory(const std::string& sizeText, int width, int height);
+
 // Frames render.camera on what the surface can reach, as `render` does for a structure: the
-// skin's patches lie in their bounding balls; r + rp bounds the SES and the SAS; r the vdW
-// balls. Then --eye, --look-at and --up override the framing, and the camera is validated.
+// skin lies in its patches' bounding balls and in the hull of the atoms grown by the largest
+// radius (the tighter of the two is taken along each axis); r + rp bounds the SES and the
+// SAS; r the vdW balls. Then --eye, --look-at and --up override the framing, and the camera is validated.
 void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule);
 // The same over several molecules' spheres (every frame of a trajectory): `centers` and
 // `reach` list every sphere to keep in view.
@@ -54,7 +59,9 @@ void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::s
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
 
-// A one-line progress bar on stderr, drawn only when stderr is a terminal.
+// A one-line progress bar on stderr, drawn only when stderr is a terminal, never wider than
+// the terminal. Call clear() before printing anything else to the terminal (a row on
+// stdout); the next update draws the bar again below it.
 class ProgressBar {
  public:
   // `label` starts the line ("rendering", "frames").
@@ -63,9 +70,14 @@ class ProgressBar {
   void update(double fraction);
   // `done` of `total` items, with items per second and the time left.
   void items(std::size_t done, std::size_t total, const char* unit);
+  // Erases the bar's line, so that other output starts on a clean line.
+  void clear();
 
  private:
+  void draw(const std::string& before, double fraction, const std::string& after);
+
   bool enabled_;
+  bool drawn_ = false;
   std::string label_;
   std::mutex mutex_;
   int last_ = -1;

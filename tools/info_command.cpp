@@ -36,14 +36,17 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
       ->check(positive());
   group->add_flag("--drop-zero-radius", options.dropZeroRadius,
                   "Drop atoms whose file gives radius 0 (PQR hydrogens) instead of stopping with an error");
-  static const std::map<std::string, build::MoleculeFormat> kFormats{
-      {"auto", build::MoleculeFormat::Auto}, {"pdb", build::MoleculeFormat::Pdb},
-      {"mmcif", build::MoleculeFormat::Mmcif}, {"cif", build::MoleculeFormat::Mmcif},
-      {"pqr", build::MoleculeFormat::Pqr}, {"xyzr", build::MoleculeFormat::Xyzr},
-      {"xyz", build::MoleculeFormat::Xyz}, {"gro", build::MoleculeFormat::Gro},
-      {"psf", build::MoleculeFormat::Psf}};
+  using build::MoleculeFormat;
   group->add_option("--input-format", options.format, "Input format (default: from the file name)")
-      ->transform(CLI::CheckedTransformer(kFormats, CLI::ignore_case));
+      ->transform(namedValue<MoleculeFormat>({{"auto", MoleculeFormat::Auto},
+                                              {"pdb", MoleculeFormat::Pdb},
+                                              {"mmcif", MoleculeFormat::Mmcif},
+                                              {"cif", MoleculeFormat::Mmcif},
+                                              {"pqr", MoleculeFormat::Pqr},
+                                              {"xyzr", MoleculeFormat::Xyzr},
+                                              {"xyz", MoleculeFormat::Xyz},
+                                              {"gro", MoleculeFormat::Gro},
+                                              {"psf", MoleculeFormat::Psf}}));
 }
 
 bool isPatchListInput(const std::string& path) {

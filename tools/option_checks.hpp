@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
+#include <cctype>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -61,6 +64,30 @@ inline CLI::Validator wholeIn(double lo, double hi) {
 inline CLI::Validator numberIn(double lo, double hi) {
   return CLI::Validator([lo, hi](std::string& text) { return detail::checkNumber(text, lo, hi, false, false); },
                         "NUMBER", "number");
+}
+
+// One of a few names, in any letter case, standing for values of an enum: the help shows the
+// names alone ("auto|pdb|mmcif"), a wrong name is answered with the names it could have been.
+// (CLI11's CheckedTransformer prints its map, "{auto->0,pdb->1} OR {0,1}".)
+template <typename Enum>
+CLI::Validator namedValue(std::vector<std::pair<std::string, Enum>> names) {
+  std::string list;
+  for (const auto& [name, value] : names) list += (list.empty() ? "" : "|") + name;
+  return CLI::Validator(
+      [names, list](std::string& text) -> std::string {
+        std::string lower = text;
+        for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        for (const auto& [name, value] : names)
+          if (name == lower) {
+            text = std::to_string(static_cast<long long>(value));
+            return {};
+          }
+        std::string expected = "expected one of ";
+        for (std::size_t i = 0; i < names.size(); ++i)
+          expected += (i ? ", " : "") + names[i].first;
+        return expected + "; got '" + text + "'";
+      },
+      list, "named value");
 }
 
 }  // namespace surftrace::tools

@@ -16,6 +16,7 @@
 #include "build/surface.hpp"
 #include "build/io/molecule.hpp"
 #include "build/io/trajectory.hpp"
+#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "gl/gl_context.hpp"
@@ -65,7 +66,9 @@ void runRender(const RenderCommandOptions& o) {
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<std::size_t>(o.threads));
-  // Every option is checked before the slow work starts.
+  // Every option is checked before the slow work starts, the output paths too.
+  if (!o.output.empty()) build::prepareOutputPath(o.output, "-o");
+  if (!o.exr.empty()) build::prepareOutputPath(o.exr, "--exr");
   ImageSetup setup = resolveImageOptions(o.image);
   view::RenderOptions& ro = setup.render;
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())

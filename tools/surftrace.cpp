@@ -6,17 +6,21 @@
 #include <CLI/CLI.hpp>
 
 #include "build/io/error.hpp"
+#include "build/io/output_file.hpp"
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "SurfTrace computes molecular surfaces exactly (solvent excluded surface, SES) and ray-traces them.\n"
+      "SurfTrace computes molecular surfaces exactly - the solvent excluded surface (SES) and the\n"
+      "molecular skin surface (MSS) - as analytic patches, ray-traces them on the CPU (Embree) or with\n"
+      "OpenGL, renders whole MD trajectories, and compares renderings pixel by pixel.\n"
       "\n"
       "Typical use:\n"
       "  surftrace info 1vis.pdb.gz                 what is in a structure file, what gets skipped\n"
       "  surftrace area 1vis.pdb.gz --probe 1.4      exact SAS/SES areas and SES volume\n"
-      "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES patch list for renderers\n"
-      "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the SES exactly (add --exr for buffers)\n"
+      "  surftrace area 1vis.pdb.gz --surface mss --shrink 0.5   the skin's area and volume\n"
+      "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES (or --surface mss) patch list for renderers\n"
+      "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the surface exactly (add --exr for buffers)\n"
       "  surftrace compare gl.exr embree.exr        validate another renderer pixel by pixel\n"
       "  surftrace trajectory adk.psf adk.dcd -o f/%05d.png   the surface of every frame of an MD run\n"
       "\n"
@@ -38,9 +42,14 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    // What was printed must have reached standard output (a full disk, a closed pipe).
+    surftrace::build::finishStandardOutput();
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the message; its own exit codes (104, 105, ...) mean nothing to a user:
+    // 0 for --help and --version, 1 for every error, as --help says.
+    return app.exit(e) == 0 ? 0 : 1;
   } catch (const std::exception& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "surftrace: error: %s\n", e.what());
     return 1;
   }

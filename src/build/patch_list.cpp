@@ -13,6 +13,8 @@
 
 #include <zlib.h>
 
+#include "build/io/output_file.hpp"
+
 namespace surftrace::build {
 
 const char* surfaceKindName(SurfaceKind kind) {
@@ -270,18 +272,9 @@ void writePatchList(const std::string& path, const PatchList& patches) {
   file.bytes.insert(file.bytes.end(), body.bytes.begin(), body.bytes.end());
   file.pod(crc32Of(body.bytes.data(), body.bytes.size()));
 
-  // Write beside the target and rename, so a crash never leaves a half-written file.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot open for writing");
-    out.write(reinterpret_cast<const char*>(file.bytes.data()), static_cast<std::streamsize>(file.bytes.size()));
-    if (!out.flush()) throw std::runtime_error(path + ": write failed (disk full?)");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot replace file");
-  }
+  // Beside the target, checked, then renamed: a full disk or a crash never leaves a
+  // half-written file.
+  writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(file.bytes)));
 }
 
 bool isPatchListFile(const std::string& path) {

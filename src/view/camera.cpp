@@ -86,18 +86,31 @@ glm::dvec3 namedViewDirection(const std::string& view) {
 
 Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii,
                     const glm::dvec3& direction, double margin) {
-  if (centers.empty()) throw std::invalid_argument("camera: nothing to frame (no atoms)");
+  const SphereCover cover{centers, radii};
+  return frameSphereCovers(camera, {&cover, 1}, direction, margin);
+}
+
+Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, const glm::dvec3& direction,
+                         double margin) {
+  if (covers.empty() || std::any_of(covers.begin(), covers.end(), [](const SphereCover& c) { return c.centers.empty(); }))
+    throw std::invalid_argument("camera: nothing to frame (no atoms)");
   const glm::dvec3 f = glm::normalize(direction);
   camera.up = std::abs(f.y) > 0.99 ? glm::dvec3(0, 0, f.y > 0 ? 1 : -1) : glm::dvec3(0, 1, 0);
   const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up)), u = glm::cross(r, f);
   // Centre the projected extent of the spheres (their box in the view frame), so the
-  // molecule fills the image rather than its bounding sphere.
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[1], -lo[2]};
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    const double c[3] = {glm::dot(centers[i], r), glm::dot(centers[i], u), glm::dot(centers[i], f)};
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k] - radii[i]), hi[k] = std::max(hi[k], c[k] + radii[i]);
+  // molecule fills the image rather than its bounding sphere. The scene lies in every cover,
+  // so in the intersection of their boxes.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo[3] = {-kInf, -kInf, -kInf}, hi[3] = {kInf, kInf, kInf};
+  for (const SphereCover& cover : covers) {
+    double coverLo[3] = {kInf, kInf, kInf}, coverHi[3] = {-kInf, -kInf, -kInf};
+    for (std::size_t i = 0; i < cover.centers.size(); ++i) {
+      const glm::dvec3& p = cover.centers[i];
+      const double c[3] = {glm::dot(p, r), glm::dot(p, u), glm::dot(p, f)};
+      for (int k = 0; k < 3; ++k)
+        coverLo[k] = std::min(coverLo[k], c[k] - cover.radii[i]), coverHi[k] = std::max(coverHi[k], c[k] + cover.radii[i]);
+    }
+    for (int k = 0; k < 3; ++k) lo[k] = std::max(lo[k], coverLo[k]), hi[k] = std::min(hi[k], coverHi[k]);
   }
   const glm::dvec3 mid = 0.5 * (lo[0] + hi[0]) * r + 0.5 * (lo[1] + hi[1]) * u + 0.5 * (lo[2] + hi[2]) * f;
   camera.lookAt = mid;
@@ -107,19 +120,25 @@ Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::spa
     camera.eye = mid - (hi[2] - lo[2] + camera.orthoHeight) * f;
     return camera;
   }
-  // Perspective: the nearest eye distance D at which every sphere lies inside the frustum.
-  // A sphere at lateral offset s and depth z (from the look-at plane) fits a half-angle
-  // with tangent h when |s| + r·sqrt(1 + h²) <= h·(D + z).
+  // Perspective: the nearest eye distance D at which every sphere of a cover lies inside the
+  // frustum. A sphere at lateral offset s and depth z (from the look-at plane) fits a
+  // half-angle with tangent h when |s| + r·sqrt(1 + h²) <= h·(D + z). Any one cover holding
+  // the scene suffices, so the nearest of the covers' distances is taken.
   const double hy = halfTan(camera.fovY) / margin, hx = hy * aspect;
-  double distance = 0.0;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    const glm::dvec3 v = centers[i] - mid;
-    const double sx = std::abs(glm::dot(v, r)), sy = std::abs(glm::dot(v, u)), z = glm::dot(v, f);
-    distance = std::max(distance, (sx + radii[i] * std::sqrt(1.0 + hx * hx)) / hx - z);
-    distance = std::max(distance, (sy + radii[i] * std::sqrt(1.0 + hy * hy)) / hy - z);
-    distance = std::max(distance, radii[i] - z + 1e-3);  // the eye stays outside every sphere
+  double nearest = kInf;
+  for (const SphereCover& cover : covers) {
+    double distance = 0.0;
+    for (std::size_t i = 0; i < cover.centers.size(); ++i) {
+      const glm::dvec3 v = cover.centers[i] - mid;
+      const double radius = cover.radii[i];
+      const double sx = std::abs(glm::dot(v, r)), sy = std::abs(glm::dot(v, u)), z = glm::dot(v, f);
+      distance = std::max(distance, (sx + radius * std::sqrt(1.0 + hx * hx)) / hx - z);
+      distance = std::max(distance, (sy + radius * std::sqrt(1.0 + hy * hy)) / hy - z);
+      distance = std::max(distance, radius - z + 1e-3);  // the eye stays outside every sphere
+    }
+    nearest = std::min(nearest, distance);
   }
-  camera.eye = mid - distance * f;
+  camera.eye = mid - nearest * f;
   return camera;
 }
 

@@ -65,6 +65,20 @@ glm::dvec3 namedViewDirection(const std::string& view);
 Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii,
                     const glm::dvec3& direction, double margin = 1.05);
 
+// Spheres whose union holds the whole scene.
+struct SphereCover {
+  std::span<const glm::dvec3> centers;
+  std::span<const double> radii;
+};
+
+// Frames a scene known to lie inside each of `covers` (every one holds all of it), as
+// frameSpheres frames one cover: the look-at point is the centre of the intersection of the
+// covers' boxes in the view frame, and the eye is at the nearest distance that any one cover
+// proves enough. With one cover this is frameSpheres. Used where each bound alone is loose
+// somewhere (the skin: its patches' balls, and the atoms' hull grown by the largest radius).
+Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, const glm::dvec3& direction,
+                         double margin = 1.05);
+
 std::string cameraToJson(const Camera& camera);
 Camera cameraFromJson(const std::string& json);
 

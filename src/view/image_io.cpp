@@ -3,9 +3,13 @@
 
 #include <cmath>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include "build/io/output_file.hpp"
 
 namespace surftrace::view {
 namespace {
@@ -20,11 +24,21 @@ void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
   for (const auto& [key, value] : metadata) spec.attribute(key, value);
 }
 
-std::unique_ptr<oiio::ImageOutput> openOutput(const std::string& path, const oiio::ImageSpec& spec) {
+// Encodes the image with OpenImageIO into memory (the format from the extension of `path`),
+// then writes the bytes through build::writeFileAtomically: every write checked, the file
+// whole or not there at all. (OpenImageIO's own file writers let a full disk pass.)
+void encodeAndWrite(const std::string& path, const oiio::ImageSpec& spec, oiio::TypeDesc type, const void* pixels) {
   auto out = oiio::ImageOutput::create(path);
   if (!out) throw std::runtime_error(path + ": cannot write this image format (" + oiio::geterror() + ")");
-  if (!out->open(path, spec)) throw std::runtime_error(path + ": cannot open for writing: " + out->geterror());
-  return out;
+  if (!out->supports("ioproxy"))
+    throw std::runtime_error(path + ": OpenImageIO's " + out->format_name() + " writer cannot write to memory");
+  std::vector<unsigned char> bytes;
+  oiio::Filesystem::IOVecOutput proxy(bytes);
+  if (!out->set_ioproxy(&proxy) || !out->open(path, spec))
+    throw std::runtime_error(path + ": cannot encode the image: " + out->geterror());
+  if (!out->write_image(type, pixels) || !out->close())
+    throw std::runtime_error(path + ": cannot encode the image: " + out->geterror());
+  build::writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(bytes)));
 }
 
 }  // namespace
@@ -36,9 +50,7 @@ void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadat
   for (std::size_t p = 0; p < f.pixels(); ++p)
     for (int c = 0; c < 3; ++c)
       pixels[3 * p + c] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(f.rgba[4 * p + c], 0.0f, 1.0f)));
-  auto out = openOutput(path, spec);
-  if (!out->write_image(oiio::TypeDesc::UINT8, pixels.data()) || !out->close())
-    throw std::runtime_error(path + ": write failed: " + out->geterror());
+  encodeAndWrite(path, spec, oiio::TypeDesc::UINT8, pixels.data());
 }
 
 void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
@@ -62,9 +74,7 @@ void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadat
     pixels[kChannels * p + 11] = f.atomId[p];
     pixels[kChannels * p + 12] = f.flags[p];
   }
-  auto out = openOutput(path, spec);
-  if (!out->write_image(oiio::TypeUnknown, pixels.data()) || !out->close())
-    throw std::runtime_error(path + ": write failed: " + out->geterror());
+  encodeAndWrite(path, spec, oiio::TypeUnknown, pixels.data());
 }
 
 FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {

@@ -3,7 +3,6 @@
 // float32 values), unit cell and time. Broken files are made here from good ones.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,6 +25,7 @@
 
 #include "build/io/error.hpp"
 #include "build/io/trajectory.hpp"
+#include "oracles/python_oracle.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -151,12 +151,6 @@ struct Oracle {
   std::vector<OracleFrame> frames;
 };
 
-std::string shellQuoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 template <typename T>
 T little(const Bytes& b, std::size_t at) {
   std::uint64_t v = 0;
@@ -168,10 +162,9 @@ T little(const Bytes& b, std::size_t at) {
     return std::bit_cast<T>(v);
 }
 
-// Runs mda_frames.py on `trajectory` (through forMDAnalysis where that matters). The
-// interpreter: $SURFTRACE_PYTHON, else `python3`, else /usr/bin/python3 (Debian's package lives
-// there, and a pyenv or venv `python3` first on PATH does not see it). Exit status 3 from all of
-// them means MDAnalysis is missing: a failure that says what to install, never a skip.
+// Runs mda_frames.py on `trajectory` (through forMDAnalysis where that matters) under the
+// oracle Python the build chose (tests/oracles/python_oracle.hpp). Exit status 3 means MDAnalysis
+// is missing: a failure that says what to install, never a skip.
 ::testing::AssertionResult runOracle(const fs::path& trajectory, const fs::path& scratch,
                                      Oracle& oracle) {
   fs::path input = trajectory;
@@ -182,53 +175,34 @@ T little(const Bytes& b, std::size_t at) {
     writeBytes(input, forMDAnalysis(bytes));
   }
   const fs::path dump = scratch / (trajectory.stem().string() + ".mda.bin");
-  const fs::path errors = scratch / "mda_frames.stderr";
-  const std::string script = std::string(SURFTRACE_SOURCE_DIR) + "/tests/oracles/mda_frames.py";
-
-  std::vector<std::string> pythons;
-  if (const char* env = std::getenv("SURFTRACE_PYTHON"); env && *env) pythons.push_back(env);
-  pythons.push_back("python3");
-  pythons.push_back("/usr/bin/python3");
-  std::string missing;
-  for (const std::string& python : pythons) {
-    fs::remove(dump);
-    const std::string command = shellQuoted(python) + " " + shellQuoted(script) + " " +
-                                shellQuoted(input.string()) + " " + shellQuoted(dump.string()) +
-                                " DCD 2>" + shellQuoted(errors.string());
-    const int status = std::system(command.c_str());
-    const int code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (code == 3 || code == 127) {
-      missing += "\n  " + python + (code == 127 ? ": not found" : ": " + readBytes(errors));
-      continue;
-    }
-    if (code != 0)
-      return ::testing::AssertionFailure() << python << " " << script << " failed on " << input
-                                           << " (exit " << code << "):\n" << readBytes(errors);
-    const Bytes b = readBytes(dump);
-    if (b.size() < 16) return ::testing::AssertionFailure() << "short oracle dump " << dump;
-    oracle.atoms = little<std::int64_t>(b, 0);
-    const auto frames = little<std::int64_t>(b, 8);
-    const auto atoms = static_cast<std::size_t>(oracle.atoms);
-    const std::size_t frameBytes = 8 + 8 + 48 + 12 * atoms;
-    if (b.size() != 16 + static_cast<std::size_t>(frames) * frameBytes)
-      return ::testing::AssertionFailure() << "oracle dump " << dump << " has " << b.size()
-                                           << " bytes, not 16 + " << frames << " frames";
-    oracle.frames.resize(static_cast<std::size_t>(frames));
-    for (std::size_t k = 0; k < oracle.frames.size(); ++k) {
-      const std::size_t at = 16 + k * frameBytes;
-      OracleFrame& f = oracle.frames[k];
-      f.time = little<double>(b, at);
-      f.hasCell = little<std::int64_t>(b, at + 8) != 0;
-      for (std::size_t i = 0; i < 6; ++i) f.cell[i] = little<double>(b, at + 16 + 8 * i);
-      f.xyz.resize(3 * atoms);
-      for (std::size_t i = 0; i < 3 * atoms; ++i) f.xyz[i] = little<float>(b, at + 64 + 4 * i);
-    }
-    return ::testing::AssertionSuccess();
+  fs::remove(dump);
+  const test::OracleRun run =
+      test::runOracleScript("mda_frames.py", {input.string(), dump.string(), "DCD"}, scratch);
+  if (run.exitCode == 3)
+    return ::testing::AssertionFailure()
+           << "MDAnalysis, the oracle of this test, cannot be imported:\n" << run.describe()
+           << "\nInstall python3-mdanalysis (apt-get install python3-mdanalysis).";
+  if (!run.ok()) return ::testing::AssertionFailure() << run.describe();
+  const Bytes b = readBytes(dump);
+  if (b.size() < 16) return ::testing::AssertionFailure() << "short oracle dump " << dump;
+  oracle.atoms = little<std::int64_t>(b, 0);
+  const auto frames = little<std::int64_t>(b, 8);
+  const auto atoms = static_cast<std::size_t>(oracle.atoms);
+  const std::size_t frameBytes = 8 + 8 + 48 + 12 * atoms;
+  if (b.size() != 16 + static_cast<std::size_t>(frames) * frameBytes)
+    return ::testing::AssertionFailure() << "oracle dump " << dump << " has " << b.size()
+                                         << " bytes, not 16 + " << frames << " frames";
+  oracle.frames.resize(static_cast<std::size_t>(frames));
+  for (std::size_t k = 0; k < oracle.frames.size(); ++k) {
+    const std::size_t at = 16 + k * frameBytes;
+    OracleFrame& f = oracle.frames[k];
+    f.time = little<double>(b, at);
+    f.hasCell = little<std::int64_t>(b, at + 8) != 0;
+    for (std::size_t i = 0; i < 6; ++i) f.cell[i] = little<double>(b, at + 16 + 8 * i);
+    f.xyz.resize(3 * atoms);
+    for (std::size_t i = 0; i < 3 * atoms; ++i) f.xyz[i] = little<float>(b, at + 64 + 4 * i);
   }
-  return ::testing::AssertionFailure()
-         << "MDAnalysis, the oracle of this test, cannot be imported:" << missing
-         << "\nInstall python3-mdanalysis (apt-get install python3-mdanalysis), or set "
-            "SURFTRACE_PYTHON to a Python that has MDAnalysis.";
+  return ::testing::AssertionSuccess();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -438,7 +412,7 @@ TEST(Dcd, TruncatedLastFrameIsLeftOut) {
       EXPECT_EQ(source->frameCount(), n - 1) << "kept " << kept;
       if (kept > 0) {
         EXPECT_THAT(source->notes(),
-                    ::testing::Contains("frame " + std::to_string(n) + " is truncated (" +
+                    ::testing::Contains("frame " + std::to_string(n - 1) + " is truncated (" +
                                         std::to_string(kept) + " of " + std::to_string(lastBytes) +
                                         " bytes) and left out"));
       }
@@ -510,7 +484,7 @@ TEST(Dcd, CorruptRecordMarkerIsAnInputError) {
       ADD_FAILURE() << "corrupt marker at byte " << at << " read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame 3"));
+      EXPECT_THAT(e.what(), HasSubstr("frame 2:"));  // numbered from 0
       EXPECT_THAT(e.what(), HasSubstr("expected a record marker of 60"));
       EXPECT_THAT(e.what(), HasSubstr("at byte " + std::to_string(at) + ", found 61"));
     }
@@ -544,7 +518,7 @@ TEST(Dcd, CorruptRecordMarkerIsAnInputError) {
   writeBytes(dir / "huge_natom.dcd", bad);
   const auto huge = openDcd(dir / "huge_natom.dcd");
   EXPECT_EQ(huge->frameCount(), 0u);
-  EXPECT_THAT(huge->notes(), ::testing::Contains(HasSubstr("frame 1 is truncated")));
+  EXPECT_THAT(huge->notes(), ::testing::Contains(HasSubstr("frame 0 is truncated")));
   Frame none;
   EXPECT_THROW(huge->read(0, none), InputError);
 
@@ -592,7 +566,7 @@ TEST(Dcd, NonFiniteCoordinateNamesFrameAndAtom) {
       ADD_FAILURE() << "non-finite coordinate read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame) + ", atom " +
+      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame - 1) + ", atom " +
                                       std::to_string(atom) + ": non-finite " + "xyz"[c.axis]));
     }
     if (c.frame > 1) {
@@ -619,6 +593,47 @@ TEST(Dcd, IndexOutOfRangeIsAnInputError) {
     }
   }
   EXPECT_NO_THROW(source->read(9, frame));
+}
+
+// A 4D flag on a file of 3-record frames is an error that names the flag, not 7 frames of
+// scrambled coordinates (issue 18): told by the size where the frames do not fit 4 records,
+// and by the atoms' jump from frame 0 to frame 1 where they do.
+TEST(Dcd, FourthDimensionFlagOnA3DFileIsAnError) {
+  const fs::path dir = tempDir();
+  for (const char* name : {"trajectories/adk_dims/adk_dims.dcd", "trajectories/watdyn/watdyn.dcd",
+                           "formats/dcd/triclinic-namd.dcd", "formats/dcd/mrmd_h2so4-64bit-le.dcd"}) {
+    SCOPED_TRACE(name);
+    const Bytes good = readBytes(data(name));
+    const Layout layout = layoutOf(good);
+    ASSERT_FALSE(hasFourthDimension(good, layout));
+    const std::size_t header = layout.headerRecords(good);
+    const std::size_t perFrame = layout.icntrl(good, 10) != 0 && layout.icntrl(good, 19) != 0 ? 4 : 3;
+    const std::size_t frames = (layout.records.size() - header) / perFrame;
+    // Every whole count of frames: some fit 4 records a frame by size, some do not.
+    for (const std::size_t kept : {frames, frames - frames % 4, std::size_t{4}, std::size_t{2}}) {
+      if (kept < 2 || kept > frames) continue;
+      Bytes bad = good.substr(0, layout.records[header + kept * perFrame - 1].at + 2 * layout.markerBytes +
+                                     layout.records[header + kept * perFrame - 1].length);
+      put32(bad, layout.markerBytes + 4 + 4 * 19, 24, layout.big);  // a CHARMM file...
+      put32(bad, layout.markerBytes + 4 + 4 * 11, 1, layout.big);   // ...of 4D dynamics
+      const fs::path file = dir / ("flag4d_" + std::to_string(kept) + "_" + fs::path(name).filename().string());
+      writeBytes(file, bad);
+      try {
+        const auto source = openDcd(file);
+        Frame frame;
+        for (std::size_t k = 0; k < source->frameCount(); ++k) source->read(k, frame);
+        ADD_FAILURE() << kept << " frames: a 3D file flagged 4D was read (" << source->frameCount() << " frames)";
+      } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr(file.string()));
+        EXPECT_THAT(e.what(), HasSubstr("4D flag (icntrl[11] = 1")) << kept << " frames";
+      }
+    }
+  }
+  // A real CHARMM 4D file still reads.
+  const auto real = openDcd(data("formats/dcd/4d-dynamic.dcd"));
+  Frame frame;
+  for (std::size_t k = 0; k < real->frameCount(); ++k) EXPECT_NO_THROW(real->read(k, frame));
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 // cannot read, is checked against a plain tokenizer of the _atom_site loop written here.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -26,6 +25,7 @@
 #include "build/io/error.hpp"
 #include "build/io/topology_formats.hpp"
 #include "build/io/trajectory.hpp"
+#include "oracles/python_oracle.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -34,9 +34,6 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 fs::path data(const std::string& relative) { return fs::path(SURFTRACE_TEST_DATA) / relative; }
-fs::path oracleScript(const std::string& name) {
-  return fs::path(SURFTRACE_SOURCE_DIR) / "tests" / "oracles" / name;
-}
 
 std::string readBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -93,50 +90,19 @@ fs::path tempDir() {
 // ---------------------------------------------------------------------------------------------
 // The MDAnalysis oracles
 
-// Debian's python3-mdanalysis installs into the system Python, which a python3 earlier on
-// PATH (pyenv, a venv) does not see. The build names it (SURFTRACE_PYTHON); the environment
-// variable of the same name overrides.
-std::string python() {
-  if (const char* env = std::getenv("SURFTRACE_PYTHON")) return env;
-#ifdef SURFTRACE_PYTHON
-  return SURFTRACE_PYTHON;
-#else
-  if (fs::exists("/usr/bin/python3")) return "/usr/bin/python3";
-  return "python3";
-#endif
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'')
-      out += "'\\''";
-    else
-      out += c;
-  }
-  return out + "'";
-}
-
-// Runs an oracle script; a test failure (never a skip) if it cannot run, saying what to install.
+// Runs an oracle script under the Python the build chose (tests/oracles/python_oracle.hpp); a
+// test failure (never a skip) if it cannot run, saying what to install.
 bool runOracle(const std::string& script, const std::vector<std::string>& args,
-               const fs::path& errFile) {
-  // (Built by appending: GCC 12 gives a false -Wrestrict for "x" + std::string chains.)
-  std::string command = shellQuote(python());
-  command.append(" ").append(shellQuote(oracleScript(script).string()));
-  for (const std::string& a : args) command.append(" ").append(shellQuote(a));
-  command.append(" 2> ").append(shellQuote(errFile.string()));
-  const int status = std::system(command.c_str());
-  const int code = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-  if (code == 0) return true;
-  const std::string err = readBytes(errFile);
-  if (code == 3 || err.find("ImportError") != std::string::npos ||
-      err.find("ModuleNotFoundError") != std::string::npos)
+               const fs::path& scratch) {
+  const test::OracleRun run = test::runOracleScript(script, args, scratch);
+  if (run.ok()) return true;
+  if (run.exitCode == 3 || run.err.find("ImportError") != std::string::npos ||
+      run.err.find("ModuleNotFoundError") != std::string::npos)
     ADD_FAILURE() << script << " cannot import MDAnalysis: install python3-mdanalysis "
-                  << "(Debian package; the oracle runs under " << python()
-                  << ", set SURFTRACE_PYTHON to use another interpreter).\n"
-                  << err;
+                  << "(apt-get install python3-mdanalysis).\n"
+                  << run.describe();
   else
-    ADD_FAILURE() << script << " failed (exit " << code << ") on " << args.front() << ":\n" << err;
+    ADD_FAILURE() << script << " failed on " << args.front() << ": " << run.describe();
   return false;
 }
 
@@ -159,7 +125,7 @@ std::optional<MdaFrames> mdaFrames(const fs::path& path, const fs::path& dir,
   const fs::path out = dir / (path.filename().string() + ".frames.bin");
   std::vector<std::string> args = {path.string(), out.string()};
   if (!format.empty()) args.push_back(format);
-  if (!runOracle("mda_frames.py", args, dir / "mda_frames.err")) return std::nullopt;
+  if (!runOracle("mda_frames.py", args, dir)) return std::nullopt;
   const std::string bytes = readBytes(out);
   MdaFrames result;
   std::int64_t header[2];
@@ -199,7 +165,7 @@ struct MdaAtom {
 // MDAnalysis's atoms of a topology (mda_topology.py).
 std::optional<std::vector<MdaAtom>> mdaTopology(const fs::path& path, const fs::path& dir) {
   const fs::path out = dir / (path.filename().string() + ".atoms.tsv");
-  if (!runOracle("mda_topology.py", {path.string(), out.string()}, dir / "mda_topology.err"))
+  if (!runOracle("mda_topology.py", {path.string(), out.string()}, dir))
     return std::nullopt;
   std::vector<MdaAtom> atoms;
   const std::vector<std::string> rows = lines(readBytes(out));
@@ -558,7 +524,7 @@ TEST(GroTopologyErrors, AtomCountTheFileDoesNotHold) {
   writeText(path, joinLines(text));
   const InputError e = errorOf([&] { detail::parseGro(fileText(path), path.string()); });
   EXPECT_EQ(e.line(), 2) << e.what();
-  EXPECT_THAT(e.what(), HasSubstr("the atom count of frame 1 is 120"));
+  EXPECT_THAT(e.what(), HasSubstr("the atom count of frame 0 is 120"));
   EXPECT_EQ(errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Gro); }).line(), 2);
 
   // A count smaller than the atoms puts an atom line where the box should be.
@@ -566,7 +532,7 @@ TEST(GroTopologyErrors, AtomCountTheFileDoesNotHold) {
   writeText(path, joinLines(text));
   const InputError box = errorOf([&] { detail::parseGro(fileText(path), path.string()); });
   EXPECT_EQ(box.line(), 117) << box.what();
-  EXPECT_THAT(box.what(), HasSubstr("expected the box of frame 1"));
+  EXPECT_THAT(box.what(), HasSubstr("expected the box of frame 0"));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -776,7 +742,7 @@ TEST(TextFramesGro, TruncatedLastFrameIsLeftOutWithANote) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Gro);
   EXPECT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("frame 3"));
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2"));  // numbered from 0
   Frame frame;
   source->read(1, frame);
   EXPECT_DOUBLE_EQ(frame.time, 24.0);
@@ -798,7 +764,7 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Xyz);
   ASSERT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("only frames 1-2 are read"));
+  EXPECT_THAT(source->notes()[0], HasSubstr("only frames 0-1 are read"));
   // Frame 1 reads as in the intact file.
   Frame frame, intact;
   source->read(0, frame);
@@ -807,7 +773,7 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   // Frame 2 takes frame 3's count line for its 8th atom.
   const InputError e = errorOf([&] { source->read(1, frame); });
   EXPECT_EQ(e.line(), 21) << e.what();  // frame 2: count 12, comment 13, 7 atoms 14-20
-  EXPECT_THAT(e.what(), HasSubstr("atom 8 of 9 of frame 2, got '9'"));
+  EXPECT_THAT(e.what(), HasSubstr("atom 8 of 9 of frame 1, got '9'"));
   source->read(0, frame);  // still readable after the failure
   EXPECT_EQ(frame.positions, intact.positions);
 }
@@ -820,7 +786,7 @@ TEST(TextFramesErrors, XyzLastFrameCutShortAndGarbage) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Xyz);
   EXPECT_EQ(source->frameCount(), 1U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr(path.string() + ":12: the atom count of frame 2 is 9"));
+  EXPECT_THAT(source->notes()[0], HasSubstr(path.string() + ":12: the atom count of frame 1 is 9"));
 
   text[15] = "He 8.480960 0.8674x9 4.217944";
   writeText(path, joinLines(text));
@@ -828,7 +794,7 @@ TEST(TextFramesErrors, XyzLastFrameCutShortAndGarbage) {
   const InputError e =
       errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Xyz)->read(1, frame); });
   EXPECT_EQ(e.line(), 16);
-  EXPECT_THAT(e.what(), HasSubstr("expected a number for y (field 3) in frame 2, got '0.8674x9'"));
+  EXPECT_THAT(e.what(), HasSubstr("expected a number for y (field 3) in frame 1, got '0.8674x9'"));
 }
 
 TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
@@ -848,14 +814,14 @@ TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
   ASSERT_EQ(source->frameCount(), 3U);
   EXPECT_EQ(source->atomCount(), 3U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2 has 2 atoms, frame 1 has 3"));
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 1 has 2 atoms, frame 0 has 3"));
   Frame frame;
   source->read(0, frame);
   EXPECT_EQ(frame.positions[2], glm::dvec3(13.149, 6.074, -5.139));
   EXPECT_EQ(frame.cell, (std::array<double, 6>{50.0, 60.0, 70.0, 90.0, 100.0, 90.0}));
   const InputError e = errorOf([&] { source->read(1, frame); });
   EXPECT_EQ(e.line(), 7) << e.what();
-  EXPECT_THAT(e.what(), HasSubstr("frame 2 has 2 atoms, but frame 1 has 3"));
+  EXPECT_THAT(e.what(), HasSubstr("frame 1 has 2 atoms, but frame 0 has 3"));
   source->read(2, frame);  // frames after it read
   EXPECT_EQ(frame.positions[0], glm::dvec3(11.104, 6.134, -6.504));
 
@@ -866,7 +832,7 @@ TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
       errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Pdb)->read(0, frame); });
   EXPECT_EQ(g.line(), 3);
   EXPECT_THAT(g.what(),
-              HasSubstr("expected a number for y (columns 39-46) in frame 1, got '  x6.071'"));
+              HasSubstr("expected a number for y (columns 39-46) in frame 0, got '  x6.071'"));
 }
 
 TEST(TextFramesErrors, EmptyBinaryAndBadGzip) {
@@ -919,7 +885,7 @@ TEST(TextFramesSharedData, EveryGroAndXyzEqualsMDAnalysis) {
         source->read(k, frame);
       } catch (const InputError& e) {
         EXPECT_THAT(e.what(),
-                    HasSubstr("atoms, but frame 1 has " + std::to_string(source->atomCount())));
+                    HasSubstr("atoms, but frame 0 has " + std::to_string(source->atomCount())));
         EXPECT_FALSE(source->notes().empty());
         readable = k;
         break;

@@ -2,7 +2,6 @@
 // real trajectories and on files the tests damage on purpose.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -22,6 +21,7 @@
 
 #include "build/io/error.hpp"
 #include "build/io/trajectory.hpp"
+#include "oracles/python_oracle.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -132,22 +132,16 @@ bool runOracle(const fs::path& trajectory, const fs::path& scratch, Oracle& orac
   const fs::path copy = scratch / trajectory.filename();
   fs::copy_file(trajectory, copy, fs::copy_options::overwrite_existing);
   const fs::path out = scratch / (trajectory.filename().string() + ".frames");
-  const fs::path err = scratch / "oracle.stderr";
-  const std::string command = "python3 '" SURFTRACE_SOURCE_DIR "/tests/oracles/mda_frames.py' '" +
-                              copy.string() + "' '" + out.string() + "' 2> '" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  std::ifstream errIn(err);
-  const std::string errText((std::istreambuf_iterator<char>(errIn)),
-                            std::istreambuf_iterator<char>());
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (code == 3) {
+  const test::OracleRun run =
+      test::runOracleScript("mda_frames.py", {copy.string(), out.string()}, scratch);
+  if (run.exitCode == 3) {
     ADD_FAILURE() << "MDAnalysis, the oracle of these tests, cannot be imported: install "
                      "python3-mdanalysis (apt-get install python3-mdanalysis).\n"
-                  << errText;
+                  << run.describe();
     return false;
   }
-  if (code != 0) {
-    ADD_FAILURE() << command << " failed (status " << status << ")\n" << errText;
+  if (!run.ok()) {
+    ADD_FAILURE() << run.describe();
     return false;
   }
 

@@ -88,7 +88,7 @@ FreesasaResult runFreesasa(const std::vector<Sphere>& atoms, double probeRadius,
   const std::string exe = findOnPath("freesasa");
   if (exe.empty())
     throw std::runtime_error(
-        "runFreesasa: `freesasa` is not on PATH; run scripts/install-deps.sh (Debian package "
+        "runFreesasa: `freesasa` is not on PATH; run scripts/install-deps.sh --tests (Debian package "
         "freesasa)");
   if (!(std::isfinite(probeRadius) && probeRadius >= 0))
     throw std::invalid_argument("runFreesasa: probe radius must be finite and >= 0");

@@ -29,7 +29,7 @@ void roundForPdb(std::vector<Sphere>& atoms);
 //
 // Throws std::invalid_argument when a radius is not a multiple of 0.01 (to 1e-9), is
 // negative or > 999.99, or a coordinate is not representable in %8.3f; std::runtime_error
-// when `freesasa` is not on PATH (run scripts/install-deps.sh), when it fails, or when its
+// when `freesasa` is not on PATH (run scripts/install-deps.sh --tests), when it fails, or when its
 // output does not hold exactly one area per input atom.
 FreesasaResult runFreesasa(const std::vector<Sphere>& atoms, double probeRadius,
                            int slices = 1000);

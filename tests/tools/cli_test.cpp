@@ -28,6 +28,25 @@ TEST(Cli, HelpTeachesTheCommands) {
   const Result r = run("--help");
   EXPECT_EQ(r.status, 0);
   for (const char* word : {"info", "area", "build", "PDB", "mmCIF"}) EXPECT_NE(r.output.find(word), std::string::npos) << word;
+  // The first paragraph names what the program does: both surfaces, trajectories, compare.
+  const std::string intro = r.output.substr(0, r.output.find("\n\n"));
+  for (const char* word : {"solvent excluded surface", "molecular skin surface", "trajectories", "compares"})
+    EXPECT_NE(intro.find(word), std::string::npos) << word << "\n" << intro;
+}
+
+// An option that takes one of a few names shows the names, not CLI11's map of them.
+TEST(Cli, NamedOptionsShowTheirNames) {
+  const Result help = run("info --help");
+  EXPECT_NE(help.output.find("auto|pdb|mmcif|cif|pqr|xyzr|xyz|gro|psf"), std::string::npos) << help.output;
+  EXPECT_EQ(help.output.find("->"), std::string::npos) << help.output;
+  const Result wrong = run("info --input-format pdbx " + data("structures/1crn.pdb"));
+  EXPECT_NE(wrong.status, 0);
+  EXPECT_NE(wrong.output.find("expected one of auto, pdb, mmcif, cif, pqr, xyzr, xyz, gro, psf; got 'pdbx'"),
+            std::string::npos)
+      << wrong.output;
+  EXPECT_EQ(wrong.output.find("->"), std::string::npos) << wrong.output;
+  const Result upper = run("info --input-format PDB " + data("structures/1crn.pdb"));
+  EXPECT_EQ(upper.status, 0) << upper.output;
 }
 
 TEST(Cli, InfoCountsTheDemoMolecule) {
@@ -203,6 +222,42 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
   EXPECT_EQ(frame2.patchId, frame.patchId);
 }
 
+// The skin at any shrink factor fills the picture as s = 0.5 does, and no frame clips it:
+// framing takes the tighter of the patches' balls (loose as r/√s for small s) and the hull
+// of the atoms grown by the largest radius (issue 23: 0.2 % of the pixels at s = 0.01 before).
+TEST(Cli, WideSkinFillsThePicture) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  struct Fill {
+    double fraction;
+    bool touchesBorder;
+  };
+  auto render = [&](const std::string& shrink) {
+    const std::string exr = (dir / ("skin" + shrink + ".exr")).string();
+    const Result r = run("render " + data("structures/1crn.pdb") + " --surface mss --shrink " + shrink +
+                         " --size 64x64 --quiet --exr " + exr);
+    EXPECT_EQ(r.status, 0) << r.output;
+    const auto frame = surftrace::view::readExr(exr);
+    std::size_t covered = 0;
+    bool border = false;
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x)
+        if (frame.kind[static_cast<std::size_t>(y) * frame.width + x] != 0) {
+          ++covered;
+          border = border || x == 0 || y == 0 || x == frame.width - 1 || y == frame.height - 1;
+        }
+    return Fill{static_cast<double>(covered) / static_cast<double>(frame.pixels()), border};
+  };
+  const Fill half = render("0.5");
+  EXPECT_GT(half.fraction, 0.25);
+  EXPECT_FALSE(half.touchesBorder);
+  for (const char* s : {"0.01", "0.05", "0.1", "0.3"}) {
+    const Fill f = render(s);
+    EXPECT_GT(f.fraction, 0.7 * half.fraction) << "s = " << s << " fills " << f.fraction << " of the image, s = 0.5 "
+                                               << half.fraction;
+    EXPECT_FALSE(f.touchesBorder) << "s = " << s;
+  }
+}
+
 // Bytes equal, so that NaNs and signed zeros compare too.
 template <typename T>
 bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
@@ -285,6 +340,45 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
   const Result other = run("render " + mol + " --quiet -o " + out + " --patches " + stp);
   EXPECT_NE(other.status, 0);
   EXPECT_NE(other.output.find("different input"), std::string::npos) << other.output;
+}
+
+// Without --preset, compare judges by the strict limits for the two images' engines and says
+// which: an SES against the vdW spheres, the skin against the SES and a blank image against a
+// real one all fail (exit 2); a re-render passes `exact`, GL against Embree `gl-vs-embree`.
+TEST(Cli, CompareDefaultsToTheStrictPresetOfItsEngines) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string mol = data("structures/1crn.pdb");
+  const std::string camera = " --size 48x48 --eye 9,10,60 --look-at 9,10,7 --fov 40 --quiet --exr ";
+  auto render = [&](const std::string& name, const std::string& args) {
+    const std::string exr = (dir / (name + ".exr")).string();
+    const Result r = run("render " + mol + " " + args + camera + exr);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return exr;
+  };
+  const std::string ses = render("cmp_ses", ""), again = render("cmp_again", ""),
+                    vdw = render("cmp_vdw", "--surface vdw"), skin = render("cmp_skin", "--surface mss --shrink 0.5"),
+                    gl = render("cmp_gl", "--engine gl");
+  const std::string blank = (dir / "cmp_blank.exr").string();
+  ASSERT_EQ(run("render " + mol + " --size 48x48 --eye 9,10,60 --look-at 9,10,120 --fov 40 --quiet --exr " + blank).status, 0);
+
+  const Result same = run("compare " + again + " " + ses);
+  EXPECT_EQ(same.status, 0) << same.output;
+  EXPECT_NE(same.output.find("--preset exact"), std::string::npos) << same.output;
+  EXPECT_NE(same.output.find("PASS (exact)"), std::string::npos) << same.output;
+  // (The blank image looks away from the molecule: another camera, so --ignore-camera.)
+  for (const std::string& wrong : {vdw, skin, blank + " --ignore-camera"}) {
+    const Result r = run("compare " + wrong + " " + ses);
+    EXPECT_EQ(r.status, 2) << wrong << "\n" << r.output;
+    EXPECT_NE(r.output.find("--preset exact"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("FAIL"), std::string::npos) << r.output;
+  }
+  const Result engines = run("compare " + gl + " " + ses);
+  EXPECT_EQ(engines.status, 0) << engines.output;
+  EXPECT_NE(engines.output.find("--preset gl-vs-embree"), std::string::npos) << engines.output;
+  // Metrics alone, on purpose.
+  const Result none = run("compare " + vdw + " " + ses + " --preset none");
+  EXPECT_EQ(none.status, 0) << none.output;
+  EXPECT_NE(none.output.find("no limits"), std::string::npos) << none.output;
 }
 
 // `--drop-cavities` keeps the outer component: its area is the full run's component 0.

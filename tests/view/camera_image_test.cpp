@@ -1,4 +1,5 @@
 // Camera rays and framing against their defining formulas; EXR/PNG round trips.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -83,6 +84,75 @@ TEST(Camera, FramingKeepsEverySphereInView) {
         }
         EXPECT_LE(std::abs(sx), 1.0) << view;
         EXPECT_LE(std::abs(sy), 1.0) << view;
+      }
+    }
+  }
+}
+
+// Several covers of one scene: with one cover it is frameSpheres; a second, looser cover
+// (one ball around everything) changes nothing; where each cover is loose along a different
+// axis, the camera frames the box both allow, and every sphere of the scene stays in view.
+TEST(Camera, FramingSeveralCoversTakesTheTightestOfEach) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-10.0, 10.0), r(0.5, 2.0);
+  std::vector<glm::dvec3> centers;
+  std::vector<double> radii;
+  for (int i = 0; i < 100; ++i) centers.push_back({u(rng), u(rng), u(rng)}), radii.push_back(r(rng));
+  // Loose along x: every sphere widened by 30 in x (a row of balls along x). Loose along y:
+  // the same along y. The scene lies in both.
+  std::vector<glm::dvec3> wideX, wideY;
+  std::vector<double> wideRadii;
+  for (std::size_t i = 0; i < centers.size(); ++i)
+    for (int k = -6; k <= 6; ++k) {
+      wideX.push_back(centers[i] + glm::dvec3(5.0 * k, 0, 0));
+      wideY.push_back(centers[i] + glm::dvec3(0, 5.0 * k, 0));
+      wideRadii.push_back(radii[i] + 5.0);
+    }
+  const std::vector<glm::dvec3> one{glm::dvec3(0.0)};
+  const std::vector<double> huge{100.0};
+  for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+    Camera c;
+    c.width = 200;
+    c.height = 200;
+    c.projection = proj;
+    const glm::dvec3 front = namedViewDirection("front");
+    const Camera plain = frameSpheres(c, centers, radii, front);
+    const SphereCover scene{centers, radii}, ball{one, huge};
+    const Camera single = frameSphereCovers(c, {&scene, 1}, front);
+    EXPECT_EQ(single.eye, plain.eye);
+    EXPECT_EQ(single.lookAt, plain.lookAt);
+    EXPECT_EQ(single.orthoHeight, plain.orthoHeight);
+    const SphereCover withBall[] = {ball, scene};
+    const Camera loose = frameSphereCovers(c, withBall, front);
+    EXPECT_EQ(loose.eye, plain.eye);
+    EXPECT_EQ(loose.lookAt, plain.lookAt);
+
+    const SphereCover x{wideX, wideRadii}, y{wideY, wideRadii};
+    const Camera onlyX = frameSphereCovers(c, {&x, 1}, front), onlyY = frameSphereCovers(c, {&y, 1}, front);
+    const SphereCover both[] = {x, y};
+    const Camera tight = frameSphereCovers(c, both, front);
+    // As near as the better cover alone (the look-at point moves a little, to the centre of
+    // the box both allow), a smaller window than either, and still holding every sphere.
+    if (proj == Projection::Perspective) {
+      const double best = std::min(glm::distance(onlyX.eye, onlyX.lookAt), glm::distance(onlyY.eye, onlyY.lookAt));
+      EXPECT_LE(glm::distance(tight.eye, tight.lookAt), 1.01 * best);
+    } else {
+      EXPECT_LT(tight.orthoHeight, onlyX.orthoHeight);
+      EXPECT_LT(tight.orthoHeight, onlyY.orthoHeight);
+    }
+    const glm::dvec3 f = tight.forward(), rt = tight.right(), up = tight.trueUp();
+    for (std::size_t i = 0; i < centers.size(); ++i) {
+      const glm::dvec3 v = centers[i] - tight.eye;
+      const double z = glm::dot(v, f);
+      ASSERT_GT(z, radii[i]);
+      // The sphere's silhouette inside the image: its centre's offset plus its radius.
+      if (proj == Projection::Perspective) {
+        const double h = std::tan(0.5 * tight.fovY * kPi / 180.0);
+        EXPECT_LE(std::abs(glm::dot(v, rt)) + radii[i] * std::sqrt(1 + h * h), h * z);
+        EXPECT_LE(std::abs(glm::dot(v, up)) + radii[i] * std::sqrt(1 + h * h), h * z);
+      } else {
+        EXPECT_LE(std::abs(glm::dot(v, rt)) + radii[i], 0.5 * tight.orthoHeight);
+        EXPECT_LE(std::abs(glm::dot(v, up)) + radii[i], 0.5 * tight.orthoHeight);
       }
     }
   }

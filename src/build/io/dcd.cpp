@@ -9,7 +9,7 @@
 //   record:           free-atom indices (1-based), only if NAMNF > 0
 //   per frame:        [record 48 bytes: unit cell a, gamma, b, beta, alpha, c (CHARMM, flag)]
 //                     records x, y, z (float32) [and a 4th (CHARMM 4D dynamics), skipped]
-// With fixed atoms, frame 1 stores every atom and later frames only the free ones.
+// With fixed atoms, the first frame (0) stores every atom and later frames only the free ones.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -118,6 +118,7 @@ class DcdSource final : public FrameSource {
   void readRecord(std::uint64_t& offset, Bytes& out, const std::string& what);
   [[noreturn]] void fail(const std::string& message) const { throw InputError(path(), 0, message); }
   void decodeFrame(std::size_t index, Frame& frame);
+  void checkFourthDimension();
 
   std::ifstream file_;
   std::uint64_t fileSize_ = 0;
@@ -137,7 +138,7 @@ class DcdSource final : public FrameSource {
   std::uint64_t firstFrameBytes_ = 0;  // every atom
   std::uint64_t frameBytes_ = 0;       // the free atoms only, with fixed atoms
 
-  std::vector<glm::dvec3> firstPositions_;  // frame 1 (read when first needed), with fixed atoms
+  std::vector<glm::dvec3> firstPositions_;  // frame 0 (read when first needed), with fixed atoms
   Bytes buffer_;
 };
 
@@ -243,12 +244,70 @@ DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()) {
     expected = frameBytes_;
   }
   if (rest > 0)
-    notes_.push_back("frame " + std::to_string(frameCount_ + 1) + " is truncated (" +
+    notes_.push_back("frame " + std::to_string(frameCount_) + " is truncated (" +
                      std::to_string(rest) + " of " + bytesText(expected) + ") and left out");
   if (nset < 0 || static_cast<std::uint64_t>(nset) != frameCount_)
     notes_.push_back("header says " + std::to_string(nset) + " frames, the file holds " +
                      std::to_string(frameCount_));
+  if (axes_ == 4 && freeAtoms_.empty()) checkFourthDimension();
 
+}
+
+// A 4D flag (icntrl[11] = 1) on a file of ordinary 3-record frames pairs each frame's x, y, z
+// with records of the next frame: every record has the same length, so no marker is out of
+// place and the coordinates come out scrambled. Two facts tell the layouts apart: the file
+// must hold whole frames of the claimed layout, and in a real trajectory an atom moves little
+// from one frame to the next, so frame 1's x record continues frame 0's x record under the
+// right layout and not under the wrong one.
+void DcdSource::checkFourthDimension() {
+  const std::uint64_t cellBytes = hasCell_ ? kCellRecordBytes + 2 * markerBytes_ : 0;
+  const std::uint64_t recordBytes = 4 * atomCount_ + 2 * markerBytes_;
+  const std::uint64_t frame3 = cellBytes + 3 * recordBytes, frame4 = cellBytes + 4 * recordBytes;
+  const std::uint64_t body = fileSize_ - headerBytes_;
+  const std::string wrongFlag =
+      "the header's 4D flag (icntrl[11] = 1, CHARMM 4D dynamics) says each frame holds 4 "
+      "coordinate records, but ";
+  const std::string remedy =
+      "; the flag is wrong: rewrite the header with icntrl[11] = 0 (e.g. with MDAnalysis or "
+      "catdcd)";
+  // x of frame 0, and of frame 1 under each layout (the payload after its leading marker).
+  const std::uint64_t x0 = headerBytes_ + cellBytes + markerBytes_;
+  const std::uint64_t x1three = x0 + frame3, x1four = x0 + frame4;
+  if (x1four + 4 * atomCount_ + markerBytes_ > fileSize_) {
+    // One frame or less under the 4D layout: only the size can speak.
+    if (body % frame4 != 0 && body % frame3 == 0)
+      fail(wrongFlag + "the file holds " + std::to_string(body / frame3) +
+           " whole frames of 3 records and no whole number of 4-record frames" + remedy);
+    return;
+  }
+  Bytes first, three, four, mark;
+  const auto coordinates = [&](std::uint64_t at, Bytes& out) {
+    readBytes(at - markerBytes_, markerBytes_, mark, "a coordinate record");
+    if (marker(mark.data()) != static_cast<std::int64_t>(4 * atomCount_)) return false;
+    readBytes(at, 4 * atomCount_, out, "a coordinate record");
+    return true;
+  };
+  if (!coordinates(x0, first)) return;  // decodeFrame names the bad marker
+  if (!coordinates(x1four, four)) {
+    if (coordinates(x1three, three))
+      fail(wrongFlag + "frame 1 does not start where 4 records a frame put it (byte " +
+           std::to_string(x1four - markerBytes_) + "), while 3 records a frame fit" + remedy);
+    return;
+  }
+  if (!coordinates(x1three, three)) return;
+  const auto rms = [&](const Bytes& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < atomCount_; ++i) {
+      const double d = double{order_.f32(b.data() + 4 * i)} - double{order_.f32(first.data() + 4 * i)};
+      if (std::isfinite(d)) sum += d * d;
+    }
+    return std::sqrt(sum / static_cast<double>(atomCount_));
+  };
+  const double stepThree = rms(three), stepFour = rms(four);
+  if (10.0 * stepThree < stepFour)
+    fail(wrongFlag + "read so, atoms jump by " + std::to_string(stepFour) +
+         " Å (rms) from frame 0 to frame 1, and by " + std::to_string(stepThree) +
+         " Å when read with 3 records a frame" + remedy);
 }
 
 void DcdSource::readBytes(std::uint64_t offset, std::uint64_t n, Bytes& out,
@@ -287,10 +346,10 @@ void DcdSource::readRecord(std::uint64_t& offset, Bytes& out, const std::string&
 
 void DcdSource::read(std::size_t index, Frame& frame) {
   if (index >= frameCount_)
-    fail("frame " + std::to_string(index + 1) + " does not exist: the file holds " +
-         std::to_string(frameCount_) + " frames");
+    fail("frame " + std::to_string(index) + " does not exist: the file holds " +
+         std::to_string(frameCount_) + " frames (numbered from 0)");
   if (index > 0 && !freeAtoms_.empty() && firstPositions_.empty()) {
-    // Later frames store only the free atoms; the fixed ones keep their frame-1 positions.
+    // Later frames store only the free atoms; the fixed ones keep their positions of frame 0.
     Frame first;
     decodeFrame(0, first);
     firstPositions_ = std::move(first.positions);
@@ -302,7 +361,7 @@ void DcdSource::decodeFrame(std::size_t index, Frame& frame) {
   const bool full = index == 0 || freeAtoms_.empty();
   const std::uint64_t start =
       index == 0 ? headerBytes_ : headerBytes_ + firstFrameBytes_ + (index - 1) * frameBytes_;
-  const std::string frameName = "frame " + std::to_string(index + 1);
+  const std::string frameName = "frame " + std::to_string(index);  // numbered from 0, as everywhere
   readBytes(start, full ? firstFrameBytes_ : frameBytes_, buffer_, frameName);
 
   // Checks one record's two markers against the payload it must have.

@@ -1,0 +1,183 @@
+// Nothing lost (issue 18): every output of the `surftrace` program is whole or an error. A
+// full disk is simulated with a file-size limit (`ulimit -f`, SIGXFSZ ignored: every write
+// past the limit fails with EFBIG, as ENOSPC would) and with /dev/full for standard output.
+#include <array>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
+
+struct Shell {
+  int status;
+  std::string output;  // what the shell command's stdout (with stderr, when redirected there) gave
+};
+
+// Runs `script` under bash, `surftrace` standing for the program under test.
+Shell shell(const std::string& script) {
+  const std::string command = "bash -c 'surftrace() { \"" SURFTRACE_TOOL "\" \"$@\"; }; " + script + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  std::array<char, 4096> buf;
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// A fresh folder for one test.
+fs::path folder(const std::string& name) {
+  const fs::path dir = fs::path(testing::TempDir()) / ("surftrace_output_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// Files left in `dir`, temporary ones included.
+std::size_t filesIn(const fs::path& dir) {
+  std::size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) n += entry.is_regular_file();
+  return n;
+}
+
+TEST(Output, StandardOutputOnAFullDiskIsAnError) {
+  for (const std::string& command : {"info " + data("structures/1crn.pdb"), "area " + data("structures/1crn.pdb"),
+                                     "area --format csv " + data("structures/1crn.pdb")}) {
+    const Shell r = shell("surftrace " + command + " > /dev/full");
+    EXPECT_EQ(r.status, 1) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("standard output"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Output, FilesOnAFullDiskAreErrorsAndLeaveNothing) {
+  const fs::path dir = folder("full");
+  const std::string mol = data("structures/1crn.pdb");
+  const std::string limit = "trap \"\" XFSZ; ulimit -f 0; ";
+  struct Case {
+    std::string command, file;
+  };
+  const Case cases[] = {
+      {"render " + mol + " --size 32x32 --quiet -o " + (dir / "a.png").string(), "a.png"},
+      {"render " + mol + " --size 32x32 --quiet --exr " + (dir / "a.exr").string(), "a.exr"},
+      {"build " + mol + " -o " + (dir / "a.stp").string(), "a.stp"},
+  };
+  for (const Case& c : cases) {
+    const Shell r = shell(limit + "surftrace " + c.command);
+    EXPECT_EQ(r.status, 1) << c.command << "\n" << r.output;
+    EXPECT_NE(r.output.find((dir / c.file).string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("File too large"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("partial"), std::string::npos) << "the error names the user's file\n" << r.output;
+    EXPECT_EQ(r.output.find("wrote"), std::string::npos) << r.output;
+    EXPECT_EQ(filesIn(dir), 0u) << c.command << ": a file or a temporary one was left";
+  }
+  // compare --report and --diff, on images written without the limit.
+  const std::string exr = (dir / "ref.exr").string();
+  ASSERT_EQ(shell("surftrace render " + mol + " --size 32x32 --quiet --exr " + exr).status, 0);
+  for (const std::string& option : {"--report " + (dir / "r.json").string(), "--diff " + (dir / "d.png").string()}) {
+    const Shell r = shell(limit + "surftrace compare " + exr + " " + exr + " " + option);
+    EXPECT_EQ(r.status, 1) << option << "\n" << r.output;
+    EXPECT_NE(r.output.find("File too large"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("PASS"), std::string::npos) << r.output;
+    EXPECT_EQ(filesIn(dir), 1u) << option;
+  }
+}
+
+TEST(Output, PathsAreCheckedBeforeTheWork) {
+  const fs::path dir = folder("paths");
+  const std::string mol = data("structures/1crn.pdb");
+  // A missing folder is made.
+  const fs::path nested = dir / "new" / "deeper" / "a.png";
+  const Shell made = shell("surftrace render " + mol + " --size 16x16 --quiet -o " + nested.string());
+  EXPECT_EQ(made.status, 0) << made.output;
+  EXPECT_TRUE(fs::exists(nested));
+  // A folder that cannot be: a file stands where it would go. Said before rendering (no
+  // "rendered" line) with the folder named.
+  const fs::path blocker = dir / "file";
+  ASSERT_EQ(shell("touch " + blocker.string()).status, 0);
+  for (const std::string& command :
+       {"render " + mol + " --size 16x16 -o " + (blocker / "a.png").string(),
+        "render " + mol + " --size 16x16 --exr " + (blocker / "a.exr").string(),
+        "build " + mol + " -o " + (blocker / "a.stp").string(),
+        "compare " + nested.string() + " " + nested.string() + " --report " + (blocker / "r.json").string()}) {
+    const Shell r = shell("surftrace " + command);
+    EXPECT_EQ(r.status, 1) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(blocker.string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
+  }
+  // An output that is a folder.
+  const Shell folderOut = shell("surftrace render " + mol + " --size 16x16 -o " + dir.string());
+  EXPECT_EQ(folderOut.status, 1) << folderOut.output;
+  EXPECT_NE(folderOut.output.find("is a folder"), std::string::npos) << folderOut.output;
+}
+
+// On a terminal of 50 columns (script(1) gives the program one), the progress bar of `area
+// TOPOLOGY TRAJECTORY` never wraps, and each CSV row starts a line of its own instead of
+// landing on the bar's line.
+TEST(Output, ProgressBarFitsTheTerminalAndKeepsRowsApart) {
+  const std::string inner = "stty cols 50 rows 20; \\\"" SURFTRACE_TOOL "\\\" area " +
+                            data("trajectories/adk_dims/adk.psf.gz") + " " +
+                            data("trajectories/adk_dims/adk_dims.dcd") + " --frames 0:6 --format csv";
+  const Shell r = shell("script -qec \"" + inner + "\" /dev/null");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::size_t rows = 0, bars = 0;
+  std::size_t start = 0;
+  while (start < r.output.size()) {
+    std::size_t end = r.output.find('\n', start);
+    if (end == std::string::npos) end = r.output.size();
+    std::string line = r.output.substr(start, end - start);
+    start = end + 1;
+    // What the terminal shows of the line: the text after its last carriage return, without
+    // the erase-to-end-of-line codes.
+    std::vector<std::string> segments;
+    for (std::size_t at = 0; at <= line.size();) {
+      std::size_t cr = line.find('\r', at);
+      if (cr == std::string::npos) cr = line.size();
+      std::string segment = line.substr(at, cr - at);
+      for (std::size_t e; (e = segment.find("\033[K")) != std::string::npos;) segment.erase(e, 3);
+      segments.push_back(segment);
+      at = cr + 1;
+    }
+    for (const std::string& segment : segments)
+      if (const std::size_t eta = segment.find("ETA "); eta != std::string::npos) {
+        ++bars;
+        EXPECT_LE(segment.size(), 49u) << "the bar wraps a 50-column terminal: '" << segment << "'";
+        // Nothing follows the bar's ETA mm:ss on its line (no row glued to it).
+        EXPECT_EQ(segment.find_first_not_of(' ', eta + 9), std::string::npos)
+            << "a line mixes the bar and a row: '" << segment << "'";
+      }
+    std::string shown;
+    for (auto it = segments.rbegin(); it != segments.rend(); ++it)
+      if (!it->empty()) {
+        shown = *it;
+        break;
+      }
+    if (!shown.empty() && std::isdigit(static_cast<unsigned char>(shown[0])) && shown.find(',') != std::string::npos) {
+      ++rows;
+      EXPECT_EQ(shown.find("ETA"), std::string::npos) << shown;
+    }
+  }
+  EXPECT_EQ(rows, 6u) << r.output;
+  EXPECT_GE(bars, 1u) << "no progress bar was drawn on the terminal\n" << r.output;
+}
+
+// Parse errors exit 1, as --help says; --help itself 0.
+TEST(Output, ParseErrorsExitOne) {
+  EXPECT_EQ(shell("surftrace render --no-such-option x.pdb -o x.png").status, 1);
+  EXPECT_EQ(shell("surftrace area").status, 1);
+  EXPECT_EQ(shell("surftrace render a b c").status, 1);
+  EXPECT_EQ(shell("surftrace --help > /dev/null").status, 0);
+  EXPECT_EQ(shell("surftrace render --help > /dev/null").status, 0);
+}
+
+}  // namespace
