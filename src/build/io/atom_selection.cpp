@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 
 #include "build/io/text_fields.hpp"
@@ -393,13 +394,23 @@ class Parser {
     const auto each = [&](auto&& keep) {
       for (std::size_t i = 0; i < m_.size(); ++i) m[i] = keep(m_.atoms[i]) ? 1 : 0;
     };
+    // Tests each distinct name once, as MDAnalysis does with its name tables: a large system has
+    // many atoms but few names. Atoms failing `test` are left out of m.
+    const auto byName = [&](std::string AtomRecord::*field, auto&& test) {
+      std::unordered_map<std::string_view, char> seen;
+      for (std::size_t i = 0; i < m_.size(); ++i) {
+        const auto [it, fresh] = seen.try_emplace(m_.atoms[i].*field, 0);
+        if (fresh) it->second = test(it->first) ? 1 : 0;
+        m[i] = m[i] && it->second;
+      }
+    };
     if (key == Key::All || key == Key::Protein || key == Key::Backbone || key == Key::Water) {
       lastValues_ = {0, 0};
-      if (key == Key::All) each([](const AtomRecord&) { return true; });
-      if (key == Key::Protein) each([](const AtomRecord& a) { return inList(a.residue, kProteinResidues); });
-      if (key == Key::Backbone)
-        each([](const AtomRecord& a) { return inList(a.residue, kProteinResidues) && inList(a.name, kBackboneNames); });
-      if (key == Key::Water) each([](const AtomRecord& a) { return inList(a.residue, kWaterResidues); });
+      each([](const AtomRecord&) { return true; });
+      if (key == Key::Protein || key == Key::Backbone)
+        byName(&AtomRecord::residue, [](std::string_view r) { return inList(r, kProteinResidues); });
+      if (key == Key::Backbone) byName(&AtomRecord::name, [](std::string_view n) { return inList(n, kBackboneNames); });
+      if (key == Key::Water) byName(&AtomRecord::residue, [](std::string_view r) { return inList(r, kWaterResidues); });
       return report(at, key, std::move(m));
     }
 
@@ -420,12 +431,13 @@ class Parser {
     if (key == Key::Name || key == Key::Resname || key == Key::Chain || key == Key::Element) {
       std::vector<std::string_view> patterns;
       for (std::size_t k = first; k < pos_; ++k) patterns.push_back(words_[k].text);
-      const auto field = [key](const AtomRecord& a) -> const std::string& {
-        return key == Key::Name ? a.name : key == Key::Resname ? a.residue : key == Key::Chain ? a.chain : a.element;
-      };
-      each([&](const AtomRecord& a) {
-        return std::any_of(patterns.begin(), patterns.end(),
-                           [&](std::string_view p) { return matchesPattern(p, field(a)); });
+      std::string AtomRecord::*field = key == Key::Name      ? &AtomRecord::name
+                                       : key == Key::Resname ? &AtomRecord::residue
+                                       : key == Key::Chain   ? &AtomRecord::chain
+                                                             : &AtomRecord::element;
+      each([](const AtomRecord&) { return true; });
+      byName(field, [&](std::string_view v) {
+        return std::any_of(patterns.begin(), patterns.end(), [v](std::string_view p) { return matchesPattern(p, v); });
       });
       return report(at, key, std::move(m));
     }
