@@ -421,8 +421,11 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       ->default_val("first");
   cmd->add_option("--flexible", o->flexible,
                   "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
-                  "a partial update: terms like 'resid 120-160', 'chain A', 'resname LIG', 'name CA', 'atom 1-250' "
-                  "(positions in the topology from 1), separated by commas (their union)");
+                  "a partial update. MDAnalysis's selection language: name, resname, resid, chain/segid, element, "
+                  "index (from 0), atom (from 1; MDAnalysis's bynum), protein, backbone, water, all; several values "
+                  "(resid 10-20 45, name CA CB, name H*); combined with not, then and/or left to right, and "
+                  "parentheses, e.g. 'resname R2M and name Ru1' or 'protein and (resid 120-160 or chain B)'; commas "
+                  "join whole selections (their union)");
   cmd->add_flag("--resume", o->resume,
                 "Skip the frames whose output files exist (files are written whole, through a temporary name, so an "
                 "interrupted run leaves none half-written)");

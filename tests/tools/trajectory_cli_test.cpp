@@ -228,6 +228,10 @@ TEST(TrajectoryCli, BadInputIsAClearError) {
   EXPECT_NE(r.output.find("selects no atom (the molecule has residues 1 to 214)"), std::string::npos) << r.output;
   r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'residue 9'");
   EXPECT_NE(r.output.find("unknown keyword 'residue'"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resname ALA adn name CA'");
+  EXPECT_NE(r.output.find("at word 4 'name': needs 'and' or 'or' before it"), std::string::npos) << r.output;
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'atom 3000-3400'");
+  EXPECT_NE(r.output.find("atom 3000-3400: the topology has 3341 atoms"), std::string::npos) << r.output;
   r = runTool("trajectory " + kPsf + " " + kDcd);
   EXPECT_NE(r.output.find("nothing to write"), std::string::npos) << r.output;
   r = runTool("render " + kPsf + " -o /tmp/x.png");
