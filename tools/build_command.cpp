@@ -13,6 +13,7 @@
 #include "build/io/molecule.hpp"
 #include "build/io/trajectory.hpp"
 #include "build/mss/mss_area.hpp"
+#include "build/mss/mss_builder.hpp"
 #include "build/ses/surface_area.hpp"
 #include "build/surface.hpp"
 #include "build/io/output_file.hpp"
@@ -315,21 +316,22 @@ void runArea(const AreaOptions& o) {
 }  // namespace
 
 void addShrinkOption(CLI::App& cmd, double& shrink) {
+  char range[64];
+  std::snprintf(range, sizeof range, "[%g, 1]", build::kMinShrinkFactor);
   cmd.add_option("--shrink", shrink,
-                 "MSS shrink factor s in (0, 1]: small s is smooth and wraps the molecule loosely, s -> 1 "
-                 "approaches the atoms; s = 1 is exactly the union of the van der Waals balls (the vdW "
-                 "surface, built as whole spheres)")
+                 std::string("MSS shrink factor s in ") + range +
+                     ": small s is smooth and wraps the molecule loosely, s -> 1 approaches the atoms; s = 1 is "
+                     "exactly the union of the van der Waals balls (the vdW surface, built as whole spheres)")
       ->check(CLI::Validator(
-          [](const std::string& v) {
-            double s = 0.0;
-            try {
-              s = std::stod(v);
-            } catch (const std::exception&) {
-              return "--shrink takes a number in (0, 1], got '" + v + "'";
-            }
-            return s > 0.0 && s <= 1.0 ? std::string() : "--shrink must lie in (0, 1], got " + v;
+          [range = std::string(range)](const std::string& v) {
+            const std::string problem = detail::checkNumber(v, build::kMinShrinkFactor, 1.0, false, false);
+            if (problem.empty()) return problem;
+            return problem + (std::strtod(v.c_str(), nullptr) > 0.0 && std::strtod(v.c_str(), nullptr) < build::kMinShrinkFactor
+                                  ? " (below it double precision no longer carries the skin's areas and volume, "
+                                    "and the skin is within 0.1% of its s -> 0 limit)"
+                                  : "");
           },
-          "in (0, 1]", ""))
+          range, ""))
       ->default_val(0.5);
 }
 

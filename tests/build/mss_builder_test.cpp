@@ -241,6 +241,11 @@ TEST(MssBuilder, RejectsShrinkFactorsOutsideTheOpenUnitInterval) {
   const std::vector<glm::dvec3> c{{0, 0, 0}};
   const std::vector<double> r{1.0};
   for (double s : {0.0, -0.5, 1.0, 1.5, std::nan("")}) EXPECT_THROW(buildMss(c, r, {s}), std::invalid_argument) << s;
+  // Below the smallest factor double precision serves (issue 18: 1e-200 ended in an assertion).
+  for (double s : {1e-4, 1e-12, 1e-200, 5e-324}) EXPECT_THROW(buildMss(c, r, {s}), std::invalid_argument) << s;
+  EXPECT_NO_THROW(buildMss(c, r, {kMinShrinkFactor}));
+  MssBuilder builder;
+  EXPECT_THROW(builder.build(c, r, {1e-6}), std::invalid_argument);
 }
 
 }  // namespace

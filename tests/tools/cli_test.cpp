@@ -112,12 +112,22 @@ TEST(Cli, SkinAreaBuildAndShrinkErrors) {
   EXPECT_EQ(p.params.shrinkFactor, 0.5);
   EXPECT_GT(p.mss.size(), p.params.atomCount);
 
-  for (const char* bad : {"0", "1.5", "-0.2", "nan", "half"}) {
+  for (const char* bad : {"0", "1.5", "-0.2", "nan", "half", "1e-4", "1e-12", "1e-200", "1e-400"}) {
     const Result e = run(std::string("area --surface mss --shrink ") + bad + " " + data("paper/1grm.pdb.gz"));
-    EXPECT_NE(e.status, 0) << bad;
-    EXPECT_NE(e.output.find("(0, 1]"), std::string::npos) << e.output;
+    EXPECT_EQ(e.status, 1) << bad << "\n" << e.output;
+    EXPECT_NE(e.output.find("[0.001, 1]"), std::string::npos) << e.output;
     EXPECT_EQ(e.output.find("000000"), std::string::npos) << "no raw numeric limits: " << e.output;
   }
+  // A factor below the limit says why it is refused (issue 18: 1e-12 gave negative volumes,
+  // 1e-200 an assertion).
+  for (const char* tiny : {"1e-4", "1e-12", "1e-200"}) {
+    const Result e = run(std::string("render --surface mss --shrink ") + tiny + " -o x.png " + data("structures/1crn.pdb"));
+    EXPECT_EQ(e.status, 1) << tiny << "\n" << e.output;
+    EXPECT_NE(e.output.find("double precision no longer carries"), std::string::npos) << e.output;
+  }
+  // The limit itself is served.
+  const Result least = run("area --surface mss --shrink 0.001 " + data("structures/1crn.pdb"));
+  EXPECT_EQ(least.status, 0) << least.output;
 }
 
 // Every numeric option says what it expects and what it got, in a line a person reads:

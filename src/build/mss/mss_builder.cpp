@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -313,6 +314,16 @@ void checkShrink(double s) {
   if (!(s > 0.0 && s < 1.0))
     throw std::invalid_argument("MSS shrink factor must lie in (0, 1), got " + std::to_string(s) +
                                 " (s = 1 is the union of the van der Waals balls: use the vdw surface)");
+  if (s < kMinShrinkFactor) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "MSS shrink factor %g is below %g, the smallest this program serves: the atoms' weights "
+                  "r^2/s grow as 1/s, and below it double precision no longer carries the skin's areas and "
+                  "volume (by then the skin is within 0.1 %% of its s -> 0 limit, the atoms' hull grown by "
+                  "their radii)",
+                  s, kMinShrinkFactor);
+    throw std::invalid_argument(text);
+  }
 }
 
 }  // namespace
