@@ -438,7 +438,7 @@ TEST(Dcd, TruncatedLastFrameIsLeftOut) {
       EXPECT_EQ(source->frameCount(), n - 1) << "kept " << kept;
       if (kept > 0) {
         EXPECT_THAT(source->notes(),
-                    ::testing::Contains("frame " + std::to_string(n) + " is truncated (" +
+                    ::testing::Contains("frame " + std::to_string(n - 1) + " is truncated (" +
                                         std::to_string(kept) + " of " + std::to_string(lastBytes) +
                                         " bytes) and left out"));
       }
@@ -510,14 +510,14 @@ TEST(Dcd, CorruptRecordMarkerIsAnInputError) {
       ADD_FAILURE() << "corrupt marker at byte " << at << " read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame 3"));
+      EXPECT_THAT(e.what(), HasSubstr("frame 2:"));  // read(2): frames from 0
       EXPECT_THAT(e.what(), HasSubstr("expected a record marker of 60"));
       EXPECT_THAT(e.what(), HasSubstr("at byte " + std::to_string(at) + ", found 61"));
     }
     for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {  // neighbours still read
       source->read(k, frame);
       reference->read(k, want);
-      expectSameFrame(frame, want, "frame " + std::to_string(k + 1) + " after the failure");
+      expectSameFrame(frame, want, "frame " + std::to_string(k) + " after the failure");
     }
   }
 
@@ -544,7 +544,7 @@ TEST(Dcd, CorruptRecordMarkerIsAnInputError) {
   writeBytes(dir / "huge_natom.dcd", bad);
   const auto huge = openDcd(dir / "huge_natom.dcd");
   EXPECT_EQ(huge->frameCount(), 0u);
-  EXPECT_THAT(huge->notes(), ::testing::Contains(HasSubstr("frame 1 is truncated")));
+  EXPECT_THAT(huge->notes(), ::testing::Contains(HasSubstr("frame 0 is truncated")));
   Frame none;
   EXPECT_THROW(huge->read(0, none), InputError);
 
@@ -592,7 +592,7 @@ TEST(Dcd, NonFiniteCoordinateNamesFrameAndAtom) {
       ADD_FAILURE() << "non-finite coordinate read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame) + ", atom " +
+      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame - 1) + ", atom " +  // from 0
                                       std::to_string(atom) + ": non-finite " + "xyz"[c.axis]));
     }
     if (c.frame > 1) {
@@ -615,7 +615,7 @@ TEST(Dcd, IndexOutOfRangeIsAnInputError) {
       ADD_FAILURE() << "frame index " << k << " read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(path.string()));
-      EXPECT_THAT(e.what(), HasSubstr("the file holds 10 frames"));
+      EXPECT_THAT(e.what(), HasSubstr("does not exist: the file holds frames 0 to 9"));
     }
   }
   EXPECT_NO_THROW(source->read(9, frame));

@@ -558,7 +558,7 @@ TEST(GroTopologyErrors, AtomCountTheFileDoesNotHold) {
   writeText(path, joinLines(text));
   const InputError e = errorOf([&] { detail::parseGro(fileText(path), path.string()); });
   EXPECT_EQ(e.line(), 2) << e.what();
-  EXPECT_THAT(e.what(), HasSubstr("the atom count of frame 1 is 120"));
+  EXPECT_THAT(e.what(), HasSubstr("the atom count of frame 0 is 120"));
   EXPECT_EQ(errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Gro); }).line(), 2);
 
   // A count smaller than the atoms puts an atom line where the box should be.
@@ -566,7 +566,7 @@ TEST(GroTopologyErrors, AtomCountTheFileDoesNotHold) {
   writeText(path, joinLines(text));
   const InputError box = errorOf([&] { detail::parseGro(fileText(path), path.string()); });
   EXPECT_EQ(box.line(), 117) << box.what();
-  EXPECT_THAT(box.what(), HasSubstr("expected the box of frame 1"));
+  EXPECT_THAT(box.what(), HasSubstr("expected the box of frame 0"));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -776,7 +776,7 @@ TEST(TextFramesGro, TruncatedLastFrameIsLeftOutWithANote) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Gro);
   EXPECT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("frame 3"));
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2"));  // the third: frames from 0
   Frame frame;
   source->read(1, frame);
   EXPECT_DOUBLE_EQ(frame.time, 24.0);
@@ -789,7 +789,7 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   const fs::path dir = tempDir();
   const std::vector<std::string> original = lines(fileText(data("formats/xyz/trajectory.xyz")));
   ASSERT_EQ(original.size(), 22U);  // 2 frames of 9 atoms
-  // Frames 1, 2 (two atom lines short) and 3 (= frame 1).
+  // Frames 0, 1 (two atom lines short) and 2 (= frame 0).
   std::vector<std::string> text(original.begin(), original.begin() + 11);
   text.insert(text.end(), original.begin() + 11, original.begin() + 20);
   text.insert(text.end(), original.begin(), original.begin() + 11);
@@ -798,16 +798,16 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Xyz);
   ASSERT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("only frames 1-2 are read"));
-  // Frame 1 reads as in the intact file.
+  EXPECT_THAT(source->notes()[0], HasSubstr("only frames 0-1 are read"));
+  // Frame 0 reads as in the intact file.
   Frame frame, intact;
   source->read(0, frame);
   openTextTrajectory(data("formats/xyz/trajectory.xyz"), TrajectoryFormat::Xyz)->read(0, intact);
   EXPECT_EQ(frame.positions, intact.positions);
-  // Frame 2 takes frame 3's count line for its 8th atom.
+  // Frame 1 takes frame 2's count line for its 8th atom.
   const InputError e = errorOf([&] { source->read(1, frame); });
-  EXPECT_EQ(e.line(), 21) << e.what();  // frame 2: count 12, comment 13, 7 atoms 14-20
-  EXPECT_THAT(e.what(), HasSubstr("atom 8 of 9 of frame 2, got '9'"));
+  EXPECT_EQ(e.line(), 21) << e.what();  // frame 1: count 12, comment 13, 7 atoms 14-20
+  EXPECT_THAT(e.what(), HasSubstr("atom 8 of 9 of frame 1, got '9'"));
   source->read(0, frame);  // still readable after the failure
   EXPECT_EQ(frame.positions, intact.positions);
 }
@@ -820,7 +820,7 @@ TEST(TextFramesErrors, XyzLastFrameCutShortAndGarbage) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Xyz);
   EXPECT_EQ(source->frameCount(), 1U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr(path.string() + ":12: the atom count of frame 2 is 9"));
+  EXPECT_THAT(source->notes()[0], HasSubstr(path.string() + ":12: the atom count of frame 1 is 9"));
 
   text[15] = "He 8.480960 0.8674x9 4.217944";
   writeText(path, joinLines(text));
@@ -828,7 +828,7 @@ TEST(TextFramesErrors, XyzLastFrameCutShortAndGarbage) {
   const InputError e =
       errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Xyz)->read(1, frame); });
   EXPECT_EQ(e.line(), 16);
-  EXPECT_THAT(e.what(), HasSubstr("expected a number for y (field 3) in frame 2, got '0.8674x9'"));
+  EXPECT_THAT(e.what(), HasSubstr("expected a number for y (field 3) in frame 1, got '0.8674x9'"));
 }
 
 TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
@@ -848,14 +848,14 @@ TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
   ASSERT_EQ(source->frameCount(), 3U);
   EXPECT_EQ(source->atomCount(), 3U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2 has 2 atoms, frame 1 has 3"));
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 1 has 2 atoms, frame 0 has 3"));
   Frame frame;
   source->read(0, frame);
   EXPECT_EQ(frame.positions[2], glm::dvec3(13.149, 6.074, -5.139));
   EXPECT_EQ(frame.cell, (std::array<double, 6>{50.0, 60.0, 70.0, 90.0, 100.0, 90.0}));
   const InputError e = errorOf([&] { source->read(1, frame); });
   EXPECT_EQ(e.line(), 7) << e.what();
-  EXPECT_THAT(e.what(), HasSubstr("frame 2 has 2 atoms, but frame 1 has 3"));
+  EXPECT_THAT(e.what(), HasSubstr("frame 1 has 2 atoms, but frame 0 has 3"));
   source->read(2, frame);  // frames after it read
   EXPECT_EQ(frame.positions[0], glm::dvec3(11.104, 6.134, -6.504));
 
@@ -866,7 +866,7 @@ TEST(TextFramesErrors, PdbModelsOfDifferentAtomCounts) {
       errorOf([&] { openTextTrajectory(path, TrajectoryFormat::Pdb)->read(0, frame); });
   EXPECT_EQ(g.line(), 3);
   EXPECT_THAT(g.what(),
-              HasSubstr("expected a number for y (columns 39-46) in frame 1, got '  x6.071'"));
+              HasSubstr("expected a number for y (columns 39-46) in frame 0, got '  x6.071'"));
 }
 
 TEST(TextFramesErrors, EmptyBinaryAndBadGzip) {
@@ -910,7 +910,7 @@ TEST(TextFramesSharedData, EveryGroAndXyzEqualsMDAnalysis) {
     auto source = openTextTrajectory(path, TrajectoryFormat::Auto);
     const auto mda = mdaFrames(path, dir);
     ASSERT_TRUE(mda.has_value());
-    // Frames that differ from frame 1 in atom count (ligs3d.xyz: 10 ligands) cannot be read;
+    // Frames that differ from frame 0 in atom count (ligs3d.xyz: 10 ligands) cannot be read;
     // MDAnalysis reads them as garbage, so only the frames before the first one compare.
     std::size_t readable = source->frameCount();
     Frame frame;
@@ -919,7 +919,7 @@ TEST(TextFramesSharedData, EveryGroAndXyzEqualsMDAnalysis) {
         source->read(k, frame);
       } catch (const InputError& e) {
         EXPECT_THAT(e.what(),
-                    HasSubstr("atoms, but frame 1 has " + std::to_string(source->atomCount())));
+                    HasSubstr("atoms, but frame 0 has " + std::to_string(source->atomCount())));
         EXPECT_FALSE(source->notes().empty());
         readable = k;
         break;

@@ -9,7 +9,7 @@
 //   record:           free-atom indices (1-based), only if NAMNF > 0
 //   per frame:        [record 48 bytes: unit cell a, gamma, b, beta, alpha, c (CHARMM, flag)]
 //                     records x, y, z (float32) [and a 4th (CHARMM 4D dynamics), skipped]
-// With fixed atoms, frame 1 stores every atom and later frames only the free ones.
+// With fixed atoms, frame 0 stores every atom and later frames only the free ones.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -137,7 +137,7 @@ class DcdSource final : public FrameSource {
   std::uint64_t firstFrameBytes_ = 0;  // every atom
   std::uint64_t frameBytes_ = 0;       // the free atoms only, with fixed atoms
 
-  std::vector<glm::dvec3> firstPositions_;  // frame 1 (read when first needed), with fixed atoms
+  std::vector<glm::dvec3> firstPositions_;  // frame 0 (read when first needed), with fixed atoms
   Bytes buffer_;
 };
 
@@ -243,7 +243,7 @@ DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()) {
     expected = frameBytes_;
   }
   if (rest > 0)
-    notes_.push_back("frame " + std::to_string(frameCount_ + 1) + " is truncated (" +
+    notes_.push_back("frame " + std::to_string(frameCount_) + " is truncated (" +
                      std::to_string(rest) + " of " + bytesText(expected) + ") and left out");
   if (nset < 0 || static_cast<std::uint64_t>(nset) != frameCount_)
     notes_.push_back("header says " + std::to_string(nset) + " frames, the file holds " +
@@ -287,10 +287,10 @@ void DcdSource::readRecord(std::uint64_t& offset, Bytes& out, const std::string&
 
 void DcdSource::read(std::size_t index, Frame& frame) {
   if (index >= frameCount_)
-    fail("frame " + std::to_string(index + 1) + " does not exist: the file holds " +
-         std::to_string(frameCount_) + " frames");
+    fail("frame " + std::to_string(index) + " does not exist: the file holds " +
+         (frameCount_ == 1 ? std::string("only frame 0") : "frames 0 to " + std::to_string(frameCount_ - 1)));
   if (index > 0 && !freeAtoms_.empty() && firstPositions_.empty()) {
-    // Later frames store only the free atoms; the fixed ones keep their frame-1 positions.
+    // Later frames store only the free atoms; the fixed ones keep their frame-0 positions.
     Frame first;
     decodeFrame(0, first);
     firstPositions_ = std::move(first.positions);
@@ -302,7 +302,7 @@ void DcdSource::decodeFrame(std::size_t index, Frame& frame) {
   const bool full = index == 0 || freeAtoms_.empty();
   const std::uint64_t start =
       index == 0 ? headerBytes_ : headerBytes_ + firstFrameBytes_ + (index - 1) * frameBytes_;
-  const std::string frameName = "frame " + std::to_string(index + 1);
+  const std::string frameName = "frame " + std::to_string(index);  // from 0, as --frames
   readBytes(start, full ? firstFrameBytes_ : frameBytes_, buffer_, frameName);
 
   // Checks one record's two markers against the payload it must have.

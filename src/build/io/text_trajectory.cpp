@@ -44,7 +44,8 @@ using Cell = std::array<double, 6>;
 
 
 
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index + 1); }
+// Frames are numbered from 0 in messages, as in --frames and the output file names.
+std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
 
 // Lines of a text from a byte offset on, without "\r\n", counting from the line given.
 class LineCursor {
@@ -100,8 +101,8 @@ class IndexWalk {
   void stop(int line, const std::string& why) {
     if (spans_.empty()) throw InputError(path_, line, why);
     note_ = path_ + ":" + std::to_string(line) + ": " + why + "; " +
-            (spans_.size() == 1 ? std::string("only frame 1 is read")
-                                : "only frames 1-" + std::to_string(spans_.size()) + " are read");
+            (spans_.size() == 1 ? std::string("only frame 0 is read")
+                                : "only frames 0-" + std::to_string(spans_.size() - 1) + " are read");
   }
 
  private:
@@ -290,7 +291,7 @@ class TextFrames final : public FrameSource {
       if (spans_[k].atoms == atoms_) continue;
       if (differing++ == 0)
         notes_.push_back(path() + ": " + frameName(k) + " has " + std::to_string(spans_[k].atoms) +
-                         " atoms, frame 1 has " + std::to_string(atoms_) +
+                         " atoms, frame 0 has " + std::to_string(atoms_) +
                          "; frames of another atom count cannot be read");
     }
   }
@@ -308,7 +309,7 @@ class TextFrames final : public FrameSource {
     if (span.atoms != atoms_)
       throw InputError(path(), span.line,
                        frameName(index) + " has " + std::to_string(span.atoms) +
-                           " atoms, but frame 1 has " + std::to_string(atoms_) +
+                           " atoms, but frame 0 has " + std::to_string(atoms_) +
                            "; every frame must hold the same atoms");
     frame.time = static_cast<double>(index);
     frame.step = static_cast<long long>(index);

@@ -77,7 +77,8 @@ class LineCursor {
   int number_;
 };
 
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index + 1); }
+// Frames are numbered from 0 in messages, as in --frames and the output file names.
+std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
 
 // ---------------------------------------------------------------------------------------------
 // GRO
@@ -259,8 +260,8 @@ std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::str
   const auto stop = [&](int lineNumber, const std::string& why) {
     if (spans.empty()) throw InputError(path, lineNumber, why);
     note = path + ":" + std::to_string(lineNumber) + ": " + why + "; " +
-           (spans.size() == 1 ? std::string("only frame 1 is read")
-                              : "only frames 1-" + std::to_string(spans.size()) + " are read");
+           (spans.size() == 1 ? std::string("only frame 0 is read")
+                              : "only frames 0-" + std::to_string(spans.size() - 1) + " are read");
   };
   while (!cursor.onlySpaceLeft()) {
     GroFrameSpan span;

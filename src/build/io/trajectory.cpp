@@ -78,7 +78,7 @@ Trajectory::Trajectory(const fs::path& topology, const fs::path& trajectory, con
   if (frames_->frameCount() == 0) throw InputError(trajectory.string(), 0, "holds no complete frame");
   fileIndex_.resize(molecule_.size());
   for (std::size_t i = 0; i < molecule_.size(); ++i) fileIndex_[i] = molecule_.atoms[i].fileIndex;
-  // A PSF has no coordinates of its own: the molecule stands where frame 1 puts it.
+  // A PSF has no coordinates of its own: the molecule stands where frame 0 puts it.
   const bool hasCentres = std::all_of(molecule_.centers.begin(), molecule_.centers.end(), [](const glm::dvec3& c) {
     return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
   });
