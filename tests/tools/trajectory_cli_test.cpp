@@ -213,8 +213,7 @@ Coverage coverageOf(const fs::path& dir) {
 
 // AdK opens from closed to open over the 98 frames. The default camera keeps every selected frame
 // whole and, with the margin of a single-frame `render`, fills the picture: the frames together
-// span at least 75 % of it. (Framed on the first frame, the open frames are clipped; framed as
-// before on each atom's sphere grown by its whole path, they covered a few per cent.)
+// span at least 75 % of it (0.875 here). Framed on the first frame, the open frames are clipped.
 TEST(TrajectoryCli, DefaultCameraKeepsEveryFrameWholeAndFillsThePicture) {
   const fs::path dir = freshDirectory("framing");
   const std::string common = "trajectory " + kPsf + " " + kDcd + " --frames 0:98:7 --size 64x64 --quiet --exr ";
@@ -236,6 +235,47 @@ TEST(TrajectoryCli, DefaultCameraKeepsEveryFrameWholeAndFillsThePicture) {
   }
 
   // `first` frames the first selected frame only, which the opening protein outgrows.
+  ASSERT_EQ(runTool(common + (dir / "first/%02d.exr").string() + " --frame-camera first").status, 0);
+  const Coverage first = coverageOf(dir / "first");
+  std::printf("[ framing  ] first frame: span %.3f, %zu clipped\n", first.span, first.clipped.size());
+  EXPECT_FALSE(first.clipped.empty());
+  fs::remove_all(dir);
+}
+
+// Crambin drifting 12 Å a frame towards the camera (the default view looks along −z) for 8 frames,
+// a multi-model PDB over the atoms of tests/data/structures/1crn.pdb. Each atom travels 84 Å: the
+// former `all` framing, which grew every atom by half its path, shrank the molecule to 4 % of the
+// pixels (a span of 0.28), and the first frame's camera clips the nearer ones.
+TEST(TrajectoryCli, DefaultCameraFollowsAMoleculeMovingAlongTheView) {
+  const fs::path dir = freshDirectory("framing_drift");
+  const std::string pdb = kData + "/structures/1crn.pdb";
+  std::vector<std::string> atoms;
+  std::ifstream in(pdb);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("ATOM", 0) == 0 || line.rfind("HETATM", 0) == 0) atoms.push_back(line);
+  ASSERT_FALSE(atoms.empty());
+  std::ofstream out(dir / "drift.pdb");
+  for (int k = 0; k < 8; ++k) {
+    char record[96];
+    std::snprintf(record, sizeof record, "MODEL     %4d\n", k + 1);
+    out << record;
+    for (const std::string& line : atoms) {
+      const double z = std::stod(line.substr(46, 8)) + 12.0 * k;
+      std::snprintf(record, sizeof record, "%8.3f", z);
+      out << line.substr(0, 46) << record << line.substr(54) << '\n';
+    }
+    out << "ENDMDL\n";
+  }
+  out << "END\n";
+  out.close();
+  const std::string common = "trajectory " + pdb + " " + (dir / "drift.pdb").string() + " --size 64x64 --quiet --exr ";
+  const Result r = runTool(common + (dir / "all/%02d.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Coverage all = coverageOf(dir / "all");
+  EXPECT_EQ(all.frames, 8);
+  EXPECT_TRUE(all.clipped.empty()) << "clipped: " << ::testing::PrintToString(all.clipped);
+  EXPECT_GE(all.span, 0.75);
+  std::printf("[ framing  ] every frame: span %.3f, %zu clipped\n", all.span, all.clipped.size());
   ASSERT_EQ(runTool(common + (dir / "first/%02d.exr").string() + " --frame-camera first").status, 0);
   const Coverage first = coverageOf(dir / "first");
   std::printf("[ framing  ] first frame: span %.3f, %zu clipped\n", first.span, first.clipped.size());
