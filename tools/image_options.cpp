@@ -155,6 +155,15 @@ void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::s
   applyExplicitCamera(setup);
 }
 
+view::SphereFraming framingOf(const ImageSetup& setup) {
+  return view::SphereFraming(setup.render.camera, setup.viewDirection);
+}
+
+void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing) {
+  setup.render.camera = framing.frame(setup.render.camera);
+  applyExplicitCamera(setup);
+}
+
 ProgressBar::ProgressBar(bool enabled, std::string label)
     : enabled_(enabled && isatty(STDERR_FILENO)), label_(std::move(label)) {}
 

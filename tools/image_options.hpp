@@ -13,6 +13,7 @@
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
+#include "view/camera.hpp"
 #include "view/render_options.hpp"
 
 namespace surftrace::tools {
@@ -53,9 +54,12 @@ void checkImageFitsInMemory(const std::string& sizeText, int width, int height);
 // radius (the tighter of the two is taken along each axis); r + rp bounds the SES and the
 // SAS; r the vdW balls. Then --eye, --look-at and --up override the framing, and the camera is validated.
 void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule);
-// The same over several molecules' spheres (every frame of a trajectory): `centers` and
-// `reach` list every sphere to keep in view.
+// The same over spheres given by `centers` and `reach` (a patch list's convex patches).
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach);
+// The same over spheres that come in pieces (every frame of a trajectory): add them to
+// framingOf(setup) or to copies of it, merge, and frame the camera on the result.
+view::SphereFraming framingOf(const ImageSetup& setup);
+void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
 

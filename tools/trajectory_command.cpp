@@ -15,14 +15,17 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include <embree3/rtcore_config.h>
-#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_pipeline.h>
 
 #include "build/io/atom_selection.hpp"
@@ -53,7 +56,7 @@ struct TrajectoryOptions {
   ImageOptions image;
   std::string output, exr;
   std::string frames;
-  std::string frameCamera = "first";
+  std::string frameCamera = "all";
   std::string flexible;
   bool resume = false;
   std::string timings;
@@ -145,6 +148,57 @@ double reachOf(double radius, const build::SurfaceRequest& request) {
   return radius;
 }
 
+// The framing of every selected frame's atoms, each reaching `reach` from its centre, as `render`
+// frames one structure: one pass over the coordinates, no surface built. DCD and XTC frames are
+// read in parallel, one reader a thread (random access, cheap to open); a text trajectory, which
+// its reader holds whole in memory, through the trajectory's own reader, a frame at a time. The
+// reduction takes only minima and maxima, so the camera does not depend on the threads; every
+// shard frames all the selected frames, not only its own, and so computes the same camera. Atoms
+// outside --flexible stay where the reference frame has them.
+view::SphereFraming frameEveryFrame(build::Trajectory& trajectory, const std::string& path,
+                                    const std::vector<std::size_t>& frames, const build::Molecule& reference,
+                                    const std::vector<std::uint32_t>& flexible, const std::vector<double>& reach,
+                                    const view::SphereFraming& none) {
+  const std::vector<std::size_t>& fileIndex = trajectory.fileIndex();
+  const auto addFrame = [&](view::SphereFraming& framing, const std::vector<glm::dvec3>& positions) {
+    if (flexible.empty()) {
+      for (std::size_t i = 0; i < fileIndex.size(); ++i) framing.add(positions[fileIndex[i]], reach[i]);
+    } else {
+      for (std::uint32_t i : flexible) framing.add(positions[fileIndex[i]], reach[i]);
+    }
+  };
+  const build::TrajectoryFormat format = build::trajectoryFormatFromPath(path);
+  const bool randomAccess = format == build::TrajectoryFormat::Dcd || format == build::TrajectoryFormat::Xtc;
+  tbb::enumerable_thread_specific<std::unique_ptr<build::FrameSource>> readers;
+  tbb::enumerable_thread_specific<build::Frame> buffers;
+  std::mutex shared;
+  view::SphereFraming framing = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, frames.size()), none,
+      [&](const tbb::blocked_range<std::size_t>& range, view::SphereFraming part) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          if (randomAccess) {
+            std::unique_ptr<build::FrameSource>& reader = readers.local();
+            if (!reader) reader = build::openTrajectory(path, format);
+            build::Frame& frame = buffers.local();
+            reader->read(frames[i], frame);
+            addFrame(part, frame.positions);
+          } else {
+            const std::lock_guard lock(shared);
+            trajectory.load(frames[i]);
+            addFrame(part, trajectory.frame().positions);
+          }
+        }
+        return part;
+      },
+      [](view::SphereFraming a, const view::SphereFraming& b) {
+        a.merge(b);
+        return a;
+      });
+  if (!flexible.empty())
+    for (std::size_t i = 0; i < reference.size(); ++i) framing.add(reference.centers[i], reach[i]);
+  return framing;
+}
+
 struct Work {
   std::size_t frame = 0;
   double time = 0.0;
@@ -182,6 +236,7 @@ void runTrajectory(const TrajectoryOptions& o) {
   for (const std::string& note : trajectory.source().notes())
     std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
+  const std::vector<std::size_t> mine = framesOfShard(frames, shard);
 
   // The reference frame: the first one selected, whichever shard this is, so that every shard
   // has the same camera and the same rigid atoms.
@@ -195,42 +250,33 @@ void runTrajectory(const TrajectoryOptions& o) {
     for (std::uint32_t i : flexible) isFlexible[i] = 1;
   }
 
+  if (mine.empty()) {
+    std::printf("%s: no frames to render: %zu frames are selected, and this shard renders those at positions %zu, "
+                "%zu, ... of them (the selected frame at position i, counted from 0, goes to shard i mod %zu)\n",
+                shard.origin.c_str(), frames.size(), shard.index, shard.index + shard.count, shard.count);
+    return;
+  }
+
   // One camera for the whole run.
+  const auto framingStart = std::chrono::steady_clock::now();
   if (o.frameCamera == "first") {
     const build::PatchList framing = request.surface == build::SurfaceKind::Mss && request.shrinkFactor < 1.0
                                          ? build::buildSurface(reference, request)
                                          : paramsOnly(request);
     frameSurface(setup, framing, reference);
   } else {
-    // Every selected frame in view: each atom's sphere around the box of its centres.
-    std::vector<glm::dvec3> lo(reference.centers), hi(reference.centers);
-    for (std::size_t k : frames) {
-      trajectory.load(k);
-      const auto& c = trajectory.molecule().centers;
-      for (std::size_t i = 0; i < c.size(); ++i) {
-        if (!isFlexible.empty() && !isFlexible[i]) continue;
-        lo[i] = glm::min(lo[i], c[i]), hi[i] = glm::max(hi[i], c[i]);
-      }
-    }
-    std::vector<glm::dvec3> centers(reference.size());
     std::vector<double> reach(reference.size());
-    for (std::size_t i = 0; i < reference.size(); ++i) {
-      centers[i] = 0.5 * (lo[i] + hi[i]);
-      reach[i] = reachOf(reference.radii[i], request) + 0.5 * glm::length(hi[i] - lo[i]);
-    }
-    frameSpheres(setup, centers, reach);
+    for (std::size_t i = 0; i < reference.size(); ++i) reach[i] = reachOf(reference.radii[i], request);
+    frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible, reach, framingOf(setup)));
   }
+  const double framingMs = millisecondsSince(framingStart);
   view::RenderOptions& ro = setup.render;
   const std::vector<glm::vec3> colors = view::atomColors(reference, ro.color, setup.uniformColor);
 
   // This process's frames, less those a finished earlier run wrote (--resume).
   std::vector<std::size_t> todo;
-  std::size_t skipped = 0, others = 0;
-  for (std::size_t k : frames) {
-    if (k % shard.count != shard.index) {
-      ++others;
-      continue;
-    }
+  std::size_t skipped = 0;
+  for (std::size_t k : mine) {
     const bool done = o.resume && complete(png.empty() ? "" : png(k)) && complete(exr.empty() ? "" : exr(k));
     if (done)
       ++skipped;
@@ -241,7 +287,7 @@ void runTrajectory(const TrajectoryOptions& o) {
   std::printf("%s + %s: %zu atoms (%zu in the file), %zu frames; %zu selected%s, %zu to render%s%s\n",
               o.topology.c_str(), o.trajectory.c_str(), reference.size(), reference.fileAtomCount,
               trajectory.frameCount(), frames.size(),
-              shard.count > 1 ? (", " + std::to_string(frames.size() - others) + " in " + shard.origin).c_str() : "",
+              shard.count > 1 ? (", " + std::to_string(mine.size()) + " in " + shard.origin).c_str() : "",
               todo.size(), skipped ? (", " + std::to_string(skipped) + " done already (--resume)").c_str() : "",
               flexible.empty() ? "" : (", " + std::to_string(flexible.size()) + " flexible atoms").c_str());
   std::fflush(stdout);
@@ -346,9 +392,10 @@ void runTrajectory(const TrajectoryOptions& o) {
               }));
 
   const double loopSeconds = millisecondsSince(loopStart) * 1e-3;
-  std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms); medians per frame: read %.2f ms, "
-              "build %.2f ms, render %.2f ms, write %.2f ms\n",
+  std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms, of which %.0f ms framing the camera); "
+              "medians per frame: read %.2f ms, build %.2f ms, render %.2f ms, write %.2f ms\n",
               written, loopSeconds, loopSeconds > 0 ? static_cast<double>(written) / loopSeconds : 0.0, setupMs,
+              framingMs,
               median(readMs), median(buildMs), median(renderMs), median(writeMs));
   if (!flexible.empty())
     std::printf("atoms outside --flexible were held at frame %zu; in the trajectory they moved up to %.3f Å\n",
@@ -390,7 +437,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       "  surftrace trajectory adk.psf adk_dims.dcd -o frames/%05d.png --size 512x512\n"
       "  surftrace trajectory adk.psf adk_dims.dcd --frames 0:98:4 --surface mss --shrink 0.5 -o f/%03d.png --mp4 adk.mp4\n"
       "  surftrace trajectory top.gro traj.xtc --flexible 'resid 120-160' -o f/%05d.png --timings t.csv\n"
-      "  sbatch --array=0-3 ...  (each task renders the frames k with k mod 4 = SLURM_ARRAY_TASK_ID; see the README)");
+      "  sbatch --array=0-3 ...  (task t renders the i-th selected frame when i mod 4 = t; see the README)");
   cmd->add_option("TOPOLOGY", o->topology,
                   "The atoms: PSF (CHARMM/NAMD), GRO, PDB or mmCIF (gzipped allowed), in the trajectory's atom order")
       ->required()
@@ -415,10 +462,12 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
                   "Frames a:b:step: a, a+step, ... below b, numbered from 0 (default: all); a single number is one "
                   "frame");
   cmd->add_option("--frame-camera", o->frameCamera,
-                  "Frame the camera on the first selected frame (first) or keep every selected frame in view (all); "
-                  "either way it stays fixed for the whole run, so a movie does not jitter")
-      ->check(CLI::IsMember({"first", "all"}))
-      ->default_val("first");
+                  "all: every selected frame whole in view, centred on their union and framed as `render` frames "
+                  "one structure (one parallel pass over the coordinates; every shard computes the same camera); "
+                  "first: the first selected frame only. Either way the camera stays fixed for the whole run, so a "
+                  "movie does not jitter")
+      ->check(CLI::IsMember({"all", "first"}))
+      ->default_val("all");
   cmd->add_option("--flexible", o->flexible,
                   "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
                   "a partial update. MDAnalysis's selection language: name, resname, resid, chain/segid, element, "
@@ -433,8 +482,9 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_option("--mp4", o->mp4, "Also make an H.264 movie of the PNG frames with ffmpeg (must be on PATH)");
   cmd->add_option("--fps", o->fps, "Frames per second of the --mp4 movie")->check(positive())->default_val(25.0);
   cmd->add_option("--shard", o->shard,
-                  "i/n: render only the frames k with k mod n = i (0 <= i < n). Without it, a Slurm array task's "
-                  "SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT choose the shard");
+                  "i/n (0 <= i < n): render only the i-th, (i+n)-th, (i+2n)-th, ... of the selected frames (counted "
+                  "from 0 in --frames order), so that n shards write each selected frame once. Without it, a Slurm "
+                  "array task's SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT choose the shard");
   addImageOptions(*cmd, o->image);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(wholeIn(0, 4096));

@@ -72,8 +72,8 @@ Shard chooseShard(const std::string& option, const std::optional<std::string>& t
     const auto n = slash == std::string::npos ? std::nullopt : count(std::string_view(option).substr(slash + 1));
     if (!i || !n || *n == 0 || *i >= *n)
       throw std::invalid_argument("--shard '" + option +
-                                  "': expected i/n with 0 <= i < n, e.g. 0/4 (this process renders frames k with "
-                                  "k mod n = i)");
+                                  "': expected i/n with 0 <= i < n, e.g. 0/4 (this process renders the i-th, "
+                                  "(i+n)-th, ... of the selected frames)");
     return {*i, *n, "--shard " + option};
   }
   if (!taskId && !taskCount) return shard;
@@ -96,6 +96,12 @@ Shard chooseShard(const std::string& option, const std::optional<std::string>& t
 Shard shardFromEnvironment(const std::string& option) {
   return chooseShard(option, environment("SLURM_ARRAY_TASK_ID"), environment("SLURM_ARRAY_TASK_COUNT"),
                      environment("SLURM_ARRAY_TASK_MIN"));
+}
+
+std::vector<std::size_t> framesOfShard(const std::vector<std::size_t>& selected, const Shard& shard) {
+  std::vector<std::size_t> mine;
+  for (std::size_t i = shard.index; i < selected.size(); i += shard.count) mine.push_back(selected[i]);
+  return mine;
 }
 
 FramePattern::FramePattern(const std::string& option, const std::string& pattern) {

@@ -17,7 +17,7 @@ namespace surftrace::tools {
 std::vector<std::size_t> selectFrames(const std::string& text, std::size_t frameCount);
 
 struct Shard {
-  std::size_t index = 0;  // this process renders frames k with k mod count == index
+  std::size_t index = 0;  // this process renders the i-th selected frame when i mod count == index
   std::size_t count = 1;
   std::string origin;     // "" (all frames), "--shard", or "Slurm array task ..."
 };
@@ -28,6 +28,12 @@ struct Shard {
 Shard chooseShard(const std::string& option, const std::optional<std::string>& taskId,
                   const std::optional<std::string>& taskCount, const std::optional<std::string>& taskMin);
 Shard shardFromEnvironment(const std::string& option);
+
+// The selected frames (selectFrames) this shard renders: the i-th of them (from 0) when
+// i mod shard.count == shard.index, so that n shards write each selected frame exactly once
+// whatever the selection's start and step. Empty when there are fewer selected frames than
+// shards and this shard's turn never comes.
+std::vector<std::size_t> framesOfShard(const std::vector<std::size_t>& selected, const Shard& shard);
 
 // An output pattern such as "frames/%05d.png": exactly one integer conversion (%d or %i, with
 // an optional 0 flag and width), "%%" for a literal percent sign. std::invalid_argument naming

@@ -84,10 +84,92 @@ glm::dvec3 namedViewDirection(const std::string& view) {
                               "': use front, back, left, right, top, bottom, or a direction x,y,z (not 0,0,0)");
 }
 
+SphereFraming::SphereFraming(const Camera& camera, const glm::dvec3& direction, double margin) : margin_(margin) {
+  forward_ = glm::normalize(direction);
+  const glm::dvec3 worldUp = std::abs(forward_.y) > 0.99 ? glm::dvec3(0, 0, forward_.y > 0 ? 1 : -1) : glm::dvec3(0, 1, 0);
+  right_ = glm::normalize(glm::cross(forward_, worldUp));
+  up_ = glm::cross(right_, forward_);
+  hy_ = halfTan(camera.fovY) / margin;
+  hx_ = hy_ * (static_cast<double>(camera.width) / camera.height);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) lo_[k] = kInf, hi_[k] = -kInf;
+  for (double& f : fit_) f = -kInf;
+  inside_ = -kInf;
+}
+
+void SphereFraming::add(const glm::dvec3& center, double radius) {
+  const double c[3] = {glm::dot(center, right_), glm::dot(center, up_), glm::dot(center, forward_)};
+  for (int k = 0; k < 3; ++k) lo_[k] = std::min(lo_[k], c[k] - radius), hi_[k] = std::max(hi_[k], c[k] + radius);
+  // A sphere at lateral offset s and depth z (from the look-at plane) fits a half-angle with
+  // tangent h when |s| + r·sqrt(1 + h²) <= h·(D + z); with s = c − m and z = c_f − m_f, the
+  // bound on D splits into a part of the sphere, kept here, and a part of the look-at point m.
+  const double ex = radius * std::sqrt(1.0 + hx_ * hx_) / hx_, ey = radius * std::sqrt(1.0 + hy_ * hy_) / hy_;
+  fit_[0] = std::max(fit_[0], c[0] / hx_ + ex - c[2]);
+  fit_[1] = std::max(fit_[1], -c[0] / hx_ + ex - c[2]);
+  fit_[2] = std::max(fit_[2], c[1] / hy_ + ey - c[2]);
+  fit_[3] = std::max(fit_[3], -c[1] / hy_ + ey - c[2]);
+  inside_ = std::max(inside_, radius - c[2]);
+}
+
+void SphereFraming::merge(const SphereFraming& other) {
+  for (int k = 0; k < 3; ++k) lo_[k] = std::min(lo_[k], other.lo_[k]), hi_[k] = std::max(hi_[k], other.hi_[k]);
+  for (int k = 0; k < 4; ++k) fit_[k] = std::max(fit_[k], other.fit_[k]);
+  inside_ = std::max(inside_, other.inside_);
+}
+
+Camera SphereFraming::aim(Camera camera) const {
+  if (empty()) throw std::invalid_argument("camera: nothing to frame (no atoms)");
+  camera.up = std::abs(forward_.y) > 0.99 ? glm::dvec3(0, 0, forward_.y > 0 ? 1 : -1) : glm::dvec3(0, 1, 0);
+  // Centre the projected extent of the spheres (their box in the view frame), so the
+  // molecule fills the image rather than its bounding sphere.
+  camera.lookAt = 0.5 * (lo_[0] + hi_[0]) * right_ + 0.5 * (lo_[1] + hi_[1]) * up_ + 0.5 * (lo_[2] + hi_[2]) * forward_;
+  if (camera.projection == Projection::Orthographic) {
+    const double aspect = static_cast<double>(camera.width) / camera.height;
+    camera.orthoHeight = margin_ * std::max(hi_[1] - lo_[1], (hi_[0] - lo_[0]) / aspect);
+    camera.eye = camera.lookAt - (hi_[2] - lo_[2] + camera.orthoHeight) * forward_;
+  }
+  return camera;
+}
+
+Camera SphereFraming::frame(Camera camera) const {
+  camera = aim(camera);
+  if (camera.projection == Projection::Orthographic) return camera;
+  // Perspective: the nearest eye distance D at which every sphere lies inside the frustum.
+  const double m[3] = {0.5 * (lo_[0] + hi_[0]), 0.5 * (lo_[1] + hi_[1]), 0.5 * (lo_[2] + hi_[2])};
+  double distance = 0.0;
+  distance = std::max(distance, fit_[0] - m[0] / hx_ + m[2]);
+  distance = std::max(distance, fit_[1] + m[0] / hx_ + m[2]);
+  distance = std::max(distance, fit_[2] - m[1] / hy_ + m[2]);
+  distance = std::max(distance, fit_[3] + m[1] / hy_ + m[2]);
+  distance = std::max(distance, inside_ + m[2] + 1e-3);  // the eye stays outside every sphere
+  camera.eye = camera.lookAt - distance * forward_;
+  return camera;
+}
+
 Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii,
                     const glm::dvec3& direction, double margin) {
-  const SphereCover cover{centers, radii};
-  return frameSphereCovers(camera, {&cover, 1}, direction, margin);
+  SphereFraming framing(camera, direction, margin);
+  for (std::size_t i = 0; i < centers.size(); ++i) framing.add(centers[i], radii[i]);
+  camera = framing.aim(camera);
+  if (camera.projection == Projection::Orthographic) return camera;
+  // The spheres are at hand: measure each from the look-at point, as SphereFraming::frame does
+  // from the origin (the same bound, rounded as before it could be gathered in pieces, so that
+  // a structure's camera and the reference images made with it stay bit for bit the same).
+  // A sphere at lateral offset s and depth z (from the look-at plane) fits a half-angle with
+  // tangent h when |s| + r·sqrt(1 + h²) <= h·(D + z).
+  const glm::dvec3 f = glm::normalize(direction);
+  const glm::dvec3 r = glm::normalize(glm::cross(f, camera.up)), u = glm::cross(r, f);
+  const double hy = halfTan(camera.fovY) / margin, hx = hy * (static_cast<double>(camera.width) / camera.height);
+  double distance = 0.0;
+  for (std::size_t i = 0; i < centers.size(); ++i) {
+    const glm::dvec3 v = centers[i] - camera.lookAt;
+    const double sx = std::abs(glm::dot(v, r)), sy = std::abs(glm::dot(v, u)), z = glm::dot(v, f);
+    distance = std::max(distance, (sx + radii[i] * std::sqrt(1.0 + hx * hx)) / hx - z);
+    distance = std::max(distance, (sy + radii[i] * std::sqrt(1.0 + hy * hy)) / hy - z);
+    distance = std::max(distance, radii[i] - z + 1e-3);  // the eye stays outside every sphere
+  }
+  camera.eye = camera.lookAt - distance * f;
+  return camera;
 }
 
 Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, const glm::dvec3& direction,

@@ -58,12 +58,47 @@ struct Camera {
 // std::invalid_argument with the accepted names on anything else.
 glm::dvec3 namedViewDirection(const std::string& view);
 
+// How much room automatic framing leaves around what it frames (frameSpheres).
+inline constexpr double kFramingMargin = 1.05;
+
+// What framing needs to know of spheres seen along one direction, gathered a sphere at a time
+// (add) and from several sets (merge): their extent in the view frame, which fixes the look-at
+// point, and per side of the image the largest (|offset| + r·sqrt(1 + h²))/h − depth of the
+// perspective fit, kept relative to the origin so that the eye distance follows once the
+// look-at point is known. Only min and max: the camera does not depend on the order in which
+// the spheres come, so a parallel reduction over the frames of a trajectory is deterministic,
+// and frames every sphere of every frame exactly as frameSpheres frames them all at once.
+class SphereFraming {
+ public:
+  // The fit depends on the camera's projection, fovY and size, which frame() keeps.
+  SphereFraming(const Camera& camera, const glm::dvec3& direction, double margin = kFramingMargin);
+  void add(const glm::dvec3& center, double radius);
+  void merge(const SphereFraming& other);
+  bool empty() const { return !(lo_[0] <= hi_[0]); }
+  // `camera` (the one given to the constructor) framed on every sphere added; see frameSpheres.
+  // std::invalid_argument when none was.
+  Camera frame(Camera camera) const;
+  // The look-at point and up (and for an orthographic camera the window and the eye) of frame().
+  Camera aim(Camera camera) const;
+
+ private:
+  glm::dvec3 right_, up_, forward_;
+  double hx_ = 0.0, hy_ = 0.0;  // tangents of the half-angles, narrowed by the margin
+  double margin_ = kFramingMargin;
+  double lo_[3], hi_[3];  // extent along right, up, forward
+  // Perspective fit: the max over spheres of (±s + r·sqrt(1 + h²))/h − z per axis and sign,
+  // with s and z measured from the origin, and of r − z (the eye stays outside every sphere).
+  double fit_[4], inside_;
+};
+
 // Frames the spheres (centres, radii) looking along `direction`: the look-at point is the
 // centre of their extent in the view frame, and the eye is as close as it can be with every
 // sphere inside the frustum (or the orthographic window), times `margin`. Keeps projection,
 // fovY and size; sets eye, lookAt, up (world y, or z when looking along y), orthoHeight.
+// SphereFraming does the same over spheres that come in pieces (to rounding: here each sphere
+// is measured from the look-at point, which keeps a structure's camera as it always was).
 Camera frameSpheres(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii,
-                    const glm::dvec3& direction, double margin = 1.05);
+                    const glm::dvec3& direction, double margin = kFramingMargin);
 
 // Spheres whose union holds the whole scene.
 struct SphereCover {

@@ -484,14 +484,14 @@ TEST(Dcd, CorruptRecordMarkerIsAnInputError) {
       ADD_FAILURE() << "corrupt marker at byte " << at << " read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame 2:"));  // numbered from 0
+      EXPECT_THAT(e.what(), HasSubstr("frame 2:"));  // read(2): frames from 0
       EXPECT_THAT(e.what(), HasSubstr("expected a record marker of 60"));
       EXPECT_THAT(e.what(), HasSubstr("at byte " + std::to_string(at) + ", found 61"));
     }
     for (const std::size_t k : {std::size_t{1}, std::size_t{3}}) {  // neighbours still read
       source->read(k, frame);
       reference->read(k, want);
-      expectSameFrame(frame, want, "frame " + std::to_string(k + 1) + " after the failure");
+      expectSameFrame(frame, want, "frame " + std::to_string(k) + " after the failure");
     }
   }
 
@@ -566,7 +566,7 @@ TEST(Dcd, NonFiniteCoordinateNamesFrameAndAtom) {
       ADD_FAILURE() << "non-finite coordinate read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(file.string()));
-      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame - 1) + ", atom " +
+      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(c.frame - 1) + ", atom " +  // from 0
                                       std::to_string(atom) + ": non-finite " + "xyz"[c.axis]));
     }
     if (c.frame > 1) {
@@ -589,7 +589,7 @@ TEST(Dcd, IndexOutOfRangeIsAnInputError) {
       ADD_FAILURE() << "frame index " << k << " read";
     } catch (const InputError& e) {
       EXPECT_THAT(e.what(), HasSubstr(path.string()));
-      EXPECT_THAT(e.what(), HasSubstr("the file holds 10 frames"));
+      EXPECT_THAT(e.what(), HasSubstr("does not exist: the file holds frames 0 to 9"));
     }
   }
   EXPECT_NO_THROW(source->read(9, frame));

@@ -742,7 +742,7 @@ TEST(TextFramesGro, TruncatedLastFrameIsLeftOutWithANote) {
   auto source = openTextTrajectory(path, TrajectoryFormat::Gro);
   EXPECT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
-  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2"));  // numbered from 0
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2"));  // the third: frames from 0
   Frame frame;
   source->read(1, frame);
   EXPECT_DOUBLE_EQ(frame.time, 24.0);
@@ -755,7 +755,7 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   const fs::path dir = tempDir();
   const std::vector<std::string> original = lines(fileText(data("formats/xyz/trajectory.xyz")));
   ASSERT_EQ(original.size(), 22U);  // 2 frames of 9 atoms
-  // Frames 1, 2 (two atom lines short) and 3 (= frame 1).
+  // Frames 0, 1 (two atom lines short) and 2 (= frame 0).
   std::vector<std::string> text(original.begin(), original.begin() + 11);
   text.insert(text.end(), original.begin() + 11, original.begin() + 20);
   text.insert(text.end(), original.begin(), original.begin() + 11);
@@ -765,14 +765,14 @@ TEST(TextFramesErrors, XyzFrameCutShortInTheMiddle) {
   ASSERT_EQ(source->frameCount(), 2U);
   ASSERT_EQ(source->notes().size(), 1U);
   EXPECT_THAT(source->notes()[0], HasSubstr("only frames 0-1 are read"));
-  // Frame 1 reads as in the intact file.
+  // Frame 0 reads as in the intact file.
   Frame frame, intact;
   source->read(0, frame);
   openTextTrajectory(data("formats/xyz/trajectory.xyz"), TrajectoryFormat::Xyz)->read(0, intact);
   EXPECT_EQ(frame.positions, intact.positions);
-  // Frame 2 takes frame 3's count line for its 8th atom.
+  // Frame 1 takes frame 2's count line for its 8th atom.
   const InputError e = errorOf([&] { source->read(1, frame); });
-  EXPECT_EQ(e.line(), 21) << e.what();  // frame 2: count 12, comment 13, 7 atoms 14-20
+  EXPECT_EQ(e.line(), 21) << e.what();  // frame 1: count 12, comment 13, 7 atoms 14-20
   EXPECT_THAT(e.what(), HasSubstr("atom 8 of 9 of frame 1, got '9'"));
   source->read(0, frame);  // still readable after the failure
   EXPECT_EQ(frame.positions, intact.positions);
@@ -876,7 +876,7 @@ TEST(TextFramesSharedData, EveryGroAndXyzEqualsMDAnalysis) {
     auto source = openTextTrajectory(path, TrajectoryFormat::Auto);
     const auto mda = mdaFrames(path, dir);
     ASSERT_TRUE(mda.has_value());
-    // Frames that differ from frame 1 in atom count (ligs3d.xyz: 10 ligands) cannot be read;
+    // Frames that differ from frame 0 in atom count (ligs3d.xyz: 10 ligands) cannot be read;
     // MDAnalysis reads them as garbage, so only the frames before the first one compare.
     std::size_t readable = source->frameCount();
     Frame frame;

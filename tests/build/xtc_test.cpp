@@ -200,7 +200,7 @@ std::ostream& operator<<(std::ostream& os, const Agreement& a) {
 // rounding of MDAnalysis's nm -> Å conversion.
 void compareFrame(FrameSource& source, std::size_t k, const OracleFrame& want,
                   const HeaderInfo& header, Agreement& agreement) {
-  SCOPED_TRACE(source.path() + " frame " + std::to_string(k + 1));
+  SCOPED_TRACE(source.path() + " frame " + std::to_string(k));
   Frame got;
   ASSERT_NO_THROW(source.read(k, got));
   ASSERT_EQ(got.positions.size() * 3, want.xyz.size());
@@ -311,7 +311,7 @@ void expectReadError(const fs::path& path, const Bytes& bytes, std::size_t k,
   Frame frame;
   try {
     source->read(k, frame);
-    ADD_FAILURE() << "no error reading frame " << k + 1;
+    ADD_FAILURE() << "no error reading frame " << k;
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path.string()));
     for (const std::string& s : expected) EXPECT_THAT(e.what(), HasSubstr(s));
@@ -319,7 +319,7 @@ void expectReadError(const fs::path& path, const Bytes& bytes, std::size_t k,
   // The other frames stay readable.
   for (std::size_t j = 0; j < source->frameCount(); ++j)
     if (j != k) {
-      EXPECT_NO_THROW(source->read(j, frame)) << "frame " << j + 1;
+      EXPECT_NO_THROW(source->read(j, frame)) << "frame " << j;
     }
 }
 
@@ -436,7 +436,7 @@ TEST(XtcReader, CraftedBlocksAreInputErrors) {
     Bytes b;
     appendBlock(b, 10, 0, 0.f, box, 1000.f, minint, sizes, smallIdx, w);
     SCOPED_TRACE(expected);
-    expectReadError(path, b, 0, {"frame 1 (byte 0)", "block at byte 92", expected});
+    expectReadError(path, b, 0, {"frame 0 (byte 0)", "block at byte 92", expected});
   };
   {
     BitWriter w;  // a run of 10 small atoms after the first of 10
@@ -463,7 +463,7 @@ TEST(XtcReader, CraftedBlocksAreInputErrors) {
   Bytes b;
   appendHeader(b, 3, 0, 0.f, box);
   for (int i = 0; i < 9; ++i) appendFloat(b, i == 4 ? std::nanf("") : 1.f);
-  expectReadError(path, b, 0, {"frame 1 (byte 0)", "non-finite coordinate of atom 2"});
+  expectReadError(path, b, 0, {"frame 0 (byte 0)", "non-finite coordinate of atom 2"});
 }
 
 TEST(XtcReader, HandWrittenFramesMatchMdanalysis) {
@@ -544,7 +544,7 @@ TEST(XtcReader, HandWrittenFramesMatchMdanalysis) {
       for (std::size_t d = 0; d < 3; ++d)
         EXPECT_EQ(frame.positions[i][static_cast<glm::length_t>(d)],
                   static_cast<double>(static_cast<float>(wideInts[k][i][d]) * inv) * 10.0)
-            << "frame " << k + 1 << " atom " << i + 1;
+            << "frame " << k << " atom " << i + 1;
   }
 }
 
@@ -569,7 +569,7 @@ TEST(XtcReader, ReverseOrderEqualsForwardOrder) {
     Frame reused;  // one Frame for all reads: its memory is reused
     for (std::size_t k = forward.size(); k-- > 0;) {
       source->read(k, reused);
-      SCOPED_TRACE("frame " + std::to_string(k + 1));
+      SCOPED_TRACE("frame " + std::to_string(k));
       expectSameFrame(reused, forward[k]);
     }
   }
@@ -595,7 +595,7 @@ TEST(XtcReader, TruncatedLastFrameIsLeftOutWithNote) {
     ASSERT_NO_THROW(source = openXtc(path));
     EXPECT_EQ(source->frameCount(), 2u);
     ASSERT_EQ(source->notes().size(), 1u);
-    EXPECT_THAT(source->notes()[0], HasSubstr("frame 3"));
+    EXPECT_THAT(source->notes()[0], HasSubstr("frame 2 (byte"));  // frames from 0
     EXPECT_THAT(source->notes()[0], HasSubstr("truncated"));
     Agreement agreement;
     for (std::size_t k = 0; k < 2; ++k)
@@ -614,7 +614,7 @@ TEST(XtcReader, CutInsideFirstFrameIsInputError) {
   for (std::size_t cut : {std::size_t{0}, std::size_t{2}, std::size_t{20}, std::size_t{55},
                           std::size_t{60}, std::size_t{91}, 92 + headers[0].blockBytes / 2}) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut));
-    expectOpenError(path, bytes, cut, {cut == 0 ? "empty" : "frame 1 (byte 0)"});
+    expectOpenError(path, bytes, cut, {cut == 0 ? "empty" : "frame 0 (byte 0)"});
   }
 }
 
@@ -626,11 +626,11 @@ TEST(XtcReader, WrongMagicIsInputError) {
   const fs::path path = scratch.path() / "magic.xtc";
   Bytes bytes = original;
   putBe32(bytes, 0, 1996);
-  expectOpenError(path, bytes, bytes.size(), {"frame 1 (byte 0)", "magic number 1996"});
+  expectOpenError(path, bytes, bytes.size(), {"frame 0 (byte 0)", "magic number 1996"});
   bytes = original;
   putBe32(bytes, headers[2].offset, 0x12345678);
   expectOpenError(path, bytes, bytes.size(),
-                  {"frame 3 (byte " + std::to_string(headers[2].offset) + ")", "magic"});
+                  {"frame 2 (byte " + std::to_string(headers[2].offset) + ")", "magic"});
   bytes = original;
   putBe32(bytes, 0, 2023);
   expectOpenError(path, bytes, bytes.size(), {"2023", "not supported"});
@@ -643,7 +643,7 @@ TEST(XtcReader, ImpossibleHeaderFieldsAreInputErrors) {
   Scratch scratch;
   const fs::path path = scratch.path() / "fields.xtc";
   const std::size_t f2 = headers[1].offset;
-  const std::string frame2 = "frame 2 (byte " + std::to_string(f2) + ")";
+  const std::string frame1 = "frame 1 (byte " + std::to_string(f2) + ")";  // the second frame
   auto with = [&](std::size_t at, std::uint32_t value) {
     Bytes b = original;
     putBe32(b, at, value);
@@ -651,26 +651,26 @@ TEST(XtcReader, ImpossibleHeaderFieldsAreInputErrors) {
   };
   // Found while the file is opened.
   expectOpenError(path, with(f2 + 4, 114), original.size(),
-                  {frame2, "114 atoms, but frame 1 has 115"});
-  expectOpenError(path, with(f2 + 52, 116), original.size(), {frame2, "116"});
+                  {frame1, "114 atoms, but frame 0 has 115"});
+  expectOpenError(path, with(f2 + 52, 116), original.size(), {frame1, "116"});
   expectOpenError(path, with(4, 0xfffffffb), original.size(),
-                  {"frame 1 (byte 0)", "negative atom count"});
-  expectOpenError(path, with(f2 + 88, 0x7fffffff), original.size(), {frame2, "compressed block"});
-  expectOpenError(path, with(f2 + 88, 3), original.size(), {frame2, "cannot hold 115 atoms"});
+                  {"frame 0 (byte 0)", "negative atom count"});
+  expectOpenError(path, with(f2 + 88, 0x7fffffff), original.size(), {frame1, "compressed block"});
+  expectOpenError(path, with(f2 + 88, 3), original.size(), {frame1, "cannot hold 115 atoms"});
   // Found when the frame is read.
-  expectReadError(path, with(f2 + 84, 100), 1, {frame2, "smallidx 100"});
-  expectReadError(path, with(f2 + 84, 3), 1, {frame2, "smallidx 3"});
-  expectReadError(path, with(f2 + 84, 0x80000000), 1, {frame2, "smallidx"});
-  expectReadError(path, with(f2 + 56, 0), 1, {frame2, "precision"});
-  expectReadError(path, with(f2 + 56, 0x7fc00000), 1, {frame2, "precision"});  // NaN
-  expectReadError(path, with(f2 + 56, 0x00000001), 1, {frame2, "precision"});  // 1e-45
+  expectReadError(path, with(f2 + 84, 100), 1, {frame1, "smallidx 100"});
+  expectReadError(path, with(f2 + 84, 3), 1, {frame1, "smallidx 3"});
+  expectReadError(path, with(f2 + 84, 0x80000000), 1, {frame1, "smallidx"});
+  expectReadError(path, with(f2 + 56, 0), 1, {frame1, "precision"});
+  expectReadError(path, with(f2 + 56, 0x7fc00000), 1, {frame1, "precision"});  // NaN
+  expectReadError(path, with(f2 + 56, 0x00000001), 1, {frame1, "precision"});  // 1e-45
   expectReadError(path, with(f2 + 60, 0x7fffffff), 1,
-                  {frame2, "integer bounds"});  // minint > maxint
-  expectReadError(path, with(f2 + 16, 0x7f800000), 1, {frame2, "non-finite box"});
+                  {frame1, "integer bounds"});  // minint > maxint
+  expectReadError(path, with(f2 + 16, 0x7f800000), 1, {frame1, "non-finite box"});
   {
     Bytes b = with(f2 + 60, 0x80000000);  // minint INT_MIN, maxint INT_MAX: 2^32 values
     putBe32(b, f2 + 72, 0x7fffffff);
-    expectReadError(path, b, 1, {frame2, "overflows 32 bits"});
+    expectReadError(path, b, 1, {frame1, "overflows 32 bits"});
   }
 }
 
@@ -682,11 +682,36 @@ TEST(XtcReader, IndexOutOfRangeIsInputError) {
     source->read(10, frame);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("frame 11 does not exist"));
+    EXPECT_THAT(e.what(), HasSubstr("frame 10 does not exist: the file holds frames 0 to 9"));
   }
   EXPECT_THROW(source->read(static_cast<std::size_t>(-1), frame), InputError);
   EXPECT_NO_THROW(source->read(9, frame));
   EXPECT_EQ(frame.positions.size(), 115u);
+}
+
+// Messages number frames from 0, as the other readers, `--frames` and the output file names do:
+// the second frame of a file is frame 1 whether it is read, indexed or missing.
+TEST(XtcReader, MessagesNumberFramesFromZero) {
+  const Bytes original = readBytes(data("trajectories/sampletrajectory/sampletrajectory.xtc"));
+  const std::vector<HeaderInfo> headers = walkHeaders(original);
+  ASSERT_GE(headers.size(), 3u);
+  Scratch scratch;
+  const fs::path path = scratch.path() / "numbers.xtc";
+  Bytes bytes = original;
+  putBe32(bytes, headers[1].offset + 56, 0);  // the second frame's precision
+  expectReadError(path, bytes, 1, {"frame 1 (byte " + std::to_string(headers[1].offset) + ")"});
+  writeBytes(path, original, headers[2].offset + 10);  // the third frame cut inside its header
+  auto source = openXtc(path);
+  ASSERT_EQ(source->frameCount(), 2u);
+  ASSERT_EQ(source->notes().size(), 1u);
+  EXPECT_THAT(source->notes()[0], HasSubstr("frame 2 (byte " + std::to_string(headers[2].offset) + ")"));
+  Frame frame;
+  try {
+    source->read(2, frame);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("frame 2 does not exist: the file holds frames 0 to 1"));
+  }
 }
 
 // Flipped bytes inside compressed blocks (and sometimes in the fields before one) must give
@@ -754,7 +779,7 @@ TEST(XtcReader, CorruptCompressedBytesGiveInputErrorOrAFrame) {
         ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
     } catch (const InputError& e) {
       ++readErrors;
-      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(k + 1) + " (byte "));
+      EXPECT_THAT(e.what(), HasSubstr("frame " + std::to_string(k) + " (byte "));
     }
     const std::size_t other = (k + 1) % o.frames.size();
     if (other != k) {

@@ -12,8 +12,9 @@
 #      (OUTDIR_single = WORK/single/frames);
 #   4. checks: all 4 tasks ran (as job steps) and succeeded, the two sets of frame
 #      files are equal, every frame was written exactly once and by the task that
-#      owns it (k mod 4 == task), and every file is byte-identical (cmp) to the
-#      single run's.
+#      owns it (the i-th selected frame, i counted from 0 in the single run's
+#      frames, goes to task i mod 4), and every file is byte-identical (cmp) to
+#      the single run's.
 # The output pattern is relative and the inputs absolute, so that both runs have the
 # same command line: surftrace records its command line in the PNG metadata
 # (tEXt "surftrace:command"), so a different -o path alone makes the bytes differ.
@@ -236,6 +237,15 @@ say "single run done in ${T_SINGLE} s; comparing"
 # --- 4. checks ---------------------------------------------------------------------
 list_files() { (cd "$1" && find . -type f | sed 's|^\./||' | LC_ALL=C sort); }
 
+declare -A position=()
+# The selected frames in order are the single run's frame numbers, sorted: the i-th of them
+# (from 0) belongs to task i mod NTASKS (for the default --frames, i is the frame number k).
+i=0
+while IFS= read -r n; do
+    position[$((10#$n))]=$i
+    i=$((i + 1))
+done < <(cd "$OUT_SINGLE" && find . -type f -printf '%f\n' | sed 's/\..*//' | grep -E '^[0-9]+$' | sort -n -u)
+
 # 4a. every task ran exactly once, as a job step of this job, and succeeded
 declare -A owner=() seen=()
 problems=()
@@ -263,11 +273,17 @@ for ((t = 0; t < NTASKS; t++)); do
             fi
             seen[$f]=$(( ${seen[$f]:-0} + 1 ))
             owner[$f]+="$t "
-            # 4b. the frame number in the name is k; task t owns k mod NTASKS == t
+            # 4b. the frame number in the name is k, the i-th selected frame; task t owns
+            # i mod NTASKS == t
             b=$(basename "$f"); n=${b%%.*}
-            if [[ $n =~ ^[0-9]+$ ]] && (( 10#$n % NTASKS != t )); then
-                note "frames in the wrong shard" \
-                    "frame $f written by task $t, but it belongs to task $(( 10#$n % NTASKS ))"
+            if [[ $n =~ ^[0-9]+$ ]]; then
+                p=${position[$((10#$n))]:-}
+                if [[ -z $p ]]; then
+                    note "frames in the wrong shard" "frame $f written by task $t, but the single run has no such frame"
+                elif (( p % NTASKS != t )); then
+                    note "frames in the wrong shard" \
+                        "frame $f (selected frame $p) written by task $t, but it belongs to task $(( p % NTASKS ))"
+                fi
             fi
         done <"$l"
     done

@@ -4,6 +4,9 @@
 // builder reuse, no pipeline) with the camera the trajectory wrote into the frame's metadata.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "run_tool.hpp"
 #include "view/camera.hpp"
@@ -114,8 +118,8 @@ TEST(TrajectoryCli, ShardsTogetherAreTheSingleRunEachFrameOnce) {
     for (const auto& f : fs::directory_iterator(part)) {
       const std::string name = f.path().filename().string();
       ++seen[name];
-      // k mod 4 = i for each frame this shard wrote.
-      EXPECT_EQ(std::stoi(name) % 4, i) << name;
+      // Frame k is the (k - 3)-th selected frame: (k - 3) mod 4 = i for each frame this shard wrote.
+      EXPECT_EQ((std::stoi(name) - 3) % 4, i) << name;
       // The same pixels and buffers (the files' metadata differ: each records its command line).
       expectSameBuffers(view::readExr(f.path().string()), view::readExr((dir / "single" / name).string()), name);
     }
@@ -134,10 +138,148 @@ TEST(TrajectoryCli, ShardsTogetherAreTheSingleRunEachFrameOnce) {
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   std::size_t frames = 0;
   for (const auto& f : fs::directory_iterator(slurm)) {
-    EXPECT_EQ(std::stoi(f.path().filename().string()) % 4, 2);
+    EXPECT_EQ((std::stoi(f.path().filename().string()) - 3) % 4, 2);
     ++frames;
   }
-  EXPECT_EQ(frames, 9u);  // 6, 10, ..., 38
+  EXPECT_EQ(frames, 9u);  // 5, 9, ..., 37
+  fs::remove_all(dir);
+}
+
+// The frames a run wrote, by number.
+std::set<int> framesIn(const fs::path& dir) {
+  std::set<int> frames;
+  if (fs::is_directory(dir))
+    for (const auto& f : fs::directory_iterator(dir)) frames.insert(std::stoi(f.path().filename().string()));
+  return frames;
+}
+
+TEST(TrajectoryCli, ShardsShareOutTheSelectedFrames) {
+  // --frames 0:40:4 selects 0, 4, ..., 36, all multiples of 4: sharding by frame number would
+  // give shard 0 every frame and shards 1 to 3 none. The i-th selected frame goes to shard i mod 4.
+  const fs::path dir = freshDirectory("shard_selection");
+  const std::string common = "trajectory " + kPsf + " " + kDcd + " --frames 0:40:4 --size 16x16 --quiet -o ";
+  const std::set<int> want[4] = {{0, 16, 32}, {4, 20, 36}, {8, 24}, {12, 28}};
+  std::multiset<int> all;
+  for (int i = 0; i < 4; ++i) {
+    const fs::path part = dir / ("shard" + std::to_string(i));
+    const Result r = runTool(common + (part / "%03d.png").string() + " --shard " + std::to_string(i) + "/4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(framesIn(part), want[i]) << "shard " << i << ": " << r.output;
+    for (int k : framesIn(part)) all.insert(k);
+  }
+  EXPECT_EQ(all, (std::multiset<int>{0, 4, 8, 12, 16, 20, 24, 28, 32, 36}));
+
+  // A shard whose turn never comes (2 selected frames, 4 shards) says so, writes nothing and succeeds.
+  const Result r = runTool("trajectory " + kPsf + " " + kDcd + " --frames 0:8:4 --size 16x16 --quiet -o " +
+                           (dir / "none/%03d.png").string() + " --shard 3/4");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("--shard 3/4: no frames to render: 2 frames are selected"), std::string::npos) << r.output;
+  EXPECT_TRUE(framesIn(dir / "none").empty());
+  fs::remove_all(dir);
+}
+
+// What the frames of a run cover together: no frame's molecule touches the image border (none is
+// clipped), and the union of their coverage (alpha > 0) spans, along the larger axis of its
+// bounding rectangle, this fraction of the image's extent along that axis.
+struct Coverage {
+  int frames = 0;
+  std::vector<std::string> clipped;  // frames that touch the border
+  double span = 0.0;
+  std::set<std::string> cameras;     // surftrace:camera of each frame
+};
+
+Coverage coverageOf(const fs::path& dir) {
+  Coverage c;
+  int x0 = INT_MAX, y0 = INT_MAX, x1 = -1, y1 = -1, width = 0, height = 0;
+  for (const auto& f : fs::directory_iterator(dir)) {
+    view::ImageMetadata meta;
+    const view::FrameBuffers image = view::readExr(f.path().string(), &meta);
+    c.cameras.insert(meta.at("surftrace:camera"));
+    width = image.width, height = image.height;
+    bool touches = false;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        if (!(image.rgba[4 * (static_cast<std::size_t>(y) * image.width + x) + 3] > 0.0f)) continue;
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        touches = touches || x == 0 || y == 0 || x == image.width - 1 || y == image.height - 1;
+      }
+    if (touches) c.clipped.push_back(f.path().filename().string());
+    ++c.frames;
+  }
+  if (x1 >= 0)
+    c.span = std::max(static_cast<double>(x1 - x0 + 1) / width, static_cast<double>(y1 - y0 + 1) / height);
+  return c;
+}
+
+// AdK opens from closed to open over the 98 frames. The default camera keeps every selected frame
+// whole and, with the margin of a single-frame `render`, fills the picture: the frames together
+// span at least 75 % of it (0.875 here). Framed on the first frame, the open frames are clipped.
+TEST(TrajectoryCli, DefaultCameraKeepsEveryFrameWholeAndFillsThePicture) {
+  const fs::path dir = freshDirectory("framing");
+  const std::string common = "trajectory " + kPsf + " " + kDcd + " --frames 0:98:7 --size 64x64 --quiet --exr ";
+  const Result r = runTool(common + (dir / "all/%02d.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Coverage all = coverageOf(dir / "all");
+  EXPECT_EQ(all.frames, 14);
+  EXPECT_TRUE(all.clipped.empty()) << "clipped: " << ::testing::PrintToString(all.clipped);
+  EXPECT_GE(all.span, 0.75);
+  EXPECT_EQ(all.cameras.size(), 1u);
+  std::printf("[ framing  ] every frame: span %.3f, %zu clipped\n", all.span, all.clipped.size());
+
+  // Each shard frames all the selected frames, not only its own: the same camera, no messages.
+  for (const char* shard : {"0/3", "2/3"}) {
+    const fs::path part = dir / ("shard" + std::string(1, shard[0]));
+    const Result s = runTool(common + (part / "%02d.exr").string() + " --shard " + shard);
+    ASSERT_EQ(s.status, 0) << s.output;
+    EXPECT_EQ(coverageOf(part).cameras, all.cameras) << shard;
+  }
+
+  // `first` frames the first selected frame only, which the opening protein outgrows.
+  ASSERT_EQ(runTool(common + (dir / "first/%02d.exr").string() + " --frame-camera first").status, 0);
+  const Coverage first = coverageOf(dir / "first");
+  std::printf("[ framing  ] first frame: span %.3f, %zu clipped\n", first.span, first.clipped.size());
+  EXPECT_FALSE(first.clipped.empty());
+  fs::remove_all(dir);
+}
+
+// Crambin drifting 12 Å a frame towards the camera (the default view looks along −z) for 8 frames,
+// a multi-model PDB over the atoms of tests/data/structures/1crn.pdb. Each atom travels 84 Å: the
+// former `all` framing, which grew every atom by half its path, shrank the molecule to 4 % of the
+// pixels (a span of 0.28), and the first frame's camera clips the nearer ones.
+TEST(TrajectoryCli, DefaultCameraFollowsAMoleculeMovingAlongTheView) {
+  const fs::path dir = freshDirectory("framing_drift");
+  const std::string pdb = kData + "/structures/1crn.pdb";
+  std::vector<std::string> atoms;
+  std::ifstream in(pdb);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("ATOM", 0) == 0 || line.rfind("HETATM", 0) == 0) atoms.push_back(line);
+  ASSERT_FALSE(atoms.empty());
+  std::ofstream out(dir / "drift.pdb");
+  for (int k = 0; k < 8; ++k) {
+    char record[96];
+    std::snprintf(record, sizeof record, "MODEL     %4d\n", k + 1);
+    out << record;
+    for (const std::string& line : atoms) {
+      const double z = std::stod(line.substr(46, 8)) + 12.0 * k;
+      std::snprintf(record, sizeof record, "%8.3f", z);
+      out << line.substr(0, 46) << record << line.substr(54) << '\n';
+    }
+    out << "ENDMDL\n";
+  }
+  out << "END\n";
+  out.close();
+  const std::string common = "trajectory " + pdb + " " + (dir / "drift.pdb").string() + " --size 64x64 --quiet --exr ";
+  const Result r = runTool(common + (dir / "all/%02d.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Coverage all = coverageOf(dir / "all");
+  EXPECT_EQ(all.frames, 8);
+  EXPECT_TRUE(all.clipped.empty()) << "clipped: " << ::testing::PrintToString(all.clipped);
+  EXPECT_GE(all.span, 0.75);
+  std::printf("[ framing  ] every frame: span %.3f, %zu clipped\n", all.span, all.clipped.size());
+  ASSERT_EQ(runTool(common + (dir / "first/%02d.exr").string() + " --frame-camera first").status, 0);
+  const Coverage first = coverageOf(dir / "first");
+  std::printf("[ framing  ] first frame: span %.3f, %zu clipped\n", first.span, first.clipped.size());
+  EXPECT_FALSE(first.clipped.empty());
   fs::remove_all(dir);
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include <OpenImageIO/imageio.h>
@@ -156,6 +157,59 @@ TEST(Camera, FramingSeveralCoversTakesTheTightestOfEach) {
       }
     }
   }
+}
+
+// Spheres framed in pieces (the frames of a trajectory, each on its own thread) give one camera,
+// bit for bit, whatever the pieces and their order: the one framing them all at once gives (the
+// same look-at point and window; the eye to rounding, as frameSpheres measures each sphere from
+// the look-at point); and the perspective fit is tight: some sphere touches the margin-narrowed
+// frustum.
+TEST(Camera, FramingInPiecesEqualsFramingAllAtOnce) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-30.0, 30.0), r(0.5, 3.5);
+  std::vector<glm::dvec3> centers;
+  std::vector<double> radii;
+  for (int i = 0; i < 300; ++i) centers.push_back({u(rng) + 40.0, u(rng) * 0.5, u(rng) - 7.0}), radii.push_back(r(rng));
+  for (const char* view : {"front", "left", "top", "1,2,3"}) {
+    for (Projection proj : {Projection::Perspective, Projection::Orthographic}) {
+      Camera c;
+      c.width = 320;
+      c.height = 200;
+      c.projection = proj;
+      const glm::dvec3 direction = namedViewDirection(view);
+      const Camera whole = frameSpheres(c, centers, radii, direction);
+      SphereFraming pieces[3] = {SphereFraming(c, direction), SphereFraming(c, direction), SphereFraming(c, direction)};
+      SphereFraming inOrder(c, direction);
+      for (std::size_t i = 0; i < centers.size(); ++i) {
+        pieces[(i * 7) % 3].add(centers[i], radii[i]);
+        inOrder.add(centers[i], radii[i]);
+      }
+      SphereFraming merged(c, direction);
+      for (int k : {2, 0, 1}) merged.merge(pieces[k]);
+      const Camera framed = merged.frame(c);
+      EXPECT_EQ(framed.eye, inOrder.frame(c).eye) << view;
+      EXPECT_LT(glm::length(framed.eye - whole.eye), 1e-12 * glm::length(whole.eye - whole.lookAt)) << view;
+      EXPECT_EQ(framed.lookAt, whole.lookAt) << view;
+      EXPECT_EQ(framed.up, whole.up) << view;
+      EXPECT_EQ(framed.orthoHeight, whole.orthoHeight) << view;
+      if (proj != Projection::Perspective) continue;
+      // The margin-narrowed frustum holds every sphere, and one of them touches it.
+      const double hy = std::tan(0.5 * c.fovY * kPi / 180.0) / kFramingMargin, hx = hy * 1.6;
+      const glm::dvec3 f = whole.forward(), rt = whole.right(), up = whole.trueUp();
+      double slack = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < centers.size(); ++i) {
+        const glm::dvec3 v = centers[i] - whole.eye;
+        const double z = glm::dot(v, f);
+        const double sx = hx * z - std::abs(glm::dot(v, rt)) - radii[i] * std::sqrt(1.0 + hx * hx);
+        const double sy = hy * z - std::abs(glm::dot(v, up)) - radii[i] * std::sqrt(1.0 + hy * hy);
+        EXPECT_GE(std::min(sx, sy), -1e-9) << view << " sphere " << i;
+        slack = std::min({slack, sx, sy});
+      }
+      EXPECT_LT(slack, 1e-9) << view;
+    }
+  }
+  EXPECT_TRUE(SphereFraming(Camera{}, {0, 0, -1}).empty());
+  EXPECT_THROW(SphereFraming(Camera{}, {0, 0, -1}).frame(Camera{}), std::invalid_argument);
 }
 
 TEST(Camera, RejectsImpossibleSettings) {

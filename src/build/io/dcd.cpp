@@ -9,7 +9,7 @@
 //   record:           free-atom indices (1-based), only if NAMNF > 0
 //   per frame:        [record 48 bytes: unit cell a, gamma, b, beta, alpha, c (CHARMM, flag)]
 //                     records x, y, z (float32) [and a 4th (CHARMM 4D dynamics), skipped]
-// With fixed atoms, the first frame (0) stores every atom and later frames only the free ones.
+// With fixed atoms, frame 0 stores every atom and later frames only the free ones.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -347,9 +347,9 @@ void DcdSource::readRecord(std::uint64_t& offset, Bytes& out, const std::string&
 void DcdSource::read(std::size_t index, Frame& frame) {
   if (index >= frameCount_)
     fail("frame " + std::to_string(index) + " does not exist: the file holds " +
-         std::to_string(frameCount_) + " frames (numbered from 0)");
+         (frameCount_ == 1 ? std::string("only frame 0") : "frames 0 to " + std::to_string(frameCount_ - 1)));
   if (index > 0 && !freeAtoms_.empty() && firstPositions_.empty()) {
-    // Later frames store only the free atoms; the fixed ones keep their positions of frame 0.
+    // Later frames store only the free atoms; the fixed ones keep their frame-0 positions.
     Frame first;
     decodeFrame(0, first);
     firstPositions_ = std::move(first.positions);
@@ -361,7 +361,7 @@ void DcdSource::decodeFrame(std::size_t index, Frame& frame) {
   const bool full = index == 0 || freeAtoms_.empty();
   const std::uint64_t start =
       index == 0 ? headerBytes_ : headerBytes_ + firstFrameBytes_ + (index - 1) * frameBytes_;
-  const std::string frameName = "frame " + std::to_string(index);  // numbered from 0, as everywhere
+  const std::string frameName = "frame " + std::to_string(index);  // from 0, as --frames
   readBytes(start, full ? firstFrameBytes_ : frameBytes_, buffer_, frameName);
 
   // Checks one record's two markers against the payload it must have.

@@ -44,7 +44,7 @@ using Cell = std::array<double, 6>;
 
 
 
-// Frames are numbered from 0, as in the CLI, MDAnalysis and VMD, and in every reader.
+// Frames are numbered from 0 in messages, as in --frames and the output file names.
 std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
 
 // Lines of a text from a byte offset on, without "\r\n", counting from the line given.

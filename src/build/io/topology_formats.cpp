@@ -77,7 +77,7 @@ class LineCursor {
   int number_;
 };
 
-// Frames are numbered from 0, as in the CLI, MDAnalysis and VMD, and in every reader.
+// Frames are numbered from 0 in messages, as in --frames and the output file names.
 std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
 
 // ---------------------------------------------------------------------------------------------

@@ -41,7 +41,7 @@ struct GroFrameSpan {
 std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::string& path,
                                          std::string& note);
 
-// Reads the GRO frame at `span` (the `index`-th, 0-based, named 1-based in errors) into
+// Reads the GRO frame at `span` (the `index`-th, 0-based, named so in errors) into
 // `frame`: positions in Å; the box as the cell (a, b, c in Å and the angles between the box
 // vectors); time and step from the title's "t=" and "step=", else `index`. With `records`,
 // also the atoms' records. InputError naming the file, the line and the value otherwise.

@@ -44,7 +44,7 @@ class FrameSource {
   virtual std::size_t atomCount() const = 0;
   virtual std::size_t frameCount() const = 0;
   // Reads frame `index` (0-based, < frameCount()) into `frame`, reusing its memory. Throws
-  // InputError naming the file, the frame (1-based in the message) and what is wrong: a
+  // InputError naming the file, the frame (from 0, as `index`) and what is wrong: a
   // truncated frame, a non-finite coordinate, a corrupt compressed block. Earlier frames stay
   // readable after a later one failed.
   virtual void read(std::size_t index, Frame& frame) = 0;
@@ -80,7 +80,7 @@ class Trajectory {
   // (water, hydrogens, chains and radii select atoms as for a structure), and opens the
   // trajectory. InputError if the topology's atom count (before selection) differs from the
   // trajectory's, naming both files and both counts. A PSF has no coordinates: the molecule's
-  // centres are those of frame 1 until load() is called.
+  // centres are those of frame 0 until load() is called.
   Trajectory(const std::filesystem::path& topology, const std::filesystem::path& trajectory,
              const ReadOptions& options = {});
 

@@ -358,7 +358,7 @@ class XtcSource : public FrameSource {
   [[noreturn]] void fail(std::size_t frame, std::uint64_t offset,
                          const std::string& message) const {
     throw InputError(path(), 0,
-                     "frame " + std::to_string(frame + 1) + " (byte " + std::to_string(offset) +
+                     "frame " + std::to_string(frame) + " (byte " + std::to_string(offset) +
                          "): " + message);
   }
   // Reads n bytes at `offset` into buffer_ (followed by kLookAhead zero bytes).
@@ -418,7 +418,7 @@ std::optional<std::uint64_t> XtcSource::frameBytes(std::size_t frame, std::uint6
   if (natoms < 0) fail(frame, offset, "negative atom count " + std::to_string(natoms));
   if (static_cast<std::uint64_t>(natoms) != atoms_)
     fail(frame, offset,
-         std::to_string(natoms) + " atoms, but frame 1 has " + std::to_string(atoms_));
+         std::to_string(natoms) + " atoms, but frame 0 has " + std::to_string(atoms_));
   if (available < kCoordinatesAt) return std::nullopt;
   const std::int64_t again = xdrInt(p + kCoordinatesAt - 4);
   if (again != natoms)
@@ -454,7 +454,7 @@ void XtcSource::scan() {
               ? "the file ends " + bytesText(fileSize_ - offset) + " into its " + bytesText(*bytes)
               : "the file ends " + bytesText(fileSize_ - offset) + " into its header";
       if (frame == 0) fail(frame, offset, "truncated: " + what);
-      notes_.push_back("frame " + std::to_string(frame + 1) + " (byte " + std::to_string(offset) +
+      notes_.push_back("frame " + std::to_string(frame) + " (byte " + std::to_string(offset) +
                        ") is truncated (" + what + ") and left out");
       break;
     }
@@ -467,8 +467,9 @@ void XtcSource::scan() {
 void XtcSource::read(std::size_t index, Frame& frame) {
   if (index >= frameCount())
     throw InputError(path(), 0,
-                     "frame " + std::to_string(index + 1) + " does not exist: the file holds " +
-                         std::to_string(frameCount()) + " frames");
+                     "frame " + std::to_string(index) + " does not exist: the file holds " +
+                         (frameCount() == 1 ? std::string("only frame 0")
+                                            : "frames 0 to " + std::to_string(frameCount() - 1)));
   const std::uint64_t offset = offsets_[index];
   const std::uint64_t size = offsets_[index + 1] - offset;
   readBytes(index, offset, size);
