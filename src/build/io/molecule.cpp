@@ -755,11 +755,11 @@ std::string waysOut(const AtomRecord& atom, const std::string& element) {
   const std::string residue = atom.residue.empty() ? std::string("RES") : atom.residue;
   const std::string resAtom = inQuotes(residue + ":" + atom.name + " r");
   if (element.empty())
-    return "give its radius with a " + resAtom +
-           " line in --radii FILE, use --default-radius R for every atom without a radius, "
+    return "give its radius with a line " + resAtom +
+           " in --radii FILE, use --default-radius R for every atom without a radius, "
            "or --bead-radius R if the particles are coarse-grained beads";
-  return "give it with an " + inQuotes(element + " r") + " line (every " + element +
-         " atom) or a " + resAtom + " line (this atom) in --radii FILE, or use --default-radius R";
+  return "give one with a line " + inQuotes(element + " r") + " (every " + element +
+         " atom) or " + resAtom + " (this atom) in --radii FILE, or use --default-radius R";
 }
 
 // A MARTINI bead: BB (BB1-BB3 in nucleotides) and SC1-SC6 in biopolymer residues, the
@@ -876,9 +876,9 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
                        : "a standard residue cannot hold (amino acids and nucleotides hold H, C, "
                          "N, O, S, P and Se)") +
                 "; if the particles are coarse-grained beads use --bead-radius R, otherwise give "
-                "the atom's radius with a " +
+                "the atom's radius with a line " +
                 inQuotes(atom.residue + ":" + atom.name + " r") +
-                " line in --radii FILE, or read a file with an element column");
+                " in --radii FILE, or read a file with an element column");
       }
       atom.element.clear();
       atom.elementSource = ElementSource::None;
