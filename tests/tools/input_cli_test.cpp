@@ -104,6 +104,18 @@ TEST(InputCli, MartiniNeedsBeadRadius) {
   EXPECT_EQ(area.status, 0) << area.output;
 }
 
+// A coarse-grained trajectory drawn on purpose (the GRO file is its own one-frame trajectory).
+TEST(InputCli, MartiniTrajectoryDrawsWithBeadRadius) {
+  const std::string gro = data("formats/gro/martini.gro");
+  const std::string frames = (std::filesystem::path(testing::TempDir()) / "martini_%05d.png").string();
+  const Result refused = run("trajectory " + gro + " " + gro + " --size 32x32 -o " + frames);
+  EXPECT_NE(refused.status, 0);
+  EXPECT_TRUE(contains(refused.output, "--bead-radius R")) << refused.output;
+  const Result drawn = run("trajectory --bead-radius 2.35 " + gro + " " + gro + " --size 32x32 -o " + frames);
+  ASSERT_EQ(drawn.status, 0) << drawn.output;
+  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(testing::TempDir()) / "martini_00000.png"));
+}
+
 TEST(InputCli, EveryReadingCommandTakesBeadRadius) {
   for (const char* command : {"info", "area", "build", "render", "trajectory"}) {
     const Result r = run(std::string(command) + " --help");
