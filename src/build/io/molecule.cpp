@@ -750,16 +750,19 @@ std::string upperCase(std::string_view s) {
   return out;
 }
 
-// What a user can do about an atom without a radius; `element` is "" when it is unknown.
+// What a user can do about an atom without a radius; `element` is "" when it is unknown. A
+// RES:ATOM line is offered only where the format has residues (not XYZ).
 std::string waysOut(const AtomRecord& atom, const std::string& element) {
-  const std::string residue = atom.residue.empty() ? std::string("RES") : atom.residue;
-  const std::string resAtom = inQuotes(residue + ":" + atom.name + " r");
+  const std::string resAtom =
+      atom.residue.empty() ? std::string() : inQuotes(atom.residue + ":" + atom.name + " r");
   if (element.empty())
-    return "give its radius with a line " + resAtom +
-           " in --radii FILE, use --default-radius R for every atom without a radius, "
-           "or --bead-radius R if the particles are coarse-grained beads";
-  return "give one with a line " + inQuotes(element + " r") + " (every " + element +
-         " atom) or " + resAtom + " (this atom) in --radii FILE, or use --default-radius R";
+    return (resAtom.empty() ? std::string("use") : "give its radius with a line " + resAtom +
+                                                       " in --radii FILE, use") +
+           " --default-radius R for every atom without a radius, or --bead-radius R if the "
+           "particles are coarse-grained beads";
+  return "give one with a line " + inQuotes(element + " r") + " (every " + element + " atom)" +
+         (resAtom.empty() ? std::string() : " or " + resAtom + " (this atom)") +
+         " in --radii FILE, or use --default-radius R";
 }
 
 // A MARTINI bead: BB (BB1-BB3 in nucleotides) and SC1-SC6 in biopolymer residues, the
