@@ -87,6 +87,9 @@ TEST(ElementGuess, TokensTakeTwoLettersWhereTheNameMeansThem) {
   EXPECT_EQ(elementFromAtomName("CL2", "LIG", L::Token), "Cl");
   EXPECT_EQ(elementFromAtomName("BR1", "LIG", L::Token), "Br");
   EXPECT_EQ(elementFromAtomName("FE2", "HEM", L::Token), "Fe");
+  EXPECT_EQ(elementFromAtomName("CU1", "LIG", L::Token), "Cu");  // as MDAnalysis
+  EXPECT_EQ(elementFromAtomName("SI1", "LIG", L::Token), "Si");
+  EXPECT_EQ(elementFromAtomName("NA", "HEM", L::Token), "N");     // heme's pyrrole nitrogen
   EXPECT_EQ(elementFromAtomName("NA+", "NA", L::Token), "Na");
   EXPECT_EQ(elementFromAtomName("CL-", "CL", L::Token), "Cl");
   // Names that MDAnalysis's table knows: CHARMM ions, GROMOS calcium.

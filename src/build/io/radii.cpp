@@ -259,9 +259,12 @@ std::string elementFromToken(std::string_view name, std::string_view residue) {
       // N-epsilon, H-gamma and O, S, P names ("CA", "NE2", "HG1", "OS1") stay one-letter.
       const bool bareSymbol = letters.size() == 2 &&
                               std::string_view("HCNOSP").find(first) == std::string_view::npos;
-      // Chlorine: CHARMM/CGenFF and GAFF name it CL1, CL2; no carbon is named CL.
-      const bool chlorine = letters.size() == 2 && element == "Cl";
-      if (ownCase || noOneLetter || ion || bareSymbol || chlorine) return element;
+      // The pairs MDAnalysis's tables read as elements although their first letter is one too:
+      // CL (CGenFF and GAFF name chlorines CL1, CL2), CU, CS and SI; no organic name uses them.
+      // Not NA (heme's pyrrole nitrogens are NA-ND) nor CA (C-alpha).
+      const bool mdaPair = letters.size() == 2 && (element == "Cl" || element == "Cu" ||
+                                                   element == "Cs" || element == "Si");
+      if (ownCase || noOneLetter || ion || bareSymbol || mdaPair) return element;
     }
   }
   return singleLetterElement(first);

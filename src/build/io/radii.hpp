@@ -61,16 +61,18 @@ enum class AtomNameLayout {
   Token,       // a whitespace-delimited token; the column is lost
 };
 
-// The element an atom name implies where the file gives none ("" when it implies none),
-// following the PDB convention that columns 13-14 hold the element right-justified:
-// " CA " is carbon, "CA  " calcium, "1HB " and "HH31" hydrogen. Names in standard residues
-// always take their first letter. For tokens, where the column is lost, a two-letter element
-// is believed only for an ion residue named like the atom ("ZN" in ZN) or for a bare symbol
-// that cannot be an organic name ("FE", "MG"; not "CA", "NE", "HG"), a name that starts with
-// a symbol written in its own letter case ("Ru1", "Cl2", "Fe"), a name whose first letter is
-// no element ("RU1", "ZN2", "MG") and the halogens "CL" and "BR"; charges and digits after the
-// letters are ignored ("NA+", "CL-", "Ru1"), as MDAnalysis's guess_atom_element does. A PDB
+// The element an atom name implies where the file gives none ("" when it implies none): the
+// one guess for GRO, PSF atoms without a known mass, PQR, PDB without element columns and
+// mmCIF without type_symbol. PDB names follow the convention that columns 13-14 hold the
+// element right-justified: " CA " is carbon, "CA  " calcium, "1HB " and "HH31" hydrogen; a
 // name the columns leave without an element (" RU1", shifted a column) is read as a token.
+// Names in standard residues take their first letter when it is H, C, N, O, S, P or D.
+// Tokens, where the column is lost, are read as MDAnalysis's guess_atom_element reads them
+// (digits and charges after the letters ignored, CHARMM's SOD, POT, CLA, CAL named), with a
+// two-letter element believed only where the name means it: written in the symbol's own case
+// ("Ru1", "Cl2"), a first letter that is no element ("RU1", "ZN2"), an ion residue named like
+// the atom ("CA" in CA), two letters whose first is not H, C, N, O, S or P ("FE", "BR1"), and
+// CL, CU, CS and SI; otherwise the first letter ("CA1", "HG1", "NE2": C, H and N).
 std::string elementFromAtomName(std::string_view name, std::string_view residue,
                                 AtomNameLayout layout);
 
