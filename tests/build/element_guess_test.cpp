@@ -195,6 +195,30 @@ TEST(ElementGuess, PsfElementsComeFromMasses) {
   EXPECT_EQ(m.elementsFromNames, 0u);
 }
 
+TEST(ElementGuess, PsfMasslessWaterSiteIsLeftOut) {
+  // CHARMM's TIP4P: OM is the massless site, whose name alone would read as oxygen.
+  const fs::path path = writeText("tip4p.psf",
+                                  "PSF\n\n       1 !NTITLE\n REMARKS hand-made\n\n"
+                                  "       5 !NATOM\n"
+                                  "       1 WAT  1    TIP4 OH2  OT    -1.040000       15.9994           0\n"
+                                  "       2 WAT  1    TIP4 H1   HT     0.520000        1.0080           0\n"
+                                  "       3 WAT  1    TIP4 H2   HT     0.520000        1.0080           0\n"
+                                  "       4 WAT  1    TIP4 OM   LP     0.000000        0.0000           0\n"
+                                  "       5 LIG  2    RUC  RU1  RU     2.000000      101.0700           0\n"
+                                  "\n       0 !NBOND: bonds\n\n");
+  ReadOptions options;
+  options.topologyOnly = true;
+  options.keepWater = true;
+  const Molecule m = readMolecule(path, options);
+  ASSERT_EQ(m.size(), 4u);
+  EXPECT_EQ(m.skipped.virtualSites, 1u);
+  EXPECT_EQ(m.atoms[3].element, "Ru");
+  EXPECT_EQ(m.atoms[3].elementSource, ElementSource::Mass);
+  EXPECT_EQ(m.elementsFromMasses, 4u);
+  options.keepWater = false;
+  EXPECT_EQ(readMolecule(path, options).skipped.water, 4u);
+}
+
 TEST(ElementGuess, ElementWithoutRadiusNamesAllThreeWaysOut) {
   const fs::path path = writeText("pm.gro", gro({{1, "PMX", "Pm1"}, {1, "PMX", "C1"}}));
   const std::string e = readError(path);
