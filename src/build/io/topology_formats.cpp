@@ -237,10 +237,11 @@ std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
   atom.name = std::string(f[4]);
   atom.charge = values[0];
   // Atom types are force-field names or numbers (adk.psf), so the mass tells the element.
-  // A massless site (TIP4P's M) has no element, whatever its name says.
+  // A massless site of a water (TIP4P's OM) has no element, whatever its name says; elsewhere
+  // a mass of 0 is a writer that gave none, and the name tells.
   atom.element = elementOfMass(values[1]);
   atom.elementSource = ElementSource::Mass;
-  if (atom.element.empty() && values[1] != 0.0) {
+  if (atom.element.empty() && (values[1] != 0.0 || !isWaterResidue(atom.residue))) {
     atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
     atom.elementSource = ElementSource::Name;
   }
