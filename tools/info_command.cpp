@@ -34,6 +34,11 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
       ->check(positive());
+  group->add_option("--bead-radius", options.beadRadius,
+                    "Coarse-grained systems (MARTINI): every particle one sphere of this radius (Å), "
+                    "no elements guessed from bead names; 'RES:ATOM r' lines of --radii still win, and "
+                    "MARTINI waters (W, WF, PW) are water")
+      ->check(positive());
   group->add_flag("--drop-zero-radius", options.dropZeroRadius,
                   "Drop atoms whose file gives radius 0 (PQR hydrogens) instead of stopping with an error");
   using build::MoleculeFormat;
@@ -148,7 +153,11 @@ void runInfo(const InfoOptions& o) {
                   {"max", rMax},
                   {"sources", bySource}};
     j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
-                    {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius}};
+                    {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius},
+                    {"water_virtual_sites", s.virtualSites}};
+    j["elements_guessed"] = {{"from_atom_names", m.elementsFromNames}, {"from_masses", m.elementsFromMasses}};
+    if (m.beadRadius)
+      j["coarse_grained"] = {{"martini", m.martini}, {"beads", m.size()}, {"bead_radius", *m.beadRadius}};
     j["read_seconds"] = seconds;
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -162,7 +171,12 @@ void runInfo(const InfoOptions& o) {
   out << "chains     " << chains.size() << ":";
   for (const auto& [c, n] : chains) out << " " << (c.empty() ? "-" : c) << " (" << n << ")";
   out << "\nelements   ";
-  for (const auto& [e, n] : elements) out << e << " " << n << "  ";
+  for (const auto& [e, n] : elements) out << (e.empty() ? "none" : e) << " " << n << "  ";
+  out << "\n           elements guessed: " << m.elementsFromNames << " from atom names, " << m.elementsFromMasses
+      << " from masses";
+  if (m.beadRadius)
+    out << "\n" << (m.martini ? "MARTINI coarse-grained: " : "coarse-grained: ") << m.size()
+        << (m.martini ? " beads" : " particles") << ", radius " << fixed(*m.beadRadius, 2) << " Å (--bead-radius)";
   out << "\nbbox       min (" << fixed(lo.x) << ", " << fixed(lo.y) << ", " << fixed(lo.z) << ")  max (" << fixed(hi.x)
       << ", " << fixed(hi.y) << ", " << fixed(hi.z) << ")  size " << fixed(hi.x - lo.x, 1) << " x "
       << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
@@ -183,6 +197,7 @@ void runInfo(const InfoOptions& o) {
   note(s.altLocs, "alternate-conformer atoms (kept the first/highest-occupancy one)");
   note(s.otherChains, "atoms of other chains (--chains)");
   note(s.otherModels, "atoms of other models (--model)");
+  note(s.virtualSites, "massless water sites (TIP4P MW, TIP5P LP)");
   if (!any) out << "nothing";
   out << "\n";
   std::fputs(out.str().c_str(), stdout);

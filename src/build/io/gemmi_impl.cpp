@@ -208,7 +208,7 @@ InputError fromGemmi(const std::string& path, const std::exception& e) {
   return InputError(path, line, "gemmi: " + message);
 }
 
-std::string pdbElement(std::string_view line, const std::string& residue) {
+std::string pdbElement(std::string_view line, const std::string& residue, ElementSource& source) {
   // Columns 77-78 hold the element in remediated files; older files have the entry ID and a
   // line serial in columns 73-80, so digits there are not an element.
   if (line.size() >= 77) {
@@ -216,10 +216,13 @@ std::string pdbElement(std::string_view line, const std::string& residue) {
         trim(line.substr(76, std::min<std::size_t>(2, line.size() - 76)));
     if (!field.empty() && std::all_of(field.begin(), field.end(), isAlpha)) {
       std::string element = canonicalElement(field);
+      source = ElementSource::File;
       if (!element.empty()) return element;
     }
   }
-  return elementFromAtomName(line.substr(12, 4), residue, AtomNameLayout::PdbColumns);
+  std::string element = elementFromAtomName(line.substr(12, 4), residue, AtomNameLayout::PdbColumns);
+  source = element.empty() ? ElementSource::None : ElementSource::Name;
+  return element;
 }
 
 }  // namespace
@@ -367,7 +370,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     atom.residueNumber = f.residue->seqid.num.has_value() ? f.residue->seqid.num.value : 0;
     atom.insertionCode = f.residue->seqid.icode;
     atom.serial = record.serial;
-    atom.element = pdbElement(line, atom.residue);
+    atom.element = pdbElement(line, atom.residue, atom.elementSource);
     atom.occupancy = record.occupancy;
     atom.bFactor = record.bFactor;
     atom.hetatm = upper(line[0]) == 'H';
@@ -647,9 +650,12 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
       std::size_t letters = 0;
       while (letters < symbol.size() && isAlpha(symbol[letters])) ++letters;
       atom.element = canonicalElement(std::string_view(symbol).substr(0, letters));
+      if (!atom.element.empty()) atom.elementSource = ElementSource::File;
     }
-    if (atom.element.empty())
+    if (atom.element.empty()) {
       atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
+      if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
+    }
     // As for PDB: an unreadable occupancy is an error only where it chooses a conformer.
     atom.occupancy = 1.0;
     if (table.has_column(kOccupancy)) {

@@ -412,6 +412,7 @@ Molecule parsePqr(const std::string& text, const std::string& name, const ReadOp
     atom.serial = f.serial;
     atom.element = elementFromAtomName(
         f.name, f.residue, f.pdbColumns ? AtomNameLayout::PdbColumns : AtomNameLayout::Token);
+    if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
     atom.charge = f.charge;
     atom.hetatm = record.rfind("HETATM", 0) == 0;
     atom.line = lineNumber;
@@ -550,6 +551,7 @@ Molecule parseXyz(const std::string& text, const std::string& name, int model) {
       // Some writers give the atomic number instead of the symbol.
       if (const std::optional<int> z = parseInt(f[0]); atom.element.empty() && z)
         atom.element = elementSymbol(*z);
+      if (!atom.element.empty()) atom.elementSource = ElementSource::File;
       atom.serial = i + 1;
       atom.line = lineNumber;
       molecule.centers.emplace_back(v[0], v[1], v[2]);
@@ -682,13 +684,34 @@ void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::stri
   }
   const std::size_t considered = molecule.size();
 
+  // MARTINI's W, WF and PW are water only where the system is read as beads: in an atomistic
+  // file a residue W is a tungsten ion.
+  const auto isWater = [&](const AtomRecord& atom) {
+    return isWaterResidue(atom.residue) ||
+           (options.beadRadius && isMartiniWaterResidue(atom.residue));
+  };
   if (!options.keepWater && hasResidues) {
     std::vector<char> keep(molecule.size(), 1);
     for (std::size_t i = 0; i < molecule.size(); ++i)
-      if (isWaterResidue(molecule.atoms[i].residue)) {
+      if (isWater(molecule.atoms[i])) {
         keep[i] = 0;
         ++skipped.water;
       }
+    compact(molecule, keep);
+  } else if (hasResidues && !options.beadRadius) {
+    // The massless sites of 4- and 5-site waters (MW, LP1, a PSF atom of mass 0) carry charge
+    // but no electrons: no element, no volume. Reading "MW" as tungsten would put a metal in
+    // every water, so they are left out and counted.
+    std::vector<char> keep(molecule.size(), 1);
+    for (std::size_t i = 0; i < molecule.size(); ++i) {
+      const AtomRecord& atom = molecule.atoms[i];
+      if (isWaterResidue(atom.residue) &&
+          (isWaterVirtualSite(atom.name) ||
+           (molecule.format == MoleculeFormat::Psf && atom.element.empty()))) {
+        keep[i] = 0;
+        ++skipped.virtualSites;
+      }
+    }
     compact(molecule, keep);
   }
   if (!options.keepHydrogens) {
@@ -721,38 +744,150 @@ void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::stri
                        " (--no-hydrogens)");
 }
 
+std::string upperCase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = upper(c);
+  return out;
+}
+
+// What a user can do about an atom without a radius; `element` is "" when it is unknown. A
+// RES:ATOM line is offered only where the format has residues (not XYZ).
+std::string waysOut(const AtomRecord& atom, const std::string& element) {
+  const std::string resAtom =
+      atom.residue.empty() ? std::string() : inQuotes(atom.residue + ":" + atom.name + " r");
+  if (element.empty())
+    return (resAtom.empty() ? std::string("use") : "give its radius with a line " + resAtom +
+                                                       " in --radii FILE, use") +
+           " --default-radius R for every atom without a radius, or --bead-radius R if the "
+           "particles are coarse-grained beads";
+  return "give one with a line " + inQuotes(element + " r") + " (every " + element + " atom)" +
+         (resAtom.empty() ? std::string() : " or " + resAtom + " (this atom)") +
+         " in --radii FILE, or use --default-radius R";
+}
+
+// A MARTINI bead: BB (BB1-BB3 in nucleotides) and SC1-SC6 in biopolymer residues, the
+// single-bead waters W, WF and PW (whose polarizable beads are W, WP, WM).
+bool isMartiniBead(const AtomRecord& atom) {
+  const std::string name = upperCase(trim(atom.name));
+  if (isMartiniWaterResidue(atom.residue))
+    return name == "W" || name == "WF" || name == "PW" || name == "WP" || name == "WM";
+  if (!isStandardResidue(atom.residue) || isWaterResidue(atom.residue)) return false;
+  if (name == "BB") return true;
+  const auto numbered = [&](std::string_view prefix, char last) {
+    return name.size() == prefix.size() + 1 && name.compare(0, prefix.size(), prefix) == 0 &&
+           name.back() >= '1' && name.back() <= last;
+  };
+  return numbered("BB", '3') || numbered("SC", '6');
+}
+
+// Recognises a MARTINI system; without --bead-radius reading its beads as atoms would give
+// boron backbones, sulfur side chains and tungsten waters, so that is an error. One residue W
+// of one atom W is the PDB's tungsten ion, so W waters count from the second on.
+void recogniseCoarseGrained(Molecule& molecule, const ReadOptions& options,
+                            const std::string& name) {
+  auto bead = molecule.atoms.end();
+  std::size_t tungstenLike = 0;
+  for (auto it = molecule.atoms.begin(); it != molecule.atoms.end(); ++it) {
+    if (!isMartiniBead(*it)) continue;
+    const bool w = upperCase(trim(it->residue)) == "W";
+    if (w && ++tungstenLike < 2) continue;
+    bead = it;
+    break;
+  }
+  molecule.martini = bead != molecule.atoms.end();
+  if (molecule.martini && !options.beadRadius) {
+    const std::string element = bead->element.empty() ? "no element" : "element " + bead->element;
+    throw InputError(name, bead->line,
+                     describe(*bead) +
+                         " is a MARTINI bead: this is a MARTINI coarse-grained system (BB and "
+                         "SC1-SC4 beads, W, WF and PW waters), whose particles are not atoms "
+                         "(the name would read as " + element +
+                         "); draw it with --bead-radius R, every bead one sphere of R Å "
+                         "(e.g. --bead-radius 2.35, half MARTINI's bead size of 0.47 nm)");
+  }
+  if (!options.beadRadius) return;
+  // A bead's name says nothing about an element; the file's element column or mass still does.
+  for (AtomRecord& atom : molecule.atoms)
+    if (atom.elementSource == ElementSource::Name) {
+      atom.element.clear();
+      atom.elementSource = ElementSource::None;
+    }
+}
+
 void assignRadii(Molecule& molecule, const ReadOptions& options, const std::string& name) {
   if (options.defaultRadius &&
       (!std::isfinite(*options.defaultRadius) || *options.defaultRadius <= 0.0))
     throw InputError(name, 0,
                      "the default radius must be a finite number > 0, got " +
                          std::to_string(*options.defaultRadius));
+  if (options.beadRadius && (!std::isfinite(*options.beadRadius) || *options.beadRadius <= 0.0))
+    throw InputError(name, 0,
+                     "the bead radius must be a finite number > 0, got " +
+                         std::to_string(*options.beadRadius));
   if (molecule.format == MoleculeFormat::Xyzr) {
-    if (options.radiiFile)
+    if (options.radiiFile || options.beadRadius)
       throw InputError(name, 0,
-                       "an XYZR file gives its own radii and no atom names or elements, so the "
-                       "radius table " +
-                           options.radiiFile->string() + " cannot apply");
+                       "an XYZR file gives its own radii and no atom names or elements, so " +
+                           (options.radiiFile ? "the radius table " + options.radiiFile->string()
+                                              : std::string("--bead-radius")) +
+                           " cannot apply");
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
-  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile) {
+  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile && !options.beadRadius) {
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
 
   std::optional<RadiusTable> table;
-  if (options.radiiFile) {
-    table = RadiusTable::load(*options.radiiFile);
-    molecule.radiiSet = "table:" + table->path();
+  if (options.radiiFile) table = RadiusTable::load(*options.radiiFile);
+  if (options.beadRadius) {
+    char text[64];
+    std::snprintf(text, sizeof text, "bead:%g", *options.beadRadius);
+    molecule.radiiSet = text;
+    if (table) molecule.radiiSet += ",table:" + table->path();
+    molecule.beadRadius = options.beadRadius;
   } else {
-    molecule.radiiSet = "bondi";
+    molecule.radiiSet = table ? "table:" + table->path() : std::string("bondi");
   }
   molecule.radii.assign(molecule.size(), 0.0);
   for (std::size_t i = 0; i < molecule.size(); ++i) {
-    const AtomRecord& atom = molecule.atoms[i];
+    AtomRecord& atom = molecule.atoms[i];
     std::optional<TabulatedRadius> radius;
-    if (table)
+    if (options.beadRadius) {
+      radius = TabulatedRadius{*options.beadRadius, RadiusSource::Bead};
+      if (table)
+        if (const std::optional<double> r = table->findAtom(atom.residue, atom.name))
+          radius = TabulatedRadius{*r, RadiusSource::UserTable};
+      molecule.radii[i] = radius->radius;
+      ++molecule.radiusSources[static_cast<std::size_t>(radius->source)];
+      continue;
+    }
+    // An ion's residue is named like its atom (iodide I, uranium U), even where the name is
+    // also a nucleotide's.
+    const bool ion = upperCase(trim(atom.name)) == upperCase(trim(atom.residue));
+    if (atom.elementSource == ElementSource::Name && !ion &&
+        !isPlausibleElement(atom.residue, atom.element)) {
+      // The guess cannot be right; a RES:ATOM line gives the atom a radius all the same.
+      const std::optional<double> r = table ? table->findAtom(atom.residue, atom.name) : std::nullopt;
+      if (!r) {
+        const bool water = isWaterResidue(atom.residue);
+        throw InputError(
+            name, atom.line,
+            describe(atom) + ": its name reads as element " + atom.element + ", which " +
+                (water ? "a water cannot hold (waters hold H and O)"
+                       : "a standard residue cannot hold (amino acids and nucleotides hold H, C, "
+                         "N, O, S, P and Se)") +
+                "; if the particles are coarse-grained beads use --bead-radius R, otherwise give "
+                "the atom's radius with a line " +
+                inQuotes(atom.residue + ":" + atom.name + " r") +
+                " in --radii FILE, or read a file with an element column");
+      }
+      atom.element.clear();
+      atom.elementSource = ElementSource::None;
+      radius = TabulatedRadius{*r, RadiusSource::UserTable};
+    }
+    if (!radius && table)
       if (const std::optional<double> r = table->find(atom.residue, atom.name, atom.element))
         radius = TabulatedRadius{*r, RadiusSource::UserTable};
     if (!radius) radius = elementRadius(atom.element);
@@ -771,12 +906,17 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
                     " has no radius in the Bondi (1964), Mantina (2009) or Alvarez (2013) "
                     "tables" +
                     (table ? " nor in " + table->path() : std::string());
-      throw InputError(name, atom.line,
-                       describe(atom) + ": " + what +
-                           "; use --radii FILE or --default-radius R");
+      throw InputError(name, atom.line, describe(atom) + ": " + what + "; " + waysOut(atom, atom.element));
     }
     molecule.radii[i] = radius->radius;
     ++molecule.radiusSources[static_cast<std::size_t>(radius->source)];
+  }
+}
+
+void countElementSources(Molecule& molecule) {
+  for (const AtomRecord& atom : molecule.atoms) {
+    molecule.elementsFromNames += atom.elementSource == ElementSource::Name;
+    molecule.elementsFromMasses += atom.elementSource == ElementSource::Mass;
   }
 }
 
@@ -887,8 +1027,11 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   molecule.fileAtomCount = molecule.size();
   for (std::size_t i = 0; i < molecule.size(); ++i) molecule.atoms[i].fileIndex = i;
 
+  if (format != MoleculeFormat::Xyz && format != MoleculeFormat::Xyzr)
+    recogniseCoarseGrained(molecule, options, name);
   selectAtoms(molecule, options, name);
   assignRadii(molecule, options, name);
+  countElementSources(molecule);
   if (!options.topologyOnly) validateMolecule(molecule);
   return molecule;
 }

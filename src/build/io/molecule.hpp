@@ -24,6 +24,7 @@ struct AtomRecord {
   char insertionCode = ' ';
   int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
   std::string element;       // canonical symbol, e.g. "C", "Fe"; empty when unknown
+  ElementSource elementSource = ElementSource::None;  // where `element` came from
   double occupancy = 1.0;    // NaN where the file's field is not a number
   double bFactor = 0.0;      // NaN where the file's field is not a number
   double charge = 0.0;       // PQR charge; 0 elsewhere
@@ -50,6 +51,10 @@ struct ReadOptions {
   std::vector<std::string> chains;            // empty: all chains
   std::optional<std::filesystem::path> radiiFile;  // user radius table
   std::optional<double> defaultRadius;        // radius for unknown elements
+  // Coarse-grained systems: every particle one sphere of this radius (RES:ATOM lines of
+  // radiiFile still win), no element guessed from a bead's name, and the MARTINI waters
+  // (W, WF, PW) are water. Without it a MARTINI system is an error.
+  std::optional<double> beadRadius;
   // PQR/XYZR atoms with radius exactly 0 (PDB2PQR gives some hydrogens, e.g. AMBER hydroxyl
   // H, no radius) are an error unless this is set; then they are left out and counted.
   bool dropZeroRadius = false;
@@ -67,6 +72,7 @@ struct SkipReport {
   std::size_t otherModels = 0;      // atoms in models other than the one used
   std::size_t defaultRadius = 0;    // atoms that got --default-radius (not skipped, noted)
   std::size_t zeroRadius = 0;       // PQR/XYZR atoms of radius 0 left out (dropZeroRadius)
+  std::size_t virtualSites = 0;     // massless water sites (TIP4P MW, TIP5P LP) of kept waters
 };
 
 struct Molecule {
@@ -82,6 +88,13 @@ struct Molecule {
   // How many atoms took their radius from each source, indexed by RadiusSource ("bondi"
   // is the chain Bondi, Mantina, Alvarez; see elementRadius).
   std::array<std::size_t, kRadiusSourceCount> radiusSources{};
+  // How many of the atoms kept took their element from their name (guessed) or their mass (PSF).
+  std::size_t elementsFromNames = 0;
+  std::size_t elementsFromMasses = 0;
+  // Recognised as a MARTINI coarse-grained system (BB and SC1-SC4 beads in amino-acid residues,
+  // W, WF or PW waters); read only with ReadOptions::beadRadius.
+  bool martini = false;
+  std::optional<double> beadRadius;     // the --bead-radius every particle got, when given
   std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
   SkipReport skipped;
 

@@ -206,8 +206,96 @@ bool isStandardResidue(std::string_view residue) {
                  "RC3", "RG5", "RG3", "RU5", "RU3", "ADE", "CYT", "GUA", "THY", "URA"});
 }
 
+namespace {
+
+// Names whose letters mislead, from MDAnalysis's TABLE_ATOMELEMENTS (CHARMM, AMBER, GROMOS):
+// CHARMM's ions (SOD is sodium, not sulfur), GROMOS's calcium C0 and Amber's carbons AC, BC.
+struct NamedElement {
+  std::string_view name;
+  std::string_view element;
+};
+constexpr NamedElement kNamedElements[] = {
+    {"SOD", "Na"}, {"POT", "K"},  {"CLA", "Cl"}, {"CLAL", "Cl"}, {"CAL", "Ca"}, {"C0", "Ca"},
+    {"CES", "Cs"}, {"LIT", "Li"}, {"IOD", "I"},  {"AC", "C"},    {"BC", "C"}};
+
+std::string namedElement(std::string_view upperName) {
+  for (const NamedElement& e : kNamedElements)
+    if (e.name == upperName) return std::string(e.element);
+  return {};
+}
+
+// A name without a column: letters, then digits and charges ("Ru1", "CL-", "1HB", "NA+").
+std::string elementFromToken(std::string_view name, std::string_view residue) {
+  const std::string_view trimmed = trim(name);
+  const std::string upperName = toUpper(trimmed);
+  std::string bare;  // without digits and charges, as MDAnalysis strips them
+  for (char c : upperName)
+    if (!isDigit(c) && c != '+' && c != '-' && c != '*') bare += c;
+  if (std::string e = namedElement(upperName); !e.empty()) return e;
+  if (std::string e = namedElement(bare); !e.empty()) return e;
+
+  std::size_t skip = 0;
+  while (skip < trimmed.size() && isDigit(trimmed[skip])) ++skip;
+  const std::string_view stem = trimmed.substr(skip);
+  std::size_t letterCount = 0;
+  while (letterCount < stem.size() && isAlpha(stem[letterCount])) ++letterCount;
+  const std::string_view letters = stem.substr(0, letterCount);
+  if (letters.empty()) return {};
+  const char first = upper(letters[0]);
+  if (isStandardResidue(residue) &&
+      std::string_view("HCNOSPD").find(first) != std::string_view::npos)
+    return std::string(1, first);
+
+  if (letters.size() >= 2) {
+    std::string element = canonicalElement(letters.substr(0, 2));
+    if (!element.empty()) {
+      // Written in the symbol's own case ("Ru1", "Cl2"): the writer meant the element.
+      const bool ownCase = letters[0] == first && letters[1] == lower(letters[1]);
+      // "RU1", "ZN2", "MG": no one-letter element to confuse it with.
+      const bool noOneLetter = singleLetterElement(first).empty();
+      // An ion residue named like its atom ("ZN" in ZN, "NA+" in NA).
+      const bool ion = equalsIgnoreCase(letters, trim(residue));
+      // Two letters alone ("FE", "FE2", "BR1") that no organic name starts with: C-alpha,
+      // N-epsilon, H-gamma and O, S, P names ("CA", "NE2", "HG1", "OS1") stay one-letter.
+      const bool bareSymbol = letters.size() == 2 &&
+                              std::string_view("HCNOSP").find(first) == std::string_view::npos;
+      // The pairs MDAnalysis's tables read as elements although their first letter is one too:
+      // CL (CGenFF and GAFF name chlorines CL1, CL2), CU, CS and SI; no organic name uses them.
+      // Not NA (heme's pyrrole nitrogens are NA-ND) nor CA (C-alpha).
+      const bool mdaPair = letters.size() == 2 && (element == "Cl" || element == "Cu" ||
+                                                   element == "Cs" || element == "Si");
+      if (ownCase || noOneLetter || ion || bareSymbol || mdaPair) return element;
+    }
+  }
+  return singleLetterElement(first);
+}
+
+}  // namespace
+
+bool isMartiniWaterResidue(std::string_view residue) { return inList(residue, {"W", "WF", "PW"}); }
+
+bool isWaterVirtualSite(std::string_view name) {
+  std::string key = toUpper(trim(name));
+  std::size_t skip = 0;
+  while (skip < key.size() && isDigit(key[skip])) ++skip;
+  key.erase(0, skip);
+  // GROMACS TIP4P: MW; Amber OPC/TIP4P-Ew: EPW; TIP5P: LP1, LP2 (or EP1, EP2); CHARMM TIP4P: OM.
+  return key.rfind('M', 0) == 0 || key.rfind("LP", 0) == 0 || key.rfind("EP", 0) == 0 ||
+         key == "OM";
+}
+
+bool isPlausibleElement(std::string_view residue, std::string_view element) {
+  if (isWaterResidue(residue)) return element == "H" || element == "D" || element == "O";
+  if (isStandardResidue(residue))
+    return element == "H" || element == "D" || element == "C" || element == "N" ||
+           element == "O" || element == "S" || element == "P" || element == "Se";
+  return true;
+}
+
 std::string elementFromAtomName(std::string_view name, std::string_view residue,
                                 AtomNameLayout layout) {
+  if (layout == AtomNameLayout::Token) return elementFromToken(name, residue);
+
   const std::string_view trimmed = trim(name);
   // Leading digits number hydrogens in old PDB files ("1HB") and some MD names ("1C4A").
   std::size_t skip = 0;
@@ -221,29 +309,21 @@ std::string elementFromAtomName(std::string_view name, std::string_view residue,
     return std::string(1, first);
 
   const bool twoLetters = stem.size() >= 2 && isAlpha(stem[1]);
-  if (layout == AtomNameLayout::PdbColumns) {
-    // A name that starts in column 14 (or after a digit in column 13) has a one-letter element.
-    if (name.empty() || name[0] == ' ' || isDigit(name[0])) return singleLetterElement(first);
+  std::string element;
+  // A name that starts in column 14 (or after a digit in column 13) has a one-letter element.
+  if (name.empty() || name[0] == ' ' || isDigit(name[0])) {
+    element = singleLetterElement(first);
+  } else if (name.size() >= 4 && name[3] != ' ' && first == 'H') {
     // Four-character names starting with H are hydrogens (HH31, HG21); Hg, He, Hf, Ho and Hs
     // never have four-character names.
-    if (name.size() >= 4 && name[3] != ' ' && first == 'H') return "H";
-    if (twoLetters) {
-      std::string element = canonicalElement(stem.substr(0, 2));
-      if (!element.empty()) return element;
-    }
-    return singleLetterElement(first);
+    element = "H";
+  } else {
+    if (twoLetters) element = canonicalElement(stem.substr(0, 2));
+    if (element.empty()) element = singleLetterElement(first);
   }
-
-  if (twoLetters) {
-    std::string element = canonicalElement(stem.substr(0, 2));
-    if (!element.empty()) {
-      const bool ion = equalsIgnoreCase(stem, trim(residue));
-      const bool bareSymbol =
-          stem.size() == 2 && std::string_view("HCNOSP").find(first) == std::string_view::npos;
-      if (ion || bareSymbol) return element;
-    }
-  }
-  return singleLetterElement(first);
+  // Writers that ignore the columns (" RU1" for ruthenium): the columns said nothing.
+  if (element.empty()) element = elementFromToken(name, residue);
+  return element;
 }
 
 std::optional<double> bondiRadius(std::string_view element) {
@@ -276,6 +356,8 @@ const char* radiusSourceName(RadiusSource source) {
       return "file";
     case RadiusSource::Default:
       return "--default-radius";
+    case RadiusSource::Bead:
+      return "--bead-radius";
   }
   return "unknown";
 }
@@ -351,6 +433,13 @@ std::optional<double> RadiusTable::find(std::string_view residue, std::string_vi
   if (const auto it = byElement_.find(std::string(element)); it != byElement_.end())
     return it->second;
   return std::nullopt;
+}
+
+std::optional<double> RadiusTable::findAtom(std::string_view residue, std::string_view atom) const {
+  if (byAtom_.empty()) return std::nullopt;
+  const auto it = byAtom_.find(toUpper(trim(residue)) + ":" + toUpper(trim(atom)));
+  if (it == byAtom_.end()) return std::nullopt;
+  return it->second;
 }
 
 }  // namespace surftrace::build

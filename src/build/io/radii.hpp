@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -30,18 +31,48 @@ bool isWaterResidue(std::string_view residue);
 // letter is its element even when the name starts in column 13 (Amber writes "CA  " for C-alpha).
 bool isStandardResidue(std::string_view residue);
 
+// Water residues of the MARTINI coarse-grained force field: W (one bead for four waters), WF
+// (antifreeze) and PW (polarizable). Only water when the system is read as beads: in an
+// atomistic file a residue W is a tungsten ion.
+bool isMartiniWaterResidue(std::string_view residue);
+
+// A massless site of a 4- or 5-site water model (TIP4P's MW or OM-less M, TIP5P's LP1/LP2,
+// Amber's EPW): not an atom, so it has no element and no surface. Only asked of atoms of water
+// residues.
+bool isWaterVirtualSite(std::string_view name);
+
+// Where an atom's element came from.
+enum class ElementSource : std::uint8_t {
+  None,  // unknown
+  File,  // the file's element column (PDB columns 77-78, mmCIF type_symbol, the XYZ symbol)
+  Mass,  // the atom's mass (PSF)
+  Name,  // guessed from the atom name (elementFromAtomName)
+};
+
+// Whether an atom of this residue can be of this element: the standard residues hold only H, D,
+// C, N, O, S, P and Se (selenomethionine's SE), waters only H, D and O; other residues any.
+// Asked of guessed elements, so that a name that reads as a metal or a bead ("BB" as boron)
+// is not believed where it cannot be.
+bool isPlausibleElement(std::string_view residue, std::string_view element);
+
 // How an atom name reached us.
 enum class AtomNameLayout {
   PdbColumns,  // the raw 4-character field of PDB columns 13-16, spaces kept
   Token,       // a whitespace-delimited token; the column is lost
 };
 
-// The element an atom name implies where the file gives none ("" when it implies none),
-// following the PDB convention that columns 13-14 hold the element right-justified:
-// " CA " is carbon, "CA  " calcium, "1HB " and "HH31" hydrogen. Names in standard residues
-// always take their first letter. For tokens, where the column is lost, a two-letter element
-// is believed only for an ion residue named like the atom ("ZN" in ZN) or for a bare symbol
-// that cannot be an organic name ("FE", "MG"; not "CA", "NE", "HG").
+// The element an atom name implies where the file gives none ("" when it implies none): the
+// one guess for GRO, PSF atoms without a known mass, PQR, PDB without element columns and
+// mmCIF without type_symbol. PDB names follow the convention that columns 13-14 hold the
+// element right-justified: " CA " is carbon, "CA  " calcium, "1HB " and "HH31" hydrogen; a
+// name the columns leave without an element (" RU1", shifted a column) is read as a token.
+// Names in standard residues take their first letter when it is H, C, N, O, S, P or D.
+// Tokens, where the column is lost, are read as MDAnalysis's guess_atom_element reads them
+// (digits and charges after the letters ignored, CHARMM's SOD, POT, CLA, CAL named), with a
+// two-letter element believed only where the name means it: written in the symbol's own case
+// ("Ru1", "Cl2"), a first letter that is no element ("RU1", "ZN2"), an ion residue named like
+// the atom ("CA" in CA), two letters whose first is not H, C, N, O, S or P ("FE", "BR1"), and
+// CL, CU, CS and SI; otherwise the first letter ("CA1", "HG1", "NE2": C, H and N).
 std::string elementFromAtomName(std::string_view name, std::string_view residue,
                                 AtomNameLayout layout);
 
@@ -51,8 +82,9 @@ std::string elementFromAtomName(std::string_view name, std::string_view residue,
 std::optional<double> bondiRadius(std::string_view element);
 
 // Where an atom's radius came from.
-enum class RadiusSource { Bondi, Mantina, Alvarez, UserTable, File, Default };
-inline constexpr std::size_t kRadiusSourceCount = 6;
+// Bead: --bead-radius, one radius for every particle of a coarse-grained system.
+enum class RadiusSource { Bondi, Mantina, Alvarez, UserTable, File, Default, Bead };
+inline constexpr std::size_t kRadiusSourceCount = 7;
 const char* radiusSourceName(RadiusSource source);  // "Bondi 1964", "Alvarez 2013", ...
 
 struct TabulatedRadius {
@@ -76,6 +108,8 @@ class RadiusTable {
   // The RES:ATOM entry if there is one, else the element's entry.
   std::optional<double> find(std::string_view residue, std::string_view atom,
                              std::string_view element) const;
+  // The RES:ATOM entry alone.
+  std::optional<double> findAtom(std::string_view residue, std::string_view atom) const;
 
   const std::string& path() const { return path_; }
   std::size_t size() const { return byAtom_.size() + byElement_.size(); }

@@ -238,9 +238,15 @@ std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
   atom.name = std::string(f[4]);
   atom.charge = values[0];
   // Atom types are force-field names or numbers (adk.psf), so the mass tells the element.
+  // A massless site of a water (TIP4P's OM) has no element, whatever its name says; elsewhere
+  // a mass of 0 is a writer that gave none, and the name tells.
   atom.element = elementOfMass(values[1]);
-  if (atom.element.empty())
+  atom.elementSource = ElementSource::Mass;
+  if (atom.element.empty() && (values[1] != 0.0 || !isWaterResidue(atom.residue))) {
     atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
+    atom.elementSource = ElementSource::Name;
+  }
+  if (atom.element.empty()) atom.elementSource = ElementSource::None;
   return {};
 }
 
@@ -373,6 +379,7 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
     atom.serial = parseWhole<int>(line.substr(15, 5)).value_or(0);
     // GROMACS right-justifies names in their 5 columns, so the column tells nothing.
     atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
+    if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
     atom.line = lineNumber;
     records->push_back(std::move(atom));
   }
