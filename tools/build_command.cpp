@@ -101,6 +101,7 @@ Built readAndBuild(const SurfaceOptions& o) {
     return b;
   }
   b.molecule = build::readMolecule(o.path, o.read);
+  printReadNotes(b.molecule);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
   b.patches = build::buildSurface(b.molecule, surfaceRequest(o));

@@ -15,6 +15,9 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
 // --shrink: the MSS shrink factor in (0, 1], default 0.5, with a readable error.
 void addShrinkOption(CLI::App& cmd, double& shrink);
 
+// Prints what the reader assumed (Molecule::notes) on stderr, one "surftrace: note:" line each.
+void printReadNotes(const build::Molecule& molecule);
+
 // Whether FILE is a patch list (.stp) rather than a structure: it starts with the magic
 // "SURFTRCE", or it is named .stp (then reading it explains what is wrong).
 bool isPatchListInput(const std::string& path);

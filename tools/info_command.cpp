@@ -154,10 +154,11 @@ void runInfo(const InfoOptions& o) {
                   {"sources", bySource}};
     j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
                     {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius},
-                    {"water_virtual_sites", s.virtualSites}};
+                    {"water_virtual_sites", s.virtualSites}, {"duplicates", s.duplicates}};
     j["elements_guessed"] = {{"from_atom_names", m.elementsFromNames}, {"from_masses", m.elementsFromMasses}};
     if (m.beadRadius)
       j["coarse_grained"] = {{"martini", m.martini}, {"beads", m.size()}, {"bead_radius", *m.beadRadius}};
+    j["notes"] = m.notes;
     j["read_seconds"] = seconds;
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -198,12 +199,19 @@ void runInfo(const InfoOptions& o) {
   note(s.otherChains, "atoms of other chains (--chains)");
   note(s.otherModels, "atoms of other models (--model)");
   note(s.virtualSites, "massless water sites (TIP4P MW, TIP5P LP)");
+  note(s.duplicates, "atoms exactly on an earlier atom of the same radius");
   if (!any) out << "nothing";
   out << "\n";
+  for (std::size_t k = 0; k < m.notes.size(); ++k) out << (k ? "           " : "notes      ") << m.notes[k] << "\n";
   std::fputs(out.str().c_str(), stdout);
 }
 
 }  // namespace
+
+void printReadNotes(const build::Molecule& molecule) {
+  for (const std::string& note : molecule.notes)
+    std::fprintf(stderr, "surftrace: note: %s: %s\n", molecule.source.c_str(), note.c_str());
+}
 
 void addInfoCommand(CLI::App& app) {
   auto o = std::make_shared<InfoOptions>();

@@ -95,6 +95,7 @@ void runRender(const RenderCommandOptions& o) {
     molecule = trajectory.molecule();
   } else if (!fromPatchList) {
     molecule = build::readMolecule(o.path, o.read);
+    printReadNotes(molecule);
   }
   const double readSeconds = secondsSince(start);
 

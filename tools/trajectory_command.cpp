@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -29,6 +30,7 @@
 #include <tbb/parallel_pipeline.h>
 
 #include "build/io/atom_selection.hpp"
+#include "build/io/output_file.hpp"
 #include "build/io/trajectory.hpp"
 #include "build/surface.hpp"
 #include "commands.hpp"
@@ -110,21 +112,27 @@ int runProgram(const std::vector<std::string>& argv) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
-// Writes through a temporary file beside `path` and renames it, so that a file that exists is
-// complete (what --resume relies on).
-template <class Write>
-void writeAtomically(const std::string& path, Write&& write) {
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const fs::path partial =
-      target.parent_path() / ("." + target.filename().string() + ".partial" + target.extension().string());
-  write(partial.string());
-  fs::rename(partial, target);
-}
-
+// Whether a frame's image was written whole by an earlier run (--resume): a PNG ends with its
+// IEND chunk, an EXR reads to its last scanline. (Images are written through a temporary file
+// and renamed, so a half-written one is rare: a file copied short, a disk that lied.)
 bool complete(const std::string& path) {
+  if (path.empty()) return true;
   std::error_code ec;
-  return path.empty() || (fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0);
+  if (!fs::is_regular_file(path, ec)) return false;
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".png" || ext == ".PNG") {
+    static constexpr unsigned char kIend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    std::ifstream in(path, std::ios::binary);
+    unsigned char tail[12] = {};
+    return in.seekg(-12, std::ios::end) && in.read(reinterpret_cast<char*>(tail), 12) &&
+           std::memcmp(tail, kIend, 12) == 0;
+  }
+  try {
+    view::readExr(path);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 // The request's patch list parameters without building it, for framing as `render` frames.
@@ -214,6 +222,11 @@ void runTrajectory(const TrajectoryOptions& o) {
     throw std::invalid_argument("nothing to write: give -o frames/%05d.png and/or --exr frames/%05d.exr");
   const FramePattern png = o.output.empty() ? FramePattern() : FramePattern("-o", o.output);
   const FramePattern exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
+  // The output folders exist (made if missing) and can be written, before any frame is read.
+  if (!png.empty()) build::prepareOutputPath(png(0), "-o");
+  if (!exr.empty()) build::prepareOutputPath(exr(0), "--exr");
+  if (!o.timings.empty()) build::prepareOutputPath(o.timings, "--timings");
+  if (!o.mp4.empty()) build::prepareOutputPath(o.mp4, "--mp4");
   ImageSetup setup = resolveImageOptions(o.image);
   const build::SurfaceRequest request{build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
   const Shard shard = shardFromEnvironment(o.shard);
@@ -242,6 +255,7 @@ void runTrajectory(const TrajectoryOptions& o) {
   // has the same camera and the same rigid atoms.
   trajectory.load(frames.front());
   const build::Molecule reference = trajectory.molecule();
+  printReadNotes(reference);
   std::vector<std::uint32_t> flexible;
   std::vector<char> isFlexible;
   if (!o.flexible.empty()) {
@@ -292,12 +306,22 @@ void runTrajectory(const TrajectoryOptions& o) {
               flexible.empty() ? "" : (", " + std::to_string(flexible.size()) + " flexible atoms").c_str());
   std::fflush(stdout);
 
-  std::ofstream timings;
+  // Timings: one row a frame, flushed as it is written, so that an interrupted run keeps the
+  // rows of the frames it finished; --resume appends to them.
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> timings(nullptr, std::fclose);
+  const auto timingsFailed = [&] {
+    throw build::OutputError("--timings " + o.timings + ": write failed: " + std::strerror(errno));
+  };
   if (!o.timings.empty()) {
-    if (fs::path(o.timings).has_parent_path()) fs::create_directories(fs::path(o.timings).parent_path());
-    timings.open(o.timings);
-    if (!timings) throw std::invalid_argument("--timings " + o.timings + ": cannot write the file");
-    timings << "frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n";
+    std::error_code ec;
+    const bool append = o.resume && fs::is_regular_file(o.timings, ec) && fs::file_size(o.timings, ec) > 0;
+    timings.reset(std::fopen(o.timings.c_str(), append ? "a" : "w"));
+    if (!timings) throw build::OutputError("--timings " + o.timings + ": cannot write the file: " + std::strerror(errno));
+    if (!append &&
+        (std::fputs("frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n",
+                    timings.get()) < 0 ||
+         std::fflush(timings.get()) != 0))
+      timingsFailed();
   }
 
   const trace::EmbreeDevice device;
@@ -376,15 +400,18 @@ void runTrajectory(const TrajectoryOptions& o) {
                 meta["surftrace:color"] = o.image.color;
                 meta["surftrace:command"] = o.commandLine;
                 meta["Software"] = "surftrace 0.1.0";
-                if (!png.empty()) writeAtomically(png(w->frame), [&](const std::string& p) { view::writePng(p, w->image, meta); });
-                if (!exr.empty()) writeAtomically(exr(w->frame), [&](const std::string& p) { view::writeExr(p, w->image, meta); });
+                // Each written whole or not at all (view::writePng/writeExr), every write checked.
+                if (!png.empty()) view::writePng(png(w->frame), w->image, meta);
+                if (!exr.empty()) view::writeExr(exr(w->frame), w->image, meta);
                 w->writeMs = millisecondsSince(t);
                 readMs.push_back(w->readMs), buildMs.push_back(w->buildMs);
                 renderMs.push_back(w->renderMs), writeMs.push_back(w->writeMs);
-                if (timings)
-                  timings << w->frame << ',' << w->time << ',' << w->readMs << ',' << w->buildMs << ',' << w->renderMs
-                          << ',' << w->writeMs << ',' << w->moved << ',' << w->recomputed << ',' << w->patches
-                          << '\n';
+                if (timings &&
+                    (std::fprintf(timings.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w->frame, w->time,
+                                  w->readMs, w->buildMs, w->renderMs, w->writeMs, w->moved, w->recomputed,
+                                  w->patches) < 0 ||
+                     std::fflush(timings.get()) != 0))
+                  timingsFailed();
                 // One line per frame when nobody watches a bar (the logs of batch jobs).
                 if (!o.quiet && !isatty(STDERR_FILENO))
                   std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w->frame, w->buildMs, w->renderMs);

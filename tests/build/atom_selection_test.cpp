@@ -35,12 +35,12 @@ fs::path tempDir() {
   return dir;
 }
 
-// Every atom of the file, in file order, as a trajectory's topology is read (water kept).
+// Every atom of the file, in file order, as a trajectory's topology is read (water kept; the
+// massless sites of TIP4P waters, MW, are left out: AtomRecord::fileIndex keeps their place).
 Molecule readTopology(const fs::path& path) {
   ReadOptions options;
   options.keepWater = true;
   options.topologyOnly = true;
-  options.defaultRadius = 1.5;  // for virtual sites such as TIP4P's MW; radii play no part here
   return readMolecule(path, options);
 }
 
@@ -80,16 +80,21 @@ class SelectionAgreesWithMDAnalysis : public ::testing::TestWithParam<OracleCase
 TEST_P(SelectionAgreesWithMDAnalysis, SameAtoms) {
   const fs::path path = data(GetParam().file);
   const Molecule m = readTopology(path);
-  for (std::size_t i = 0; i < m.size(); ++i) ASSERT_EQ(m.atoms[i].fileIndex, i) << "atom " << i << " of " << path;
+  // Our atoms by their place in the file; MDAnalysis's selections restricted to them.
+  std::vector<char> present(m.fileAtomCount, 0);
+  for (std::size_t i = 0; i < m.size(); ++i) present[m.atoms[i].fileIndex] = 1;
   const std::vector<std::string>& selections = GetParam().selections;
-  const auto mda = mdaSelect(path, selections, m.size(), tempDir());
+  const auto mda = mdaSelect(path, selections, m.fileAtomCount, tempDir());
   ASSERT_EQ(mda.size(), selections.size());
   for (std::size_t k = 0; k < selections.size(); ++k) {
     ASSERT_FALSE(mda[k].empty()) << "'" << selections[k] << "' selects nothing: choose another";
-    std::vector<std::uint32_t> ours;
+    std::vector<std::uint32_t> ours, theirs;
     EXPECT_NO_THROW(ours = selectAtoms(m, selections[k])) << selections[k];
-    EXPECT_EQ(ours, mda[k]) << "'" << selections[k] << "' on " << GetParam().file << ": ours " << ours.size()
-                            << " atoms, MDAnalysis " << mda[k].size();
+    for (std::uint32_t& i : ours) i = static_cast<std::uint32_t>(m.atoms[i].fileIndex);
+    for (std::uint32_t i : mda[k])
+      if (present[i]) theirs.push_back(i);
+    EXPECT_EQ(ours, theirs) << "'" << selections[k] << "' on " << GetParam().file << ": ours " << ours.size()
+                            << " atoms, MDAnalysis " << theirs.size();
   }
 }
 

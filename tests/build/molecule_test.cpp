@@ -576,6 +576,72 @@ TEST(MoleculeBadInput, XyzrLineWithThreeColumns) {
   expectError(data("bad/short_line.xyzr"), 4, "expected 4 fields (x y z r), got 3");
 }
 
+// A 2 MB line (issue 18: a 20 MB one was echoed whole) is quoted by its first characters
+// and its length, in XYZR, XYZ and a radius table alike.
+TEST(MoleculeBadInput, HugeLineIsQuotedShort) {
+  const std::string huge(2'000'000, '7');
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"huge.xyzr", "0 0 0 1.5\n1 2 " + huge + "x 1.5\n"},
+           {"huge.xyz", "2\ncomment\nC 0 0 0\nC 1 2 " + huge + "x\n"}}) {
+    try {
+      readMoleculeBytes(text, name);
+      ADD_FAILURE() << name << " was read";
+    } catch (const InputError& e) {
+      EXPECT_LT(std::string(e.what()).size(), 400u) << name;
+      EXPECT_THAT(e.what(), HasSubstr("characters)")) << name << ": " << e.what();
+    }
+  }
+  const fs::path dir = fs::path(testing::TempDir()) / "huge_radii";
+  fs::create_directories(dir);
+  {
+    std::ofstream(dir / "radii.txt") << "C 1.7 " << huge << "\n";
+  }
+  try {
+    RadiusTable::load(dir / "radii.txt");
+    ADD_FAILURE() << "the radius table was read";
+  } catch (const InputError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 400u);
+    EXPECT_THAT(e.what(), HasSubstr("characters)"));
+  }
+}
+
+// An element column that names no element ("Xx") is not silently carbon (issue 18): the atom
+// takes what its name gives, and a note says so with the line.
+TEST(Molecule, UnknownElementSymbolIsNoted) {
+  const std::string pdb =
+      "ATOM      1  N   ALA A   1      11.104   6.134  -6.504  1.00  0.00           N\n"
+      "ATOM      2  CA  ALA A   1      11.639   6.071  -5.147  1.00  0.00          Xx\n"
+      "END\n";
+  const Molecule m = readMoleculeBytes(pdb, "xx.pdb");
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m.atoms[1].element, "C");
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_THAT(m.notes[0], HasSubstr("line 2"));
+  EXPECT_THAT(m.notes[0], HasSubstr("'Xx' is no element"));
+  EXPECT_THAT(m.notes[0], HasSubstr("took C from the atom name"));
+  // A known symbol gives no note.
+  EXPECT_TRUE(readMoleculeBytes(pdb.substr(0, pdb.find('\n') + 1) + "END\n", "n.pdb").notes.empty());
+}
+
+// 200,000 copies of one atom (issue 18: quadratic, over a minute) read as one atom with a note;
+// an atom at the same centre with another radius is kept.
+TEST(Molecule, ExactDuplicatesAreLeftOutWithANote) {
+  std::string xyzr;
+  for (int i = 0; i < 200000; ++i) xyzr += "1.25 -2.5 3 1.5\n";
+  xyzr += "1.25 -2.5 3 1.7\n-0 0 0 1.5\n0 -0 0 1.5\n";
+  const Molecule m = readMoleculeBytes(xyzr, "copies.xyzr");
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m.radii, (std::vector<double>{1.5, 1.7, 1.5}));
+  EXPECT_EQ(m.skipped.duplicates, 200000u - 1u + 1u);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_THAT(m.notes[0], HasSubstr("200000 atoms lie exactly on an earlier atom"));
+  EXPECT_THAT(m.notes[0], HasSubstr("line 2 repeats line 1"));
+  EXPECT_EQ(m.atoms[1].line, 200001);
+  // PDB: the same atom record twice (same name, residue, element and centre).
+  const std::string atom = "ATOM      1  CA  ALA A   1      11.639   6.071  -5.147  1.00  0.00           C\n";
+  EXPECT_EQ(readMoleculeBytes(atom + atom + atom + "END\n", "thrice.pdb").size(), 1u);
+}
+
 TEST(MoleculeBadInput, XyzProblems) {
   expectError(data("bad/truncated.xyz"), 6, "3 of the 5 atoms");
   expectError(data("bad/bad_count.xyz"), 1, "'five'");
@@ -607,6 +673,23 @@ TEST(MoleculeValidate, RejectsNonFiniteCentresAndBadRadii) {
   m.radii[0] = 0.0;
   EXPECT_THROW(validateMolecule(m), InputError);
   m.radii[0] = 1.5;
+  // Finite but absurd (issue 18: a coordinate of 1e30 rendered a blank image with exit 0).
+  for (const double far : {1e30, -2e6, kMaxCoordinate * (1 + 1e-15)}) {
+    m.centers[1].x = far;
+    try {
+      validateMolecule(m);
+      ADD_FAILURE() << "no error for a centre at " << far;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 7);
+      EXPECT_THAT(e.what(), HasSubstr("lies beyond 1e+06 Å"));
+    }
+  }
+  m.centers[1].x = kMaxCoordinate;
+  EXPECT_NO_THROW(validateMolecule(m));
+  m.centers[1].x = 1.0;
+  m.radii[1] = 1e4;
+  EXPECT_THAT([&] { validateMolecule(m); }, ::testing::ThrowsMessage<InputError>(HasSubstr("larger than 1000 Å")));
+  m.radii[1] = 1.5;
   m.radii.pop_back();
   EXPECT_THROW(validateMolecule(m), InputError);
   EXPECT_THROW(validateMolecule(Molecule{}), InputError);

@@ -664,6 +664,10 @@ TEST(XtcReader, ImpossibleHeaderFieldsAreInputErrors) {
   expectReadError(path, with(f2 + 56, 0), 1, {frame1, "precision"});
   expectReadError(path, with(f2 + 56, 0x7fc00000), 1, {frame1, "precision"});  // NaN
   expectReadError(path, with(f2 + 56, 0x00000001), 1, {frame1, "precision"});  // 1e-45
+  // Finite and positive, but no simulation writes it (issue 18: taken as is before).
+  expectReadError(path, with(f2 + 56, std::bit_cast<std::uint32_t>(1e30f)), 1, {frame1, "precision 1e+30", "damaged"});
+  expectReadError(path, with(f2 + 56, std::bit_cast<std::uint32_t>(1e-30f)), 1, {frame1, "precision 1e-30", "damaged"});
+  expectReadError(path, with(f2 + 56, std::bit_cast<std::uint32_t>(0.5f)), 1, {frame1, "precision 0.5"});
   expectReadError(path, with(f2 + 60, 0x7fffffff), 1,
                   {frame1, "integer bounds"});  // minint > maxint
   expectReadError(path, with(f2 + 16, 0x7f800000), 1, {frame1, "non-finite box"});

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -169,6 +170,43 @@ TEST(Output, ProgressBarFitsTheTerminalAndKeepsRowsApart) {
   }
   EXPECT_EQ(rows, 6u) << r.output;
   EXPECT_GE(bars, 1u) << "no progress bar was drawn on the terminal\n" << r.output;
+}
+
+// `trajectory`: a full disk stops the run with exit 1 and leaves no partial frame; --resume
+// re-renders a frame cut short (a PNG without its IEND) and appends to the timings.
+TEST(Output, TrajectoryFramesAreWholeAndResumeChecksThem) {
+  const fs::path dir = folder("trajectory");
+  const std::string inputs = data("trajectories/adk_dims/adk.psf.gz") + " " + data("trajectories/adk_dims/adk_dims.dcd");
+  const std::string frames = "surftrace trajectory " + inputs + " --frames 0:4 --size 16x16 --quiet -o " +
+                             (dir / "f%02d.png").string();
+  const std::string run = frames + " --timings " + (dir / "t.csv").string();
+  const Shell full = shell("trap \"\" XFSZ; ulimit -f 0; " + frames);
+  EXPECT_EQ(full.status, 1) << full.output;
+  EXPECT_NE(full.output.find("File too large"), std::string::npos) << full.output;
+  EXPECT_EQ(filesIn(dir), 0u) << "a frame or a temporary file was left";
+  const Shell fullTimings = shell("trap \"\" XFSZ; ulimit -f 0; " + run);
+  EXPECT_EQ(fullTimings.status, 1) << fullTimings.output;
+  EXPECT_NE(fullTimings.output.find("--timings"), std::string::npos) << fullTimings.output;
+  fs::remove(dir / "t.csv");
+
+  const Shell first = shell(run);
+  ASSERT_EQ(first.status, 0) << first.output;
+  // Frame 2 cut short, as a copy that stopped early leaves it.
+  fs::resize_file(dir / "f02.png", 20);
+  fs::remove(dir / "f03.png");
+  const Shell again = shell(run + " --resume");
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("2 to render"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("2 done already"), std::string::npos) << again.output;
+  EXPECT_GT(fs::file_size(dir / "f02.png"), 20u);
+  // The timings hold the header once and a row for every frame rendered by either run.
+  std::ifstream csv(dir / "t.csv");
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 1u + 4u + 2u);
+  EXPECT_EQ(rows[0].rfind("frame,", 0), 0u);
+  for (std::size_t k = 1; k < rows.size(); ++k) EXPECT_TRUE(std::isdigit(static_cast<unsigned char>(rows[k][0]))) << rows[k];
 }
 
 // Parse errors exit 1, as --help says; --help itself 0.

@@ -22,6 +22,7 @@
 #include "build/io/error.hpp"
 #include "build/io/molecule.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace::build::detail {
 
@@ -38,17 +39,11 @@ std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
 
 namespace {
 
-bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
-}
+using text::inQuotes;
+using text::isSpace;
+using text::trim;
+using text::upper;
 bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
 
 // A whole-field decimal number. gemmi's own readers parse what they can and ignore the rest
 // ("abc" reads as 0, "1.2.3" as 1.2, "nan" as NaN), so every number SurfTrace uses is
@@ -59,14 +54,6 @@ bool parseWhole(std::string_view text, double& value) {
   if (first != last && *first == '+') ++first;
   const auto [ptr, ec] = std::from_chars(first, last, value);
   return ec == std::errc() && ptr == last;
-}
-
-// (Built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string(s) + "'".)
-std::string inQuotes(std::string_view s) {
-  std::string out;
-  out.reserve(s.size() + 2);
-  out.append(1, '\'').append(s).append(1, '\'');
-  return out;
 }
 
 std::string modelCountText(std::size_t n) {
@@ -208,9 +195,13 @@ InputError fromGemmi(const std::string& path, const std::exception& e) {
   return InputError(path, line, "gemmi: " + message);
 }
 
-std::string pdbElement(std::string_view line, const std::string& residue, ElementSource& source) {
+// `unknown` receives the element column's letters when they name no element ("Xx"), so
+// that the reader can say what it assumed instead.
+std::string pdbElement(std::string_view line, const std::string& residue, ElementSource& source,
+                       std::string& unknown) {
   // Columns 77-78 hold the element in remediated files; older files have the entry ID and a
   // line serial in columns 73-80, so digits there are not an element.
+  unknown.clear();
   if (line.size() >= 77) {
     const std::string_view field =
         trim(line.substr(76, std::min<std::size_t>(2, line.size() - 76)));
@@ -218,11 +209,28 @@ std::string pdbElement(std::string_view line, const std::string& residue, Elemen
       std::string element = canonicalElement(field);
       source = ElementSource::File;
       if (!element.empty()) return element;
+      unknown = std::string(field);
     }
   }
   std::string element = elementFromAtomName(line.substr(12, 4), residue, AtomNameLayout::PdbColumns);
   source = element.empty() ? ElementSource::None : ElementSource::Name;
   return element;
+}
+
+// A note on an element column that names no element: what was taken instead. At most
+// kMaxNotes such notes, then one that counts the rest.
+constexpr std::size_t kMaxElementNotes = 10;
+void noteUnknownElement(Molecule& molecule, std::size_t& count, int line, const std::string& where,
+                        const std::string& symbol, const AtomRecord& atom) {
+  if (++count > kMaxElementNotes) return;
+  std::string note = "line " + std::to_string(line) + ": " + where + " " + inQuotes(symbol) + " is no element";
+  note += atom.element.empty() ? std::string("; the atom name ") + inQuotes(atom.name) + " gives none either"
+                               : "; took " + atom.element + " from the atom name " + inQuotes(atom.name);
+  molecule.notes.push_back(note);
+}
+void countMoreElementNotes(Molecule& molecule, std::size_t count) {
+  if (count > kMaxElementNotes)
+    molecule.notes.push_back(std::to_string(count - kMaxElementNotes) + " more atoms whose element column names no element");
 }
 
 }  // namespace
@@ -360,6 +368,8 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
 
   molecule.centers.reserve(found.size());
   molecule.atoms.reserve(found.size());
+  std::string unknownSymbol;
+  std::size_t unknownElements = 0;
   for (const Found& f : found) {
     const PdbAtomLine& record = records[f.index];
     const std::string_view line(text.data() + record.start, record.length);
@@ -370,7 +380,9 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     atom.residueNumber = f.residue->seqid.num.has_value() ? f.residue->seqid.num.value : 0;
     atom.insertionCode = f.residue->seqid.icode;
     atom.serial = record.serial;
-    atom.element = pdbElement(line, atom.residue, atom.elementSource);
+    atom.element = pdbElement(line, atom.residue, atom.elementSource, unknownSymbol);
+    if (!unknownSymbol.empty())
+      noteUnknownElement(molecule, unknownElements, record.line, "columns 77-78 hold", unknownSymbol, atom);
     atom.occupancy = record.occupancy;
     atom.bFactor = record.bFactor;
     atom.hetatm = upper(line[0]) == 'H';
@@ -379,6 +391,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     molecule.centers.emplace_back(f.atom->pos.x, f.atom->pos.y, f.atom->pos.z);
     molecule.atoms.push_back(std::move(atom));
   }
+  countMoreElementNotes(molecule, unknownElements);
   return molecule;
 }
 
@@ -574,6 +587,7 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
   std::vector<std::string> models;  // in order of first appearance
   std::string currentModel;
   int currentIndex = -1;
+  std::size_t unknownElements = 0;
   for (std::size_t r = 0; r < rows; ++r) {
     gemmi::cif::Table::Row row = table[static_cast<int>(r)];
     const int line = rowLines[r];
@@ -655,6 +669,11 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
     if (atom.element.empty()) {
       atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
       if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
+      if (row.has2(kSymbol)) {
+        const std::string symbol = gemmi::cif::as_string(row[kSymbol]);
+        if (!symbol.empty() && isAlpha(symbol[0]))
+          noteUnknownElement(molecule, unknownElements, line, cifTag("type_symbol"), symbol, atom);
+      }
     }
     // As for PDB: an unreadable occupancy is an error only where it chooses a conformer.
     atom.occupancy = 1.0;
@@ -677,6 +696,7 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
   molecule.modelCount = static_cast<int>(models.size());
   if (models.empty()) throw InputError(path, 0, "no atoms in the _atom_site table");
   if (model > molecule.modelCount) throwNoSuchModel(path, model, models.size());
+  countMoreElementNotes(molecule, unknownElements);
   return molecule;
 }
 

@@ -6,6 +6,8 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -19,6 +21,7 @@
 #include <set>
 #include <string_view>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 
 #include "build/io/error.hpp"
@@ -913,6 +916,63 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
   }
 }
 
+// Atoms at exactly the same centre that get exactly the same radius (the same radius in the
+// file, or the same element, residue and name) add nothing to any surface but make every
+// neighbour search quadratic (200,000 coincident atoms took minutes): the first is kept, the
+// others left out, counted and noted. Before the radii are assigned, so the radius sources
+// count only the atoms kept.
+void dropExactDuplicates(Molecule& molecule) {
+  const bool fileRadii = molecule.radii.size() == molecule.size();
+  struct Key {
+    std::array<std::uint64_t, 4> bits;
+    std::string_view element, residue, name;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::size_t h = 0;
+      for (std::uint64_t b : k.bits) h = h * 0x9E3779B97F4A7C15ull + (b ^ (b >> 29));
+      return h ^ std::hash<std::string_view>{}(k.name) ^ (std::hash<std::string_view>{}(k.residue) << 1);
+    }
+  };
+  // +0.0 and -0.0 are one coordinate.
+  const auto bitsOf = [](double v) { return std::bit_cast<std::uint64_t>(v == 0.0 ? 0.0 : v); };
+  std::unordered_map<Key, std::size_t, KeyHash> first;
+  first.reserve(molecule.size());
+  std::vector<std::size_t> kept;
+  kept.reserve(molecule.size());
+  std::size_t dropped = 0;
+  std::string example;
+  for (std::size_t i = 0; i < molecule.size(); ++i) {
+    const glm::dvec3& c = molecule.centers[i];
+    const AtomRecord& a = molecule.atoms[i];
+    const Key key{{bitsOf(c.x), bitsOf(c.y), bitsOf(c.z), fileRadii ? bitsOf(molecule.radii[i]) : 0},
+                  a.element, a.residue, a.name};
+    const auto [it, inserted] = first.try_emplace(key, i);
+    if (inserted) {
+      kept.push_back(i);
+    } else if (dropped++ == 0) {
+      const AtomRecord& earlier = molecule.atoms[it->second];
+      example = " (the first: " + (a.line > 0 ? "line " + std::to_string(a.line) : "atom " + std::to_string(i + 1)) +
+                " repeats " + (earlier.line > 0 ? "line " + std::to_string(earlier.line) : "atom " + std::to_string(it->second + 1)) +
+                ")";
+    }
+  }
+  if (dropped == 0) return;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    molecule.centers[k] = molecule.centers[kept[k]];
+    if (fileRadii) molecule.radii[k] = molecule.radii[kept[k]];
+    molecule.atoms[k] = std::move(molecule.atoms[kept[k]]);
+  }
+  molecule.centers.resize(kept.size());
+  if (fileRadii) molecule.radii.resize(kept.size());
+  molecule.atoms.resize(kept.size());
+  molecule.skipped.duplicates = dropped;
+  molecule.notes.push_back(std::to_string(dropped) + (dropped == 1 ? " atom lies" : " atoms lie") +
+                           " exactly on an earlier atom of the same radius and " + (dropped == 1 ? "was" : "were") +
+                           " left out" + example);
+}
+
 void countElementSources(Molecule& molecule) {
   for (const AtomRecord& atom : molecule.atoms) {
     molecule.elementsFromNames += atom.elementSource == ElementSource::Name;
@@ -1030,6 +1090,7 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   if (format != MoleculeFormat::Xyz && format != MoleculeFormat::Xyzr)
     recogniseCoarseGrained(molecule, options, name);
   selectAtoms(molecule, options, name);
+  if (!options.topologyOnly) dropExactDuplicates(molecule);
   assignRadii(molecule, options, name);
   countElementSources(molecule);
   if (!options.topologyOnly) validateMolecule(molecule);
@@ -1050,7 +1111,9 @@ void validateMolecule(const Molecule& molecule) {
     const double r = molecule.radii[i];
     const bool centreOk = std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
     const bool radiusOk = std::isfinite(r) && r > 0.0;
-    if (centreOk && radiusOk) continue;
+    const bool centreNear = std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}) <= kMaxCoordinate;
+    const bool radiusSmall = r <= kMaxRadius;
+    if (centreOk && radiusOk && centreNear && radiusSmall) continue;
     const int line = molecule.atoms.empty() ? 0 : molecule.atoms[i].line;
     const std::string who =
         molecule.atoms.empty() ? "atom " + std::to_string(i + 1) : describe(molecule.atoms[i]);
@@ -1058,8 +1121,18 @@ void validateMolecule(const Molecule& molecule) {
       throw InputError(name, line,
                        who + ": the centre is not finite (" + std::to_string(c.x) + ", " +
                            std::to_string(c.y) + ", " + std::to_string(c.z) + ")");
-    throw InputError(name, line,
-                     who + ": the radius must be finite and > 0, got " + std::to_string(r));
+    if (!radiusOk)
+      throw InputError(name, line, who + ": the radius must be finite and > 0, got " + std::to_string(r));
+    char text[256];
+    if (!centreNear)
+      std::snprintf(text, sizeof text,
+                    ": the centre (%g, %g, %g) lies beyond %g Å of the origin, farther than any molecule or "
+                    "simulation box in Å reaches (are the coordinates in other units, or the file damaged?)",
+                    c.x, c.y, c.z, kMaxCoordinate);
+    else
+      std::snprintf(text, sizeof text, ": the radius %g Å is larger than %g Å, more than any atom or bead has",
+                    r, kMaxRadius);
+    throw InputError(name, line, who + text);
   }
 }
 

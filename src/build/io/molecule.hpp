@@ -73,6 +73,7 @@ struct SkipReport {
   std::size_t defaultRadius = 0;    // atoms that got --default-radius (not skipped, noted)
   std::size_t zeroRadius = 0;       // PQR/XYZR atoms of radius 0 left out (dropZeroRadius)
   std::size_t virtualSites = 0;     // massless water sites (TIP4P MW, TIP5P LP) of kept waters
+  std::size_t duplicates = 0;       // atoms exactly on an earlier one of the same radius
 };
 
 struct Molecule {
@@ -97,6 +98,9 @@ struct Molecule {
   std::optional<double> beadRadius;     // the --bead-radius every particle got, when given
   std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
   SkipReport skipped;
+  // What the reader assumed where the file was odd but readable (an element column that
+  // names no element, ...), each naming the line: the commands print them as notes.
+  std::vector<std::string> notes;
 
   std::size_t size() const { return centers.size(); }
 };
@@ -109,7 +113,15 @@ Molecule readMolecule(const std::filesystem::path& path, const ReadOptions& opti
 // path in errors and, when options.format is Auto, tells the format by its extension.
 Molecule readMoleculeBytes(std::string bytes, const std::string& name, const ReadOptions& options = {});
 
-// Checks that every centre is finite and every radius finite and > 0; throws InputError
+// The largest coordinate (Å, each of x, y, z) and radius (Å) a molecule may have: a metre's
+// ten-thousandth, and a hundred times the largest coarse-grained bead. Beyond them the input
+// is in other units or damaged (1e30 rendered blank, issue 18), and float32 renderers lose
+// the atoms' size against their position.
+inline constexpr double kMaxCoordinate = 1e6;
+inline constexpr double kMaxRadius = 1e3;
+
+// Checks that every centre is finite and within kMaxCoordinate, every radius finite, > 0 and
+// at most kMaxRadius; throws InputError
 // (with the atom's line where known) otherwise. readMolecule calls it; builders that take
 // a Molecule from elsewhere (a trajectory frame) call it too.
 void validateMolecule(const Molecule& molecule);

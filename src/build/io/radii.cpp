@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "build/io/error.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -80,19 +81,12 @@ constexpr ElementRadius kAlvarez[] = {
     {"Cf", 3.05}, {"Es", 2.70}};
 // clang-format on
 
-char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
+using text::upper;
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 bool isDigit(char c) { return c >= '0' && c <= '9'; }
-bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
-  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
-  return s;
-}
+using text::isSpace;
+using text::trim;
 
 std::string toUpper(std::string_view s) {
   std::string out(s);
@@ -389,8 +383,7 @@ RadiusTable RadiusTable::load(const std::filesystem::path& path) {
     if (fields.size() != 2)
       throw InputError(table.path_, lineNumber,
                        "expected 'ELEMENT radius' or 'RES:ATOM radius', got " +
-                           std::to_string(fields.size()) + " fields: '" + std::string(trim(line)) +
-                           "'");
+                           std::to_string(fields.size()) + " fields: " + text::inQuotes(trim(line)));
     const std::optional<double> radius = parsePositive(fields[1]);
     if (!radius)
       throw InputError(table.path_, lineNumber,

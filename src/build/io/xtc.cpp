@@ -49,6 +49,7 @@ constexpr std::int32_t kXtcMagic = 1995;
 constexpr std::int32_t kXtcLargeMagic = 2023;
 
 constexpr std::uint64_t kCoordinatesAt = 56;  // after magic, natoms, step, time, box, natoms
+constexpr float kMinPrecision = 1.0f, kMaxPrecision = 1e9f;  // see decodeCompressed
 constexpr std::uint64_t kBlockAt = 92;        // after precision, minint, maxint, smallidx, count
 constexpr std::int64_t kMaxUncompressedAtoms = 9;
 // Bits of one atom at most: three 32-bit fields, the run flag and 5 run bits. A byte count
@@ -205,6 +206,13 @@ void decodeCompressed(const unsigned char* frameBytes, std::uint64_t blockBytes,
   const float precision = xdrFloat(frameBytes + kCoordinatesAt);
   if (!(std::isfinite(precision) && precision > 0.0f))
     throw BlockError{"precision " + floatText(precision) + " is not a positive number"};
+  // GROMACS writes 1000 (coordinates to 0.001 nm) unless told otherwise. Below 1 every
+  // coordinate is rounded to more than a nanometre; above 1e9 no coordinate beyond ±2 nm fits
+  // the 32-bit integers: neither comes from a simulation of molecules.
+  if (precision < kMinPrecision || precision > kMaxPrecision)
+    throw BlockError{"precision " + floatText(precision) + " (coordinates in units of 1/precision nm) is outside " +
+                     floatText(kMinPrecision) + ".." + floatText(kMaxPrecision) +
+                     ": not a value a simulation writes; the file is damaged"};
   std::array<std::int64_t, 3> minint{};
   std::array<std::int64_t, 3> maxint{};
   std::array<std::uint64_t, 3> sizes{};
