@@ -132,8 +132,16 @@ struct PatchList {
   // An empty list that keeps the memory of its arrays, for builders that refill one list
   // frame after frame (no allocation, no page faults once it has held the largest frame).
   void clearKeepingMemory();
-  // Throws std::runtime_error if any kind's arrays differ in length, an index range runs
-  // past its array, an atom index is >= params.atomCount, or a value is not finite.
+  // Throws std::runtime_error naming the first field ("tori.axis[17] = (0, 0, 0) ...") that is
+  // outside what the builders write: arrays of one kind differ in length; a value is not
+  // finite; a probe radius or shrink factor is outside its option's range; a kind of patch
+  // the surface does not have; a coordinate or length beyond 1e9 Å, a radius <= 0 or a
+  // length < 0; a unit vector (axis, e1, direction, plane normal) off length 1 by over 1e-6;
+  // an angle outside its range (θ in [−π/2, π/2], θi <= θj, φ extent in (0, 2π]); a convex
+  // area outside [0, 4πr²] or a vector area longer than π; an MSS coefficient that is not
+  // its kind's; an atom >= params.atomCount, a torus with atomI >= atomJ, a triangle repeating
+  // an atom, a component >= componentCount (itself at most the SES patch count), a plane range
+  // past its array, MSS kinds out of order or a simplex not ascending with unused slots ~0u.
   void validate() const;
 };
 
