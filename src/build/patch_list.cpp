@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -13,6 +14,8 @@
 #include <type_traits>
 
 #include <zlib.h>
+
+#include "build/ses/contour_buildup.hpp"
 
 namespace surftrace::build {
 
@@ -156,9 +159,13 @@ constexpr double kAngleSlack = 1e-12;
 // Areas are sums of exact terms; their rounding is far below this share of the bound.
 constexpr double kAreaSlack = 1e-6;
 
+// The shortest of 15 to 17 digits that reads back as the same double: "1.4", not "1.3999999999999999".
 std::string text(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
   return buf;
 }
 std::string text(std::uint32_t v) { return std::to_string(v); }
@@ -283,6 +290,13 @@ void checkConvex(const PatchList& p) {
   const ConvexSpheres& c = p.convex;
   checkPoints(c.center, "convex", "center");
   checkLengths(c.radius, true, "convex", "radius");
+  // The SES builder's own limit (checkProbeRadius): rp <= 2^19 r for every atom. Past it the
+  // SAS share of a patch, area·((r + rp)/r)², overflows (0·∞ for a tiny sphere).
+  if (p.params.surface == SurfaceKind::Ses)
+    for (std::size_t k = 0; k < c.size(); ++k)
+      if (!(p.params.probeRadius <= kMaxProbeToRadius * c.radius[k]))
+        badField("convex", "radius", k, c.radius[k],
+                 "is below the probe radius " + text(p.params.probeRadius) + " Å / 2^19, the builder's limit");
   checkAtoms(c.atom, p.params.atomCount, "convex", "atom");
   checkComponents(c.component, p.componentCount, "convex");
   for (std::size_t k = 0; k < c.size(); ++k) {

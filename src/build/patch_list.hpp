@@ -136,7 +136,7 @@ struct PatchList {
   // outside what the builders write: arrays of one kind differ in length; a value is not
   // finite; a probe radius or shrink factor is outside its option's range; a kind of patch
   // the surface does not have; a coordinate or length beyond 1e9 Å, a radius <= 0 or a
-  // length < 0; a unit vector (axis, e1, direction, plane normal) off length 1 by over 1e-6;
+  // length < 0 (an SES probe above 2^19 times a convex radius, as the builder refuses); a unit vector (axis, e1, direction, plane normal) off length 1 by over 1e-6;
   // an angle outside its range (θ in [−π/2, π/2], θi <= θj, φ extent in (0, 2π]); a convex
   // area outside [0, 4πr²] or a vector area longer than π; an MSS coefficient that is not
   // its kind's; an atom >= params.atomCount, a torus with atomI >= atomJ, a triangle repeating
