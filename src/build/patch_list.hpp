@@ -215,7 +215,8 @@ PatchList outerComponent(const PatchList& patches);
 //   magic "SURFTRCE" | u32 version | u32 endian tag 0x01020304 | u64 body size |
 //   body (parameters, then a table of named arrays) | u32 CRC-32 of the body.
 // Readers reject a wrong magic, a newer version, a truncated file or a bad checksum with
-// an error that says which.
+// an error that says which, and a list that fails validate() behind a good checksum with one
+// that names the field, its index and value ("FILE: corrupt patch list: tori.axis[17] = ...").
 // Version 2: the MSS arrays (MssQuadrics as above); version-1 lists are refused with advice.
 inline constexpr std::uint32_t kPatchFileVersion = 2;
 void writePatchList(const std::string& path, const PatchList& patches);
