@@ -421,6 +421,15 @@ void checkList(const PatchList& p) {
   checkTori(p);
   checkConcave(p);
   checkMss(p);
+  // Components are numbered as the builder meets them, so each number up to componentCount
+  // labels some patch (0, the outer surface, always: `--drop-cavities` keeps it).
+  std::vector<bool> labelled(p.componentCount, false);
+  for (const auto* component : {&p.convex.component, &p.tori.component, &p.concave.component})
+    for (const std::uint32_t c : *component) labelled[c] = true;
+  const auto unused = std::find(labelled.begin(), labelled.end(), false);
+  if (unused != labelled.end())
+    throw std::runtime_error("componentCount = " + std::to_string(p.componentCount) + ", but no patch is of component " +
+                             std::to_string(unused - labelled.begin()));
 }
 
 }  // namespace

@@ -140,7 +140,7 @@ struct PatchList {
   // an angle outside its range (θ in [−π/2, π/2], θi <= θj, φ extent in (0, 2π]); a convex
   // area outside [0, 4πr²] or a vector area longer than π; an MSS coefficient that is not
   // its kind's; an atom >= params.atomCount, a torus with atomI >= atomJ, a triangle repeating
-  // an atom, a component >= componentCount (itself at most the SES patch count), a plane range
+  // an atom, a component >= componentCount or one below it that no patch carries, a plane range
   // past its array, MSS kinds out of order or a simplex not ascending with unused slots ~0u.
   void validate() const;
 };

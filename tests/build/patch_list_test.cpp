@@ -434,6 +434,11 @@ TEST(PatchListValidate, ImpossibleSesFieldsAreRejectedOnLoad) {
   std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
   overwrite(bad, "", 0, 0xFFFFFFFFu, components);
   expectRejected(bad, "componentCount", "4294967295");
+  // One component more than the patches carry: `area` would report an empty cavity.
+  std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+  overwrite(bad, "", 0, p.componentCount + 1, components);
+  expectRejected(bad, "componentCount", std::to_string(p.componentCount + 1) + ", but no patch is of component " +
+                                            std::to_string(p.componentCount));
 }
 
 TEST(PatchListValidate, ImpossibleMssFieldsAreRejectedOnLoad) {
