@@ -132,8 +132,16 @@ struct PatchList {
   // An empty list that keeps the memory of its arrays, for builders that refill one list
   // frame after frame (no allocation, no page faults once it has held the largest frame).
   void clearKeepingMemory();
-  // Throws std::runtime_error if any kind's arrays differ in length, an index range runs
-  // past its array, an atom index is >= params.atomCount, or a value is not finite.
+  // Throws std::runtime_error naming the first field ("tori.axis[17] = (0, 0, 0) ...") that is
+  // outside what the builders write: arrays of one kind differ in length; a value is not
+  // finite; a probe radius or shrink factor is outside its option's range; a kind of patch
+  // the surface does not have; a coordinate or length beyond 1e9 Å, a radius <= 0 or a
+  // length < 0 (an SES probe above 2^19 times a convex radius, as the builder refuses); a unit vector (axis, e1, direction, plane normal) off length 1 by over 1e-6;
+  // an angle outside its range (θ in [−π/2, π/2], θi <= θj, φ extent in (0, 2π]); a convex
+  // area outside [0, 4πr²] or a vector area longer than π; an MSS coefficient that is not
+  // its kind's; an atom >= params.atomCount, a torus with atomI >= atomJ, a triangle repeating
+  // an atom, a component >= componentCount or one below it that no patch carries, a plane range
+  // past its array, MSS kinds out of order or a simplex not ascending with unused slots ~0u.
   void validate() const;
 };
 
@@ -207,7 +215,8 @@ PatchList outerComponent(const PatchList& patches);
 //   magic "SURFTRCE" | u32 version | u32 endian tag 0x01020304 | u64 body size |
 //   body (parameters, then a table of named arrays) | u32 CRC-32 of the body.
 // Readers reject a wrong magic, a newer version, a truncated file or a bad checksum with
-// an error that says which.
+// an error that says which, and a list that fails validate() behind a good checksum with one
+// that names the field, its index and value ("FILE: corrupt patch list: tori.axis[17] = ...").
 // Version 2: the MSS arrays (MssQuadrics as above); version-1 lists are refused with advice.
 inline constexpr std::uint32_t kPatchFileVersion = 2;
 void writePatchList(const std::string& path, const PatchList& patches);

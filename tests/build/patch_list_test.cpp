@@ -1,14 +1,21 @@
 // Patch-list container invariants and .stp file round trips, truncation and corruption.
 #include "build/patch_list.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
+#include <numbers>
 #include <random>
 
+#include <glm/geometric.hpp>
 #include <zlib.h>
 
 #include <gtest/gtest.h>
+
+#include "build/io/molecule.hpp"
+#include "build/surface.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -27,12 +34,13 @@ void spit(const std::string& path, const std::vector<unsigned char>& bytes) {
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
-// A patch list with every array filled with random, distinct values.
+// A valid SES patch list with every array filled with random, distinct values.
 PatchList randomPatchList(std::uint32_t seed) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1e3, 1e3);
+  std::uniform_real_distribution<double> u(-1e3, 1e3), unit(0.0, 1.0);
   std::uniform_int_distribution<std::uint32_t> atom(0, 99);
   auto v3 = [&] { return glm::dvec3(u(rng), u(rng), u(rng)); };
+  auto direction = [&] { return glm::normalize(v3()); };
   PatchList p;
   p.params.surface = SurfaceKind::Ses;
   p.params.probeRadius = 1.4 + 1e-3 * seed;
@@ -42,50 +50,70 @@ PatchList randomPatchList(std::uint32_t seed) {
   p.componentCount = 2;
   const int nConvex = 5 + static_cast<int>(seed % 7), nTori = 3 + static_cast<int>(seed % 5), nConcave = 4;
   for (int k = 0; k < nConvex; ++k) {
+    const double r = 1.0 + unit(rng);
     p.convex.center.push_back(v3());
-    p.convex.radius.push_back(u(rng));
+    p.convex.radius.push_back(r);
     p.convex.atom.push_back(atom(rng));
     p.convex.component.push_back(k % 2);
-    p.convex.area.push_back(u(rng));
-    p.convex.vectorArea.push_back(v3());
+    p.convex.area.push_back(4.0 * std::numbers::pi * r * r * unit(rng));
+    p.convex.vectorArea.push_back(std::numbers::pi * unit(rng) * direction());
   }
   for (int k = 0; k < nTori; ++k) {
+    const glm::dvec3 axis = direction();
+    const std::uint32_t i = atom(rng) % 99;
     p.tori.center.push_back(v3());
-    p.tori.axis.push_back(v3());
-    p.tori.e1.push_back(v3());
-    p.tori.bigRadius.push_back(u(rng));
-    p.tori.thetaI.push_back(u(rng));
-    p.tori.thetaJ.push_back(u(rng));
-    p.tori.phiExtent.push_back(u(rng));
-    p.tori.atomI.push_back(atom(rng));
-    p.tori.atomJ.push_back(atom(rng));
+    p.tori.axis.push_back(axis);
+    p.tori.e1.push_back(glm::normalize(glm::cross(axis, v3())));
+    p.tori.bigRadius.push_back(3.0 * unit(rng));
+    p.tori.thetaI.push_back(-0.5 * std::numbers::pi * unit(rng));
+    p.tori.thetaJ.push_back(0.5 * std::numbers::pi * unit(rng));
+    p.tori.phiExtent.push_back(2.0 * std::numbers::pi * (1.0 - unit(rng)));
+    p.tori.atomI.push_back(i);
+    p.tori.atomJ.push_back(i + 1 + atom(rng) % (99 - i));
     p.tori.component.push_back(0);
   }
   for (int k = 0; k < nConcave; ++k) {
     p.concave.probe.push_back(v3());
-    p.concave.dirI.push_back(v3());
-    p.concave.dirJ.push_back(v3());
-    p.concave.dirK.push_back(v3());
-    p.concave.atomI.push_back(atom(rng));
-    p.concave.atomJ.push_back(atom(rng));
-    p.concave.atomK.push_back(atom(rng));
+    p.concave.dirI.push_back(direction());
+    p.concave.dirJ.push_back(direction());
+    p.concave.dirK.push_back(direction());
+    const std::uint32_t i = atom(rng) % 98;
+    p.concave.atomI.push_back(i);
+    p.concave.atomJ.push_back(i + 1);
+    p.concave.atomK.push_back(i + 2);
     p.concave.clipBegin.push_back(static_cast<std::uint32_t>(p.clipPlanes.size()));
     p.concave.clipCount.push_back(static_cast<std::uint32_t>(k));
-    for (int c = 0; c < k; ++c) p.clipPlanes.emplace_back(v3(), u(rng));
+    for (int c = 0; c < k; ++c) p.clipPlanes.emplace_back(direction(), u(rng));
     p.concave.component.push_back(1);
   }
-  p.mss.kind.push_back(static_cast<std::uint32_t>(MssKind::Edge));
-  p.mss.center.push_back(v3());
-  p.mss.axis.push_back(v3());
-  p.mss.radialCoeff.push_back(u(rng));
-  p.mss.axialCoeff.push_back(u(rng));
-  p.mss.constant.push_back(u(rng));
-  p.mss.boundRadius.push_back(u(rng));
-  p.mss.atoms.push_back(glm::uvec4(1, 2, ~0u, ~0u));
-  p.mss.cellBegin.push_back(0);
-  p.mss.cellCount.push_back(2);
-  p.cellPlanes.emplace_back(v3(), 1.0);
-  p.cellPlanes.emplace_back(v3(), -1.0);
+  return p;
+}
+
+// A valid MSS patch list: one patch of each kind, with its cell planes.
+PatchList randomMssList(std::uint32_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1e3, 1e3), unit(0.0, 1.0);
+  auto v3 = [&] { return glm::dvec3(u(rng), u(rng), u(rng)); };
+  PatchList p;
+  p.params.surface = SurfaceKind::Mss;
+  p.params.shrinkFactor = 0.1 + 0.8 * unit(rng);
+  p.params.inputCrc32 = 0xfeedu ^ seed;
+  p.params.atomCount = 100;
+  const double s = p.params.shrinkFactor;
+  const glm::uvec4 simplex[4] = {{7, ~0u, ~0u, ~0u}, {1, 2, ~0u, ~0u}, {3, 5, 8, ~0u}, {10, 20, 30, 40}};
+  for (std::uint32_t kind = 0; kind < 4; ++kind) {
+    p.mss.kind.push_back(kind);
+    p.mss.center.push_back(v3());
+    p.mss.axis.push_back(kind == 0 || kind == 3 ? glm::dvec3(0, 0, 1) : glm::normalize(v3()));
+    p.mss.radialCoeff.push_back(kind <= 1 ? 1.0 - s : -s);
+    p.mss.axialCoeff.push_back(kind == 1 ? -1.0 : kind == 2 ? 1.0 : 0.0);
+    p.mss.constant.push_back(u(rng));
+    p.mss.boundRadius.push_back(5.0 * unit(rng));
+    p.mss.atoms.push_back(simplex[kind]);
+    p.mss.cellBegin.push_back(static_cast<std::uint32_t>(p.cellPlanes.size()));
+    p.mss.cellCount.push_back(kind);
+    for (std::uint32_t c = 0; c < kind; ++c) p.cellPlanes.emplace_back(glm::normalize(v3()), u(rng));
+  }
   return p;
 }
 
@@ -117,7 +145,7 @@ void expectIdentical(const PatchList& a, const PatchList& b) {
 
 TEST(PatchListFile, RoundTripIsBitExact) {
   for (std::uint32_t seed = 0; seed < 20; ++seed) {
-    const PatchList p = randomPatchList(seed);
+    const PatchList p = seed % 2 == 0 ? randomPatchList(seed) : randomMssList(seed);
     const std::string path = tempPath("roundtrip.stp");
     writePatchList(path, p);
     const PatchList q = readPatchList(path);
@@ -259,6 +287,219 @@ TEST(PatchListValidate, AtomOutOfRangeAndNonFiniteAreRejected) {
   q.convex.radius[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(q.validate(), std::runtime_error);
   EXPECT_NO_THROW(randomPatchList(2).validate());
+}
+
+// The fuzzer's .stp seeds load: a seed the loader refuses (an older version, say) stops every
+// mutation of it at the header, and the fuzzer never reaches the arrays.
+TEST(PatchListFile, FuzzSeedsLoad) {
+  const std::filesystem::path seeds = std::filesystem::path(SURFTRACE_TEST_DATA) / ".." / "fuzz" / "seeds" / "stp";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+    EXPECT_NO_THROW(readPatchList(entry.path().string()))
+        << entry.path() << ": rebuild it as tests/fuzz/README.md says";
+    ++count;
+  }
+  EXPECT_GE(count, 5);
+}
+
+// The lists `surftrace build` writes for the test molecules pass every check, and write back
+// bit for bit: SES with and without cavities, the skin at s = 0.3 and 0.5, vdW and SAS spheres.
+TEST(PatchListValidate, RealListsLoadAndRoundTrip) {
+  for (const char* file : {"structures/1crn.pdb", "paper/1vis.pdb.gz", "paper/1grm.pdb.gz"}) {
+    const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file);
+    const SurfaceRequest requests[] = {{SurfaceKind::Ses, 1.4, 0.5, false}, {SurfaceKind::Ses, 1.4, 0.5, true},
+                                       {SurfaceKind::Ses, 3.0, 0.5, false}, {SurfaceKind::Mss, 1.4, 0.3, false},
+                                       {SurfaceKind::Mss, 1.4, 0.5, false}, {SurfaceKind::Mss, 1.4, 1.0, false},
+                                       {SurfaceKind::Sas, 1.4, 0.5, false}};
+    for (const SurfaceRequest& r : requests) {
+      const std::string what = std::string(file) + " " + surfaceKindName(r.surface) + " rp " +
+                               std::to_string(r.probeRadius) + " s " + std::to_string(r.shrinkFactor);
+      const PatchList p = buildSurface(m, r);
+      ASSERT_GT(p.patchCount(), 0u) << what;
+      const std::string path = tempPath("real.stp"), again = tempPath("real-again.stp");
+      ASSERT_NO_THROW(writePatchList(path, p)) << what;
+      PatchList q;
+      ASSERT_NO_THROW(q = readPatchList(path)) << what;
+      writePatchList(again, q);
+      EXPECT_EQ(slurp(path), slurp(again)) << what;
+    }
+  }
+}
+
+// Rewrites element `index` of array `name` ("tori.axis") of a file from writePatchList, or the
+// bytes at `offset` when name is empty, and recomputes the checksum: damage the CRC cannot see,
+// as in a file that something other than surftrace wrote.
+template <class T>
+void overwrite(const std::string& path, const std::string& name, std::size_t index, const T& value,
+               std::size_t offset = 0) {
+  auto bytes = slurp(path);
+  constexpr std::size_t kHeader = 24;
+  if (!name.empty()) {
+    // The array's entry: u32 name length, the name, u32 type, u32 width, u64 count, the data.
+    std::vector<unsigned char> key(4);
+    const auto length = static_cast<std::uint32_t>(name.size());
+    std::memcpy(key.data(), &length, 4);
+    key.insert(key.end(), name.begin(), name.end());
+    const auto at = std::search(bytes.begin() + kHeader, bytes.end(), key.begin(), key.end());
+    ASSERT_NE(at, bytes.end()) << name;
+    offset = static_cast<std::size_t>(at - bytes.begin()) + key.size() + 4 + 4 + 8 + index * sizeof(T);
+  }
+  ASSERT_LE(offset + sizeof(T), bytes.size() - 4) << name;
+  std::memcpy(bytes.data() + offset, &value, sizeof(T));
+  const std::size_t bodySize = bytes.size() - kHeader - 4;
+  const auto crc = static_cast<std::uint32_t>(crc32(0L, bytes.data() + kHeader, static_cast<uInt>(bodySize)));
+  std::memcpy(bytes.data() + kHeader + bodySize, &crc, 4);
+  spit(path, bytes);
+}
+
+// Loading fails, with an error that names the file and the field and says the file is damaged.
+void expectRejected(const std::string& path, const std::string& field, const std::string& value) {
+  try {
+    readPatchList(path);
+    ADD_FAILURE() << field << " = " << value << " was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path + ": corrupt patch list: "), std::string::npos) << what;
+    EXPECT_NE(what.find(field + " = " + value), std::string::npos) << what;
+    EXPECT_NE(what.find("damaged"), std::string::npos) << what;
+  }
+}
+
+const Molecule& crambin() {
+  static const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/structures/1crn.pdb");
+  return m;
+}
+
+// One field at a time made impossible in a real list, behind a valid checksum.
+TEST(PatchListValidate, ImpossibleSesFieldsAreRejectedOnLoad) {
+  const PatchList p = buildSurface(crambin(), {SurfaceKind::Ses, 1.4, 0.5, false});
+  ASSERT_GE(p.componentCount, 2u);
+  ASSERT_GT(p.clipPlanes.size(), 0u);
+  const std::string good = tempPath("1crn-ses.stp"), bad = tempPath("1crn-ses-bad.stp");
+  writePatchList(good, p);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    std::function<void()> damage;
+    std::string field, value;
+  };
+  const Case cases[] = {
+      {[&] { overwrite(bad, "convex.radius", 3, -1.5); }, "convex.radius[3]", "-1.5"},
+      {[&] { overwrite(bad, "convex.radius", 3, 1e300); }, "convex.radius[3]", "1e+300"},
+      {[&] { overwrite(bad, "convex.radius", 3, 0.0); }, "convex.radius[3]", "0"},
+      {[&] { overwrite(bad, "convex.radius", 3, 1e-300); }, "convex.radius[3]", "1e-300"},
+      {[&] { overwrite(bad, "convex.radius", 3, nan); }, "convex.radius[3]", "nan"},
+      {[&] { overwrite(bad, "convex.area", 2, -1e9); }, "convex.area[2]", "-1000000000"},
+      {[&] { overwrite(bad, "convex.area", 2, 1e9); }, "convex.area[2]", "1000000000"},
+      {[&] { overwrite(bad, "convex.center", 1, glm::dvec3(0, 1e12, 0)); }, "convex.center[1]", "(0, 1000000000000, 0)"},
+      {[&] { overwrite(bad, "convex.vectorArea", 4, glm::dvec3(0, 0, -4)); }, "convex.vectorArea[4]", "(0, 0, -4)"},
+      {[&] { overwrite(bad, "convex.atom", 0, p.params.atomCount); }, "convex.atom[0]", std::to_string(p.params.atomCount)},
+      {[&] { overwrite(bad, "convex.component", 6, 0xFFFFFFFFu); }, "convex.component[6]", "4294967295"},
+      {[&] { overwrite(bad, "tori.axis", 17, glm::dvec3(0.0)); }, "tori.axis[17]", "(0, 0, 0)"},
+      {[&] { overwrite(bad, "tori.e1", 5, p.tori.axis[5]); }, "tori.e1[5]", ""},
+      {[&] { overwrite(bad, "tori.bigRadius", 9, -2.0); }, "tori.bigRadius[9]", "-2"},
+      {[&] { overwrite(bad, "tori.thetaI", 2, -4.0); }, "tori.thetaI[2]", "-4"},
+      {[&] { overwrite(bad, "tori.thetaJ", 2, -1.5); }, "tori.thetaJ[2]", "-1.5"},
+      {[&] { overwrite(bad, "tori.phiExtent", 8, 7.0); }, "tori.phiExtent[8]", "7"},
+      {[&] { overwrite(bad, "tori.phiExtent", 8, 0.0); }, "tori.phiExtent[8]", "0"},
+      {[&] { overwrite(bad, "tori.atomJ", 3, p.tori.atomI[3]); }, "tori.atomJ[3]", std::to_string(p.tori.atomI[3])},
+      {[&] { overwrite(bad, "tori.component", 5, 0xFFFFFFFFu); }, "tori.component[5]", "4294967295"},
+      {[&] { overwrite(bad, "concave.atomK", 1, p.params.atomCount); }, "concave.atomK[1]", std::to_string(p.params.atomCount)},
+      {[&] { overwrite(bad, "concave.atomK", 1, p.concave.atomI[1]); }, "concave.atomK[1]", std::to_string(p.concave.atomI[1])},
+      {[&] { overwrite(bad, "concave.dirJ", 4, glm::dvec3(2, 0, 0)); }, "concave.dirJ[4]", "(2, 0, 0)"},
+      {[&] { overwrite(bad, "concave.clipCount", 0, static_cast<std::uint32_t>(p.clipPlanes.size() + 1)); },
+       "concave.clipCount[0]", std::to_string(p.clipPlanes.size() + 1)},
+      {[&] { overwrite(bad, "concave.clipBegin", 0, 0xFFFFFFF0u); }, "concave.clipCount[0]", ""},
+      {[&] { overwrite(bad, "concave.component", 7, p.componentCount); }, "concave.component[7]", std::to_string(p.componentCount)},
+      {[&] { overwrite(bad, "clipPlanes.plane", 0, glm::dvec4(0, 0, 0, 1)); }, "clipPlanes.plane[0]", "(0, 0, 0, 1)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.field + " = " + c.value);
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    c.damage();
+    expectRejected(bad, c.field, c.value);
+  }
+  // The parameters, at their place in the body: u32 surface, f64 probe, f64 shrink, the radii
+  // set (u32 length + text), u32 input CRC, u32 atom count, u32 component count.
+  const std::size_t probe = 24 + 4, shrink = probe + 8, components = shrink + 8 + 4 + p.params.radiiSet.size() + 8;
+  for (double rp : {-1.0, 0.0, 1e300, nan}) {
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    overwrite(bad, "", 0, rp, probe);
+    expectRejected(bad, "params.probeRadius", "");
+  }
+  for (double s : {0.0, 1.5, nan}) {
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    overwrite(bad, "", 0, s, shrink);
+    expectRejected(bad, "params.shrinkFactor", "");
+  }
+  std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+  overwrite(bad, "", 0, 0xFFFFFFFFu, components);
+  expectRejected(bad, "componentCount", "4294967295");
+  // One component more than the patches carry: `area` would report an empty cavity.
+  std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+  overwrite(bad, "", 0, p.componentCount + 1, components);
+  expectRejected(bad, "componentCount", std::to_string(p.componentCount + 1) + ", but no patch is of component " +
+                                            std::to_string(p.componentCount));
+}
+
+TEST(PatchListValidate, ImpossibleMssFieldsAreRejectedOnLoad) {
+  const PatchList p = buildSurface(crambin(), {SurfaceKind::Mss, 1.4, 0.5, false});
+  const auto [edges, edgesEnd] = mssKindRange(p.mss, MssKind::Edge);
+  ASSERT_LT(edges, edgesEnd);
+  ASSERT_GT(p.mss.cellCount[edges], 0u);
+  const std::string good = tempPath("1crn-mss.stp"), bad = tempPath("1crn-mss-bad.stp");
+  writePatchList(good, p);
+  const std::string e = std::to_string(edges);
+  struct Case {
+    std::function<void()> damage;
+    std::string field, value;
+  };
+  const Case cases[] = {
+      {[&] { overwrite(bad, "mss.kind", 0, 7u); }, "mss.kind[0]", "7"},
+      {[&] { overwrite(bad, "mss.kind", edges - 1, 2u); }, "mss.kind[" + e + "]", "1"},
+      {[&] { overwrite(bad, "mss.axis", edges, glm::dvec3(0.0)); }, "mss.axis[" + e + "]", "(0, 0, 0)"},
+      {[&] { overwrite(bad, "mss.radialCoeff", edges, 0.0); }, "mss.radialCoeff[" + e + "]", "0"},
+      {[&] { overwrite(bad, "mss.axialCoeff", edges, 1.0); }, "mss.axialCoeff[" + e + "]", "1"},
+      {[&] { overwrite(bad, "mss.constant", 0, 1e30); }, "mss.constant[0]", "1e+30"},
+      {[&] { overwrite(bad, "mss.boundRadius", 3, -1.0); }, "mss.boundRadius[3]", "-1"},
+      {[&] { overwrite(bad, "mss.center", 3, glm::dvec3(-1e10, 0, 0)); }, "mss.center[3]", "(-10000000000, 0, 0)"},
+      {[&] { overwrite(bad, "mss.atoms", 0, glm::uvec4(p.params.atomCount, ~0u, ~0u, ~0u)); }, "mss.atoms[0]", ""},
+      {[&] { overwrite(bad, "mss.atoms", edges, glm::uvec4(5, 5, ~0u, ~0u)); }, "mss.atoms[" + e + "]", "(5, 5, "},
+      {[&] { overwrite(bad, "mss.atoms", 0, glm::uvec4(0, 0, ~0u, ~0u)); }, "mss.atoms[0]", "(0, 0, "},
+      {[&] { overwrite(bad, "mss.cellCount", edges, static_cast<std::uint32_t>(p.cellPlanes.size() + 1)); },
+       "mss.cellCount[" + e + "]", std::to_string(p.cellPlanes.size() + 1)},
+      {[&] { overwrite(bad, "cellPlanes.plane", 2, glm::dvec4(0, 0, 0.5, 0)); }, "cellPlanes.plane[2]", "(0, 0, 0.5, 0)"},
+      {[&] { overwrite(bad, "cellPlanes.plane", 2, glm::dvec4(1, 0, 0, -1e20)); }, "cellPlanes.plane[2]", "(1, 0, 0, -1e+20)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.field + " = " + c.value);
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    c.damage();
+    expectRejected(bad, c.field, c.value);
+  }
+  // An SES surface kind over the skin's arrays: the kinds do not mix.
+  std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+  overwrite(bad, "", 0, static_cast<std::uint32_t>(SurfaceKind::Ses), 24);
+  try {
+    readPatchList(bad);
+    ADD_FAILURE() << "an SES list with MSS patches was accepted";
+  } catch (const std::runtime_error& err) {
+    EXPECT_NE(std::string(err.what()).find("mss has " + std::to_string(p.mss.size()) + " entries, but a ses list"),
+              std::string::npos)
+        << err.what();
+  }
+}
+
+// validate() (run by writePatchList) names the field as the loader does.
+TEST(PatchListValidate, WriteRefusesAnImpossibleList) {
+  PatchList p = randomPatchList(4);
+  p.tori.axis[1] = glm::dvec3(0.0);
+  try {
+    writePatchList(tempPath("never.stp"), p);
+    FAIL() << "an impossible list was written";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("patch list: tori.axis[1] = (0, 0, 0) is not a unit vector"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

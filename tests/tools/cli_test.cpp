@@ -1,9 +1,11 @@
 // The `surftrace` program end to end: what a user types and what they get back.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -402,4 +404,43 @@ TEST(Cli, DropCavitiesKeepsTheOuterSurface) {
   ASSERT_EQ(b["ses"]["components"].size(), 1u);
   EXPECT_NEAR(b["ses"]["total"].get<double>(), a["ses"]["components"][0]["area"].get<double>(), 1e-6);
   EXPECT_LT(b["ses"]["total"].get<double>(), a["ses"]["total"].get<double>());
+}
+
+// A .stp whose checksum is right but whose content is impossible (a component index of
+// 0xFFFFFFFF, which `area` once used as a vector index) is an error naming the file, the field
+// and the value, from `area` and `info` alike: not a crash, not a number.
+TEST(Cli, DamagedStpBehindAValidChecksumIsAnErrorNotACrash) {
+  const std::string stp = (std::filesystem::path(testing::TempDir()) / "1crn-damaged.stp").string();
+  const Result b = run("build " + data("structures/1crn.pdb") + " -o " + stp);
+  ASSERT_EQ(b.status, 0) << b.output;
+  std::vector<unsigned char> bytes;
+  {
+    std::ifstream in(stp, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // convex.component[0] := 0xFFFFFFFF: after the array's name (u32 length, text), its u32 type,
+  // u32 width and u64 count.
+  const std::string name = "convex.component";
+  const auto at = std::search(bytes.begin(), bytes.end(), name.begin(), name.end());
+  ASSERT_NE(at, bytes.end());
+  const std::uint32_t bad = 0xFFFFFFFFu;
+  std::memcpy(&*at + name.size() + 16, &bad, 4);
+  // The CRC-32 of the body (after the 24-byte header, before the 4-byte checksum), recomputed.
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (std::size_t k = 24; k + 4 < bytes.size(); ++k) {
+    crc ^= bytes[k];
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  crc ^= 0xFFFFFFFFu;
+  std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
+  std::ofstream(stp, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+
+  for (const char* command : {"area ", "area --drop-cavities ", "info "}) {
+    const Result r = run(command + stp);
+    EXPECT_EQ(r.status, 1) << command << r.output;
+    EXPECT_NE(r.output.find(stp + ": corrupt patch list: convex.component[0] = 4294967295"), std::string::npos)
+        << command << r.output;
+    EXPECT_NE(r.output.find("damaged"), std::string::npos) << command << r.output;
+  }
 }
