@@ -154,6 +154,9 @@ TEST(Cli, OptionErrorsAreReadable) {
       {"render --ao -1 -o " + png + " " + mol, "--ao: expected a whole number in [0, 4096]"},
       {"render --ao-distance 0 -o " + png + " " + mol, "--ao-distance: expected a number > 0"},
       {"render --gl-steps 0 -o " + png + " " + mol, "--gl-steps: expected a whole number in [1, 10000]"},
+      {"render --up 0,0,0 -o " + png + " " + mol, "--up '0,0,0': the up vector must not be zero"},
+      {"render --size 32768x32768 -o " + png + " " + mol, "GiB for its buffers, more than this machine's"},
+      {"render --size -4x4 -o " + png + " " + mol, "--size '-4x4': expected WIDTHxHEIGHT"},
       {"compare --min-kind 2 " + mol + " " + mol, "--min-kind: expected a number in [0, 1], got '2'"},
       {"compare --max-depth-p99 -1 " + mol + " " + mol, "--max-depth-p99: expected a number >= 0"},
   };
