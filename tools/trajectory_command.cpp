@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <atomic>
+#include <exception>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -335,88 +336,117 @@ void runTrajectory(const TrajectoryOptions& o) {
   bar.items(0, todo.size(), "frames");
   const auto loopStart = std::chrono::steady_clock::now();
 
-  // Build of frame k+1 beside the drawing of frame k and the writing of frame k-1.
+  // Build of frame k+1 beside the drawing of frame k and the writing of frame k-1. The first
+  // error of any stage (a bad frame, a full disk) is kept and stops the input; the pipeline
+  // then drains, and the error is thrown once it has (an exception escaping a stage let the
+  // process exit while the build of the next frame still ran: a crash on a full disk).
+  std::exception_ptr failure;
+  std::atomic<bool> failed{false};
+  const auto keep = [&](const std::exception_ptr& error) {
+    if (!failed.exchange(true)) failure = error;
+  };
   tbb::parallel_pipeline(
       3,
       tbb::make_filter<void, std::shared_ptr<Work>>(
           tbb::filter_mode::serial_in_order,
           [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
-            if (next == todo.size()) {
+            if (next == todo.size() || failed.load()) {
               fc.stop();
               return nullptr;
             }
-            auto w = std::make_shared<Work>();
-            w->frame = todo[next++];
-            auto t = std::chrono::steady_clock::now();
-            trajectory.load(w->frame);
-            w->time = trajectory.frame().time;
-            const auto& c = trajectory.molecule().centers;
-            if (flexible.empty()) {
-              current.centers = c;
-            } else {
-              for (std::uint32_t i : flexible) current.centers[i] = c[i];
-              for (std::size_t i = 0; i < c.size(); ++i)
-                if (!isFlexible[i]) rigidDrift = std::max(rigidDrift, glm::length(c[i] - reference.centers[i]));
+            try {
+              auto w = std::make_shared<Work>();
+              w->frame = todo[next++];
+              auto t = std::chrono::steady_clock::now();
+              trajectory.load(w->frame);
+              w->time = trajectory.frame().time;
+              const auto& c = trajectory.molecule().centers;
+              if (flexible.empty()) {
+                current.centers = c;
+              } else {
+                for (std::uint32_t i : flexible) current.centers[i] = c[i];
+                for (std::size_t i = 0; i < c.size(); ++i)
+                  if (!isFlexible[i]) rigidDrift = std::max(rigidDrift, glm::length(c[i] - reference.centers[i]));
+              }
+              w->readMs = millisecondsSince(t);
+              t = std::chrono::steady_clock::now();
+              if (!built) {
+                w->list = builder.build(current);
+                built = true;
+              } else {
+                w->list = flexible.empty() ? builder.update(current) : builder.update(current, flexible);
+              }
+              w->buildMs = millisecondsSince(t);
+              w->recomputed = builder.lastRecomputed();
+              w->patches = w->list.patchCount();
+              w->moved = flexible.empty() ? current.size() : flexible.size();
+              return w;
+            } catch (...) {
+              keep(std::current_exception());
+              fc.stop();
+              return nullptr;
             }
-            w->readMs = millisecondsSince(t);
-            t = std::chrono::steady_clock::now();
-            if (!built) {
-              w->list = builder.build(current);
-              built = true;
-            } else {
-              w->list = flexible.empty() ? builder.update(current) : builder.update(current, flexible);
-            }
-            w->buildMs = millisecondsSince(t);
-            w->recomputed = builder.lastRecomputed();
-            w->patches = w->list.patchCount();
-            w->moved = flexible.empty() ? current.size() : flexible.size();
-            return w;
           }) &
           tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
               tbb::filter_mode::serial_in_order,
-              [&](std::shared_ptr<Work> w) {
-                const auto t = std::chrono::steady_clock::now();
-                const trace::PatchScene scene(trace::ScenePatches::fromPatchList(w->list), device);
-                w->image = trace::render(scene, ro, colors);
-                w->renderMs = millisecondsSince(t);
-                w->list = build::PatchList();
-                return w;
+              [&](std::shared_ptr<Work> w) -> std::shared_ptr<Work> {
+                if (!w || failed.load()) return nullptr;
+                try {
+                  const auto t = std::chrono::steady_clock::now();
+                  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(w->list), device);
+                  w->image = trace::render(scene, ro, colors);
+                  w->renderMs = millisecondsSince(t);
+                  w->list = build::PatchList();
+                  return w;
+                } catch (...) {
+                  keep(std::current_exception());
+                  return nullptr;
+                }
               }) &
           tbb::make_filter<std::shared_ptr<Work>, void>(
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> w) {
-                const auto t = std::chrono::steady_clock::now();
-                view::ImageMetadata meta;
-                meta["surftrace:renderer"] =
-                    std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
-                meta["surftrace:engine"] = "embree";
-                meta["surftrace:camera"] = view::cameraToJson(ro.camera);
-                meta["surftrace:surface"] = o.surface;
-                meta["surftrace:probe_radius"] = std::to_string(o.probe);
-                if (request.surface == build::SurfaceKind::Mss) meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
-                meta["surftrace:input"] = o.topology;
-                meta["surftrace:trajectory"] = o.trajectory;
-                meta["surftrace:frame"] = std::to_string(w->frame);
-                meta["surftrace:time_ps"] = std::to_string(w->time);
-                meta["surftrace:color"] = o.image.color;
-                meta["surftrace:command"] = o.commandLine;
-                meta["Software"] = "surftrace 0.1.0";
-                // Each written whole or not at all (view::writePng/writeExr), every write checked.
-                if (!png.empty()) view::writePng(png(w->frame), w->image, meta);
-                if (!exr.empty()) view::writeExr(exr(w->frame), w->image, meta);
-                w->writeMs = millisecondsSince(t);
-                readMs.push_back(w->readMs), buildMs.push_back(w->buildMs);
-                renderMs.push_back(w->renderMs), writeMs.push_back(w->writeMs);
-                if (timings &&
-                    (std::fprintf(timings.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w->frame, w->time,
-                                  w->readMs, w->buildMs, w->renderMs, w->writeMs, w->moved, w->recomputed,
-                                  w->patches) < 0 ||
-                     std::fflush(timings.get()) != 0))
-                  timingsFailed();
-                // One line per frame when nobody watches a bar (the logs of batch jobs).
-                if (!o.quiet && !isatty(STDERR_FILENO))
-                  std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w->frame, w->buildMs, w->renderMs);
-                bar.items(++written, todo.size(), "frames");
+                if (!w || failed.load()) return;
+                try {
+                  const auto t = std::chrono::steady_clock::now();
+                  view::ImageMetadata meta;
+                  meta["surftrace:renderer"] =
+                      std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+                  meta["surftrace:engine"] = "embree";
+                  meta["surftrace:camera"] = view::cameraToJson(ro.camera);
+                  meta["surftrace:surface"] = o.surface;
+                  meta["surftrace:probe_radius"] = std::to_string(o.probe);
+                  if (request.surface == build::SurfaceKind::Mss) meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
+                  meta["surftrace:input"] = o.topology;
+                  meta["surftrace:trajectory"] = o.trajectory;
+                  meta["surftrace:frame"] = std::to_string(w->frame);
+                  meta["surftrace:time_ps"] = std::to_string(w->time);
+                  meta["surftrace:color"] = o.image.color;
+                  meta["surftrace:command"] = o.commandLine;
+                  meta["Software"] = "surftrace 0.1.0";
+                  // Each written whole or not at all (view::writePng/writeExr), every write checked.
+                  if (!png.empty()) view::writePng(png(w->frame), w->image, meta);
+                  if (!exr.empty()) view::writeExr(exr(w->frame), w->image, meta);
+                  w->writeMs = millisecondsSince(t);
+                  readMs.push_back(w->readMs), buildMs.push_back(w->buildMs);
+                  renderMs.push_back(w->renderMs), writeMs.push_back(w->writeMs);
+                  if (timings &&
+                      (std::fprintf(timings.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w->frame, w->time,
+                                    w->readMs, w->buildMs, w->renderMs, w->writeMs, w->moved, w->recomputed,
+                                    w->patches) < 0 ||
+                       std::fflush(timings.get()) != 0))
+                    timingsFailed();
+                  // One line per frame when nobody watches a bar (the logs of batch jobs).
+                  if (!o.quiet && !isatty(STDERR_FILENO))
+                    std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w->frame, w->buildMs, w->renderMs);
+                  bar.items(++written, todo.size(), "frames");
+                } catch (...) {
+                  keep(std::current_exception());
+                }
               }));
+  if (failure) {
+    bar.clear();
+    std::rethrow_exception(failure);
+  }
 
   const double loopSeconds = millisecondsSince(loopStart) * 1e-3;
   std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms, of which %.0f ms framing the camera); "

@@ -296,14 +296,14 @@ TEST(TrajectoryCli, ResumeRendersOnlyWhatIsMissing) {
   EXPECT_NE(r.output.find("2 to render, 4 done already"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(dir / "01.png") && fs::exists(dir / "04.png"));
   EXPECT_EQ(bytesOf(dir / "02.png"), kept);
-  // The timings list the frames this run rendered, one row each.
+  // The timings keep the first run's rows and add this run's (--resume appends, issue 18).
   std::ifstream csv(dir / "t.csv");
   std::string header, row;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("frame,time_ps,read_ms,build_ms,render_ms", 0), 0u) << header;
-  std::set<int> rows;
+  std::multiset<int> rows;
   while (std::getline(csv, row)) rows.insert(std::stoi(row));
-  EXPECT_EQ(rows, (std::set<int>{1, 4}));
+  EXPECT_EQ(rows, (std::multiset<int>{0, 1, 1, 2, 3, 4, 4, 5}));
   // No half-written files are left behind.
   for (const auto& f : fs::directory_iterator(dir)) EXPECT_EQ(f.path().filename().string().find(".partial"), std::string::npos);
   fs::remove_all(dir);

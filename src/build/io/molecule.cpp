@@ -960,6 +960,7 @@ void dropExactDuplicates(Molecule& molecule) {
   }
   if (dropped == 0) return;
   for (std::size_t k = 0; k < kept.size(); ++k) {
+    if (kept[k] == k) continue;  // (a self-move would empty the record's strings)
     molecule.centers[k] = molecule.centers[kept[k]];
     if (fileRadii) molecule.radii[k] = molecule.radii[kept[k]];
     molecule.atoms[k] = std::move(molecule.atoms[kept[k]]);
