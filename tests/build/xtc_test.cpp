@@ -657,6 +657,8 @@ TEST(XtcReader, ImpossibleHeaderFieldsAreInputErrors) {
                   {"frame 0 (byte 0)", "negative atom count"});
   expectOpenError(path, with(f2 + 88, 0x7fffffff), original.size(), {frame1, "compressed block"});
   expectOpenError(path, with(f2 + 88, 3), original.size(), {frame1, "cannot hold 115 atoms"});
+  // A negative size says so (issue 18: "a block of 18446744073709551612 bytes").
+  expectOpenError(path, with(f2 + 88, 0xfffffffc), original.size(), {frame1, "negative (-4 bytes)"});
   // Found when the frame is read.
   expectReadError(path, with(f2 + 84, 100), 1, {frame1, "smallidx 100"});
   expectReadError(path, with(f2 + 84, 3), 1, {frame1, "smallidx 3"});

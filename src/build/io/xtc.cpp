@@ -437,7 +437,9 @@ std::optional<std::uint64_t> XtcSource::frameBytes(std::size_t frame, std::uint6
   if (natoms <= kMaxUncompressedAtoms) return kCoordinatesAt + 12 * n;
   if (available < kBlockAt) return std::nullopt;
   const std::int64_t count = xdrInt(p + kBlockAt - 4);
-  if (count < 0 || static_cast<std::uint64_t>(count) > (kMaxBitsPerAtom * n + 7) / 8 ||
+  if (count < 0)
+    fail(frame, offset, "the compressed block's size is negative (" + std::to_string(count) + " bytes)");
+  if (static_cast<std::uint64_t>(count) > (kMaxBitsPerAtom * n + 7) / 8 ||
       kMinBitsPerAtom * n > 8 * static_cast<std::uint64_t>(count))
     fail(frame, offset,
          "a compressed block of " + bytesText(static_cast<std::uint64_t>(count)) + " cannot hold " +
