@@ -1,17 +1,15 @@
 // Nothing lost (issue 18): every output of the `surftrace` program is whole or an error. A
 // full disk is simulated with a file-size limit (`ulimit -f`, SIGXFSZ ignored: every write
 // past the limit fails with EFBIG, as ENOSPC would) and with /dev/full for standard output.
-#include <array>
 #include <cctype>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
-
 #include <gtest/gtest.h>
+
+#include "run_tool.hpp"
 
 namespace {
 
@@ -19,21 +17,13 @@ namespace fs = std::filesystem;
 
 std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
 
-struct Shell {
-  int status;
-  std::string output;  // what the shell command's stdout (with stderr, when redirected there) gave
-};
+using Shell = surftrace::tools::test::Result;
 
-// Runs `script` under bash, `surftrace` standing for the program under test.
+// Runs `script` under bash, `surftrace` standing for the program under test; stdout and stderr
+// together.
 Shell shell(const std::string& script) {
-  const std::string command = "bash -c 'surftrace() { \"" SURFTRACE_TOOL "\" \"$@\"; }; " + script + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  std::array<char, 4096> buf;
-  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return surftrace::tools::test::runShell("bash -c 'surftrace() { \"" SURFTRACE_TOOL "\" \"$@\"; }; " + script +
+                                          "' 2>&1");
 }
 
 // A fresh folder for one test.

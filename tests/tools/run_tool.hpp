@@ -14,10 +14,8 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-// `cd` into `directory` first when it is not empty (recipes use paths relative to the repository).
-inline Result runTool(const std::string& args, const std::string& directory = {}) {
-  const std::string cd = directory.empty() ? "" : "cd '" + directory + "' && ";
-  const std::string cmd = cd + SURFTRACE_TOOL + " " + args + " 2>&1";
+// Runs a shell command line and captures its standard output.
+inline Result runShell(const std::string& cmd) {
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string out;
@@ -25,6 +23,12 @@ inline Result runTool(const std::string& args, const std::string& directory = {}
   while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe)) out += buf.data();
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// `cd` into `directory` first when it is not empty (recipes use paths relative to the repository).
+inline Result runTool(const std::string& args, const std::string& directory = {}) {
+  const std::string cd = directory.empty() ? "" : "cd '" + directory + "' && ";
+  return runShell(cd + SURFTRACE_TOOL + " " + args + " 2>&1");
 }
 
 }  // namespace surftrace::tools::test
