@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <embree3/rtcore_config.h>
+
 #include "option_checks.hpp"
 #include "view/camera.hpp"
 
@@ -162,6 +164,26 @@ view::SphereFraming framingOf(const ImageSetup& setup) {
 void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing) {
   setup.render.camera = framing.frame(setup.render.camera);
   applyExplicitCamera(setup);
+}
+
+view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& camera) {
+  view::ImageMetadata meta;
+  meta["surftrace:renderer"] = r.engine == "gl"
+                                   ? std::string(kSoftware) + " gl: " + r.glContext
+                                   : std::string(kSoftware) + " embree " + RTC_VERSION_STRING + " (double-precision patches)";
+  meta["surftrace:engine"] = r.engine;
+  meta["surftrace:camera"] = view::cameraToJson(camera);
+  meta["surftrace:surface"] = r.surface;
+  meta["surftrace:probe_radius"] = std::to_string(r.probeRadius);
+  if (r.shrinkFactor) meta["surftrace:shrink_factor"] = std::to_string(*r.shrinkFactor);
+  meta["surftrace:input"] = r.input;
+  if (!r.trajectory.empty()) meta["surftrace:trajectory"] = r.trajectory;
+  if (r.frame) meta["surftrace:frame"] = std::to_string(*r.frame);
+  if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
+  meta["surftrace:color"] = r.color;
+  meta["surftrace:command"] = r.commandLine;
+  meta["Software"] = kSoftware;
+  return meta;
 }
 
 ProgressBar::ProgressBar(bool enabled, std::string label)

@@ -14,6 +14,7 @@
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "view/camera.hpp"
+#include "view/image_io.hpp"
 #include "view/render_options.hpp"
 
 namespace surftrace::tools {
@@ -62,6 +63,25 @@ view::SphereFraming framingOf(const ImageSetup& setup);
 void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
+
+// "surftrace 0.1.0": the program and its version (CMake's project version).
+inline constexpr const char* kSoftware = "surftrace " SURFTRACE_VERSION;
+
+// What an image records about how it was made (its metadata), for `compare` and for people:
+// the one place `render` and `trajectory` write it.
+struct ImageRecord {
+  std::string engine;      // "embree" or "gl"
+  std::string glContext;   // the GL context's description, for engine "gl"
+  std::string surface;     // the --surface option
+  double probeRadius = 0;
+  std::optional<double> shrinkFactor;  // the skin's
+  std::string input, trajectory;
+  std::optional<std::size_t> frame;
+  std::optional<double> timePs;
+  std::string color;
+  std::string commandLine;
+};
+view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
 
 // A one-line progress bar on stderr, drawn only when stderr is a terminal, never wider than
 // the terminal. Call clear() before printing anything else to the terminal (a row on

@@ -10,7 +10,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <embree3/rtcore_config.h>
 #include <tbb/global_control.h>
 
 #include "build/surface.hpp"
@@ -136,6 +135,18 @@ void runRender(const RenderCommandOptions& o) {
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
                                     : view::atomColors(molecule, ro.color, setup.uniformColor);
   view::FrameBuffers frame;
+  ImageRecord record;
+  record.engine = o.engine;
+  record.surface = o.surface;
+  record.probeRadius = fromPatchList ? list.params.probeRadius : o.probe;
+  if (list.params.surface == build::SurfaceKind::Mss) record.shrinkFactor = list.params.shrinkFactor;
+  record.input = o.path;
+  if (!o.trajectory.empty()) {
+    record.trajectory = o.trajectory;
+    record.frame = static_cast<std::size_t>(o.frame);
+  }
+  record.color = o.image.color;
+  record.commandLine = o.commandLine;
   view::ImageMetadata meta;
   double sceneSeconds = 0.0;
   if (o.engine == "gl") {
@@ -145,7 +156,8 @@ void runRender(const RenderCommandOptions& o) {
     glOptions.primitive = gl::parsePrimitive(o.glPrimitive);
     const gl::GlContext context;
     frame = gl::renderGl(context, list, ro, colors, glOptions);
-    meta["surftrace:renderer"] = "surftrace 0.1.0 gl: " + context.description();
+    record.glContext = context.description();
+    meta = imageMetadata(record, ro.camera);
     meta["surftrace:gl_torus_method"] = gl::torusMethodName(glOptions.torus);
     meta["surftrace:gl_primitive"] = gl::primitiveName(glOptions.primitive);
   } else {
@@ -154,23 +166,8 @@ void runRender(const RenderCommandOptions& o) {
     ProgressBar bar(!o.quiet, "rendering");
     ro.progress = [&bar](double f) { bar.update(f); };
     frame = trace::render(scene, ro, colors);
-    meta["surftrace:renderer"] = std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
+    meta = imageMetadata(record, ro.camera);
   }
-
-  meta["surftrace:engine"] = o.engine;
-  meta["surftrace:camera"] = view::cameraToJson(ro.camera);
-  meta["surftrace:surface"] = o.surface;
-  meta["surftrace:probe_radius"] = std::to_string(fromPatchList ? list.params.probeRadius : o.probe);
-  if (list.params.surface == build::SurfaceKind::Mss)
-    meta["surftrace:shrink_factor"] = std::to_string(list.params.shrinkFactor);
-  meta["surftrace:input"] = o.path;
-  if (!o.trajectory.empty()) {
-    meta["surftrace:trajectory"] = o.trajectory;
-    meta["surftrace:frame"] = std::to_string(o.frame);
-  }
-  meta["surftrace:color"] = o.image.color;
-  meta["surftrace:command"] = o.commandLine;
-  meta["Software"] = "surftrace 0.1.0";
   if (!o.output.empty()) view::writePng(o.output, frame, meta);
   if (!o.exr.empty()) view::writeExr(o.exr, frame, meta);
 

@@ -8,6 +8,7 @@
 #include "build/io/error.hpp"
 #include "build/io/output_file.hpp"
 #include "commands.hpp"
+#include "image_options.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
       "Run `surftrace COMMAND --help` for the options of one command.",
       "surftrace"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "surftrace 0.1.0");
+  app.set_version_flag("--version", surftrace::tools::kSoftware);
   app.fallthrough();
 
   surftrace::tools::addInfoCommand(app);

@@ -22,7 +22,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include <embree3/rtcore_config.h>
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -340,6 +339,15 @@ void runTrajectory(const TrajectoryOptions& o) {
   // error of any stage (a bad frame, a full disk) is kept and stops the input; the pipeline
   // then drains, and the error is thrown once it has (an exception escaping a stage let the
   // process exit while the build of the next frame still ran: a crash on a full disk).
+  ImageRecord recordTemplate;
+  recordTemplate.engine = "embree";
+  recordTemplate.surface = o.surface;
+  recordTemplate.probeRadius = o.probe;
+  if (request.surface == build::SurfaceKind::Mss) recordTemplate.shrinkFactor = o.shrink;
+  recordTemplate.input = o.topology;
+  recordTemplate.trajectory = o.trajectory;
+  recordTemplate.color = o.image.color;
+  recordTemplate.commandLine = o.commandLine;
   std::exception_ptr failure;
   std::atomic<bool> failed{false};
   const auto keep = [&](const std::exception_ptr& error) {
@@ -408,21 +416,10 @@ void runTrajectory(const TrajectoryOptions& o) {
                 if (!w || failed.load()) return;
                 try {
                   const auto t = std::chrono::steady_clock::now();
-                  view::ImageMetadata meta;
-                  meta["surftrace:renderer"] =
-                      std::string("surftrace 0.1.0 embree ") + RTC_VERSION_STRING + " (double-precision patches)";
-                  meta["surftrace:engine"] = "embree";
-                  meta["surftrace:camera"] = view::cameraToJson(ro.camera);
-                  meta["surftrace:surface"] = o.surface;
-                  meta["surftrace:probe_radius"] = std::to_string(o.probe);
-                  if (request.surface == build::SurfaceKind::Mss) meta["surftrace:shrink_factor"] = std::to_string(o.shrink);
-                  meta["surftrace:input"] = o.topology;
-                  meta["surftrace:trajectory"] = o.trajectory;
-                  meta["surftrace:frame"] = std::to_string(w->frame);
-                  meta["surftrace:time_ps"] = std::to_string(w->time);
-                  meta["surftrace:color"] = o.image.color;
-                  meta["surftrace:command"] = o.commandLine;
-                  meta["Software"] = "surftrace 0.1.0";
+                  ImageRecord record = recordTemplate;
+                  record.frame = w->frame;
+                  record.timePs = w->time;
+                  const view::ImageMetadata meta = imageMetadata(record, ro.camera);
                   // Each written whole or not at all (view::writePng/writeExr), every write checked.
                   if (!png.empty()) view::writePng(png(w->frame), w->image, meta);
                   if (!exr.empty()) view::writeExr(exr(w->frame), w->image, meta);
