@@ -15,6 +15,7 @@
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "commands.hpp"
+#include "view/patch_kind.hpp"
 #include "option_checks.hpp"
 
 namespace surftrace::tools {
@@ -74,30 +75,53 @@ std::string fixed(double v, int digits = 3) {
   return buf;
 }
 
-// A patch list holds no atom records: say what it was built from and what it holds.
+// A patch list holds no atom records: say what it was built from and what it holds, by patch
+// kind (view::kPatchKinds: the SES's and the skin's alike).
 void runPatchListInfo(const InfoOptions& o) {
   const build::PatchList p = build::readPatchList(o.path);
+  const bool skin = p.params.surface == build::SurfaceKind::Mss;
   if (o.json) {
     nlohmann::json j;
     j["file"] = o.path;
     j["format"] = "SurfTrace patch list";
     j["surface"] = build::surfaceKindName(p.params.surface);
     j["probe_radius"] = p.params.probeRadius;
+    if (skin) j["shrink_factor"] = p.params.shrinkFactor;
     j["atoms"] = p.params.atomCount;
     j["input_crc32"] = p.params.inputCrc32;
     j["radii"] = {{"set", p.params.radiiSet}};
-    j["patches"] = {{"convex", p.convex.size()}, {"toroidal", p.tori.size()}, {"concave", p.concave.size()},
-                    {"clip_planes", p.clipPlanes.size()}};
+    nlohmann::json patches = nlohmann::json::object();
+    for (const view::PatchKindInfo& k : view::kPatchKinds)
+      if (const std::size_t n = view::patchCount(p, k.kind); n > 0 || !skin) {
+        if (skin || k.kind == view::PatchKind::Convex || k.kind == view::PatchKind::Toroidal ||
+            k.kind == view::PatchKind::Concave)
+          patches[k.name] = n;
+      }
+    patches["clip_planes"] = p.clipPlanes.size();
+    if (skin) patches["cell_planes"] = p.cellPlanes.size();
+    j["patches"] = patches;
     j["components"] = p.componentCount;
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("file       %s (SurfTrace patch list, %s surface, probe %.3f Å)\n", o.path.c_str(),
-              build::surfaceKindName(p.params.surface), p.params.probeRadius);
+  if (skin)
+    std::printf("file       %s (SurfTrace patch list, %s surface, shrink factor %.3f)\n", o.path.c_str(),
+                build::surfaceKindName(p.params.surface), p.params.shrinkFactor);
+  else
+    std::printf("file       %s (SurfTrace patch list, %s surface, probe %.3f Å)\n", o.path.c_str(),
+                build::surfaceKindName(p.params.surface), p.params.probeRadius);
   std::printf("built from %u atoms (input CRC-32 %x, radii %s)\n", p.params.atomCount, p.params.inputCrc32,
               p.params.radiiSet.c_str());
-  std::printf("patches    %zu convex, %zu toroidal, %zu concave, %zu clipping planes; %u components\n",
-              p.convex.size(), p.tori.size(), p.concave.size(), p.clipPlanes.size(), p.componentCount);
+  if (!skin) {
+    std::printf("patches    %zu convex, %zu toroidal, %zu concave, %zu clipping planes; %u components\n",
+                p.convex.size(), p.tori.size(), p.concave.size(), p.clipPlanes.size(), p.componentCount);
+    return;
+  }
+  std::string counts;
+  for (const view::PatchKindInfo& k : view::kPatchKinds)
+    if (const std::size_t n = view::patchCount(p, k.kind); n > 0)
+      counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + k.name;
+  std::printf("patches    %s; %zu mixed-cell planes\n", counts.empty() ? "none" : counts.c_str(), p.cellPlanes.size());
 }
 
 void runInfo(const InfoOptions& o) {

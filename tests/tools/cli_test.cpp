@@ -113,6 +113,21 @@ TEST(Cli, SkinAreaBuildAndShrinkErrors) {
   EXPECT_EQ(p.params.surface, surftrace::build::SurfaceKind::Mss);
   EXPECT_EQ(p.params.shrinkFactor, 0.5);
   EXPECT_GT(p.mss.size(), p.params.atomCount);
+  // `info` on the skin's list names the skin's kinds with their counts (it printed 0 convex,
+  // 0 toroidal, 0 concave).
+  const auto kindCount = [&](surftrace::build::MssKind kind) {
+    const auto [first, last] = surftrace::build::mssKindRange(p.mss, kind);
+    return std::to_string(last - first);
+  };
+  const Result info = run("info " + stp);
+  ASSERT_EQ(info.status, 0) << info.output;
+  EXPECT_NE(info.output.find("shrink factor 0.500"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find(kindCount(surftrace::build::MssKind::Convex) + " skin convex, " +
+                             kindCount(surftrace::build::MssKind::Edge) + " skin edge, " +
+                             kindCount(surftrace::build::MssKind::Face) + " skin face, " +
+                             kindCount(surftrace::build::MssKind::Concave) + " skin concave"),
+            std::string::npos)
+      << info.output;
 
   for (const char* bad : {"0", "1.5", "-0.2", "nan", "half", "1e-4", "1e-12", "1e-200", "1e-400"}) {
     const Result e = run(std::string("area --surface mss --shrink ") + bad + " " + data("paper/1grm.pdb.gz"));
