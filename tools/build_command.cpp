@@ -187,7 +187,7 @@ void runMssArea(const AreaOptions& o, const Built& b) {
   }
   std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.shrink,
               o.shrink >= 1.0 ? ": the union of the van der Waals balls" : "");
-  std::printf("MSS area        %14.4f Å²  (quadrature error estimate %.1e)\n", a.total(), a.areaErrorEstimate);
+  std::printf("MSS area        %14.4f Å²  (error estimate %.1e: quadrature and sliver cells)\n", a.total(), a.areaErrorEstimate);
   std::printf("  convex        %14.4f Å²  (atom spheres)\n", a.byKind[0]);
   std::printf("  edge          %14.4f Å²  (hyperboloids of Delaunay edges)\n", a.byKind[1]);
   std::printf("  face          %14.4f Å²  (hyperboloids of Delaunay triangles)\n", a.byKind[2]);

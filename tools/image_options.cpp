@@ -13,6 +13,7 @@
 
 #include <embree3/rtcore_config.h>
 
+#include "build/mss/mss_area.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
 
@@ -134,7 +135,23 @@ void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::
     // grown by the largest radius (every ball of the skin's construction is centred in that
     // hull, and shrunk to radius² <= Σλ_i r_i² <= r_max²; tight as s -> 0). A patch list read
     // without its structure has the first alone.
-    const view::SphereCover patches{list.mss.center, list.mss.boundRadius};
+    // A patch of a near-degenerate simplex whose cell is a sliver (build::mssPatchIsNegligible:
+    // four nearly co-spherical atoms) holds next to no skin, but its ball about a far,
+    // ill-conditioned orthocentre would move the view (issue 18): such patches are left out.
+    std::vector<glm::dvec3> centers;
+    std::vector<double> radii;
+    centers.reserve(list.mss.size());
+    radii.reserve(list.mss.size());
+    for (std::size_t k = 0; k < list.mss.size(); ++k) {
+      if (build::mssPatchIsNegligible(list, k)) continue;
+      centers.push_back(list.mss.center[k]);
+      radii.push_back(list.mss.boundRadius[k]);
+    }
+    if (centers.empty()) {  // nothing but slivers (not a skin the builder writes): keep them all
+      centers = list.mss.center;
+      radii = list.mss.boundRadius;
+    }
+    const view::SphereCover patches{centers, radii};
     if (molecule.centers.empty()) {
       camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
     } else {

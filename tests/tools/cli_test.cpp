@@ -288,6 +288,46 @@ TEST(Cli, WideSkinFillsThePicture) {
   }
 }
 
+// Issue 18: eight atoms on a 3 Å cube moved by ~1e-11 Å leave a sliver tetrahedron on a face
+// whose concave sphere, about an orthocentre 3 Å off, holds no skin. Its ball moved the view of
+// the skin rendered from its patch list alone (which frames on the patches' balls): the look-at
+// point by 3.1 Å and the eye 12 Å further. The jittered cube is framed as the exact one.
+TEST(Cli, SliverPatchesDoNotMoveTheSkinsFraming) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const char* exact[] = {"0 0 0", "3 0 0", "0 3 0", "3 3 0", "0 0 3", "3 0 3", "0 3 3", "3 3 3"};
+  const char* jittered[] = {"-5.4658828123790234e-12 9.2459007166876556e-12 -7.4733820269828078e-12",
+                            "3.0000000000040963 -8.2962946389849461e-12 -5.0511803014182982e-12",
+                            "9.9825707832515798e-12 2.9999999999941878 2.8373687014421398e-12",
+                            "2.9999999999991829 2.9999999999990625 -1.0034612221644589e-13",
+                            "-6.1553831551463561e-12 6.610425472659433e-12 2.9999999999917915",
+                            "2.9999999999946838 -9.6001738755163842e-12 2.9999999999953353",
+                            "-1.8467227407808572e-12 3.0000000000080411 2.9999999999975815",
+                            "2.9999999999922746 2.999999999995167 3.0000000000098321"};
+  auto camera = [&](const std::string& name, const char* const* atoms, const std::string& view) {
+    const std::string xyz = (dir / (name + ".xyz")).string(), stp = (dir / (name + ".stp")).string(),
+                      exr = (dir / (name + ".exr")).string();
+    {
+      std::ofstream f(xyz);
+      f << "8\ncube\n";
+      for (int k = 0; k < 8; ++k) f << "C " << atoms[k] << "\n";
+    }
+    const Result b = run("build " + xyz + " --surface mss --shrink 0.3 -o " + stp);
+    EXPECT_EQ(b.status, 0) << b.output;
+    const Result r = run("render " + stp + " --view=" + view + " --size 16x16 --quiet --exr " + exr);
+    EXPECT_EQ(r.status, 0) << r.output;
+    surftrace::view::ImageMetadata meta;
+    surftrace::view::readExr(exr, &meta);
+    return surftrace::view::cameraFromJson(meta.at("surftrace:camera"));
+  };
+  for (const std::string view : {"front", "left", "1,-1,0.5"}) {
+    const auto a = camera("exact", exact, view), b = camera("jittered", jittered, view);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(a.eye[k], b.eye[k], 1e-6) << view;
+      EXPECT_NEAR(a.lookAt[k], b.lookAt[k], 1e-6) << view;
+    }
+  }
+}
+
 // Bytes equal, so that NaNs and signed zeros compare too.
 template <typename T>
 bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <boost/math/quadrature/gauss.hpp>
@@ -256,10 +257,53 @@ std::array<double, 4> barycentric(std::span<const glm::dvec3> centers, const glm
   }
   l[0] = 1.0;
   for (int k = 1; k < count; ++k) l[0] -= l[k];
+  // y lies in δ_X, so λ lies in [0, 1]: outside means rounding on a nearly flat simplex (the
+  // determinant ~ the jitter of near-degenerate input) blew it up. Clamp and renormalise.
+  double sum = 0.0;
+  for (int k = 0; k < count; ++k) {
+    l[k] = std::isfinite(l[k]) ? std::clamp(l[k], 0.0, 1.0) : 0.0;
+    sum += l[k];
+  }
+  for (int k = 0; k < count; ++k) l[k] = sum > 0.0 ? l[k] / sum : 1.0 / count;
   return l;
 }
 
 }  // namespace
+
+double mssThinPatchAreaBound(const PatchList& p, std::size_t k) {
+  const MssQuadrics& q = p.mss;
+  const auto kind = static_cast<MssKind>(q.kind[k]);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (kind != MssKind::Convex && kind != MssKind::Concave) return kInfinity;
+  const double R = std::sqrt(std::max(0.0, -q.constant[k] / q.radialCoeff[k]));
+  const glm::dvec3 z = q.center[k];
+  const std::span<const Plane> planes(p.cellPlanes.data() + q.cellBegin[k], q.cellCount[k]);
+  double width = kInfinity;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const glm::dvec3 ni(planes[i]);
+    const double di = glm::dot(ni, z) + planes[i].w;
+    for (std::size_t j = i + 1; j < planes.size(); ++j) {
+      const glm::dvec3 nj(planes[j]);
+      if (glm::dot(ni, nj) >= -0.5) continue;
+      const double dj = glm::dot(nj, z) + planes[j].w;
+      // x − z = u on the patch, |u| = R: n_i·u <= −d_i and n_i·u >= d_j − (n_i + n_j)·u. The
+      // last term bounds the rounding of d_i + d_j (a few ulps of the terms summed).
+      const double rounding = 8.0 * std::numeric_limits<double>::epsilon() *
+                              (std::abs(glm::dot(ni, z)) + std::abs(planes[i].w) + std::abs(glm::dot(nj, z)) +
+                               std::abs(planes[j].w));
+      width = std::min(width, -di - dj + glm::length(ni + nj) * R + rounding);
+    }
+  }
+  if (width == kInfinity) return kInfinity;
+  return 2.0 * std::numbers::pi * R * std::max(0.0, width);
+}
+
+bool mssPatchIsNegligible(const PatchList& p, std::size_t k) {
+  const double bound = mssThinPatchAreaBound(p, k);
+  if (bound == std::numeric_limits<double>::infinity()) return false;
+  const double R2 = std::max(0.0, -p.mss.constant[k] / p.mss.radialCoeff[k]);
+  return bound <= 1e-7 * 2.0 * kTwoPi * R2;
+}
 
 MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers) {
   const MssQuadrics& q = p.mss;
@@ -270,7 +314,10 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
     Scratch& sc = scratch.local();
     const auto kind = static_cast<MssKind>(q.kind[k]);
-    if (kind == MssKind::Convex || kind == MssKind::Concave)
+    if (mssPatchIsNegligible(p, k)) {
+      // Zero in the limit of the symbolic perturbation; what it may hold is reported as error.
+      errors[k] = mssThinPatchAreaBound(p, k);
+    } else if (kind == MssKind::Convex || kind == MssKind::Concave)
       sphereMoments(p, k, sc, moments[k]);
     else
       errors[k] = hyperboloidMoments(p, k, sc, moments[k]);
@@ -293,7 +340,8 @@ MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers
     out.areaErrorEstimate += errors[k];
     normalSum += m.normal;
     volume += m.flux + glm::dot(q.center[k] - origin, m.normal);
-    // The flux integrand is bounded by |x − origin|; its error scales like the area's.
+    // The flux integrand is bounded by |x − origin|; its error scales like the area's (and the
+    // whole of a negligible sphere patch lies within its radius, <= boundRadius, of its centre).
     volumeError += errors[k] * (q.boundRadius[k] + glm::length(q.center[k] - origin));
     if (m.area <= 0.0) continue;
     // Per atom: λ of the area centroid's point y (λ is affine in x over μ_X).

@@ -18,7 +18,8 @@ struct MssAreas {
   double volume = 0.0;         // Å³ enclosed by the skin (divergence theorem over the patches)
   // Estimated quadrature error of the hyperboloid areas (the spheres are closed form): the sum
   // over all pieces of |Kronrod 15 − Gauss 7|, which bounds the 7-point rule's error on a smooth
-  // piece and so, in practice, the 15-point result's by a wide margin.
+  // piece and so, in practice, the 15-point result's by a wide margin; plus, for every
+  // negligible patch (counted as 0), its area bound (mssThinPatchAreaBound).
   double areaErrorEstimate = 0.0;
   double volumeErrorEstimate = 0.0;
   // |Σ ∫ n dA| over all patches, Å²: 0 for a closed surface (a hole or an overlap shows here).
@@ -26,9 +27,26 @@ struct MssAreas {
   std::vector<double> perPatch;  // Å², one per MSS patch
   // Per atom: each point of the skin shared by the atoms of its simplex in proportion to
   // its convex weights λ (ORACLES D.3: x ∈ μ_X has λ = the barycentric coordinates of
-  // y = z_X + P(x − z_X)/(1 − s) in δ_X); these sum to the total.
+  // y = z_X + P(x − z_X)/(1 − s) in δ_X); these sum to the total. λ of a point of δ_X lies in
+  // [0, 1]: where rounding on a nearly flat simplex puts it outside, it is clamped there and
+  // renormalised (an even split when nothing is left), so each share is in [0, the patch's area].
   std::vector<double> perAtom;
 };
+
+// An upper bound on the area of sphere patch k (convex or concave) from the thinnest slab that
+// holds its mixed cell on the sphere: for two cell planes that face each other (n_i·n_j < −½),
+// every point x of the patch has n_i·(x − z) within an interval of width
+// t = −(n_i·z + d_i) − (n_j·z + d_j) + |n_i + n_j| R, and a sphere meets a slab of width t in
+// at most 2πR t (Archimedes). +∞ for a hyperboloid or a cell without such a pair. This is what
+// a near-degenerate simplex leaves (issue 18: the sliver tetrahedron of four nearly co-spherical
+// atoms has a cell of width ~ the jitter, where Gauss–Bonnet on two almost coincident circles
+// cancels catastrophically); the exact placement has no such cell at all.
+double mssThinPatchAreaBound(const PatchList& patches, std::size_t k);
+
+// Whether patch k is counted as zero area: its thin-cell bound is below 1e-7 of its sphere's
+// area (4πR²), so it is invisible and no computation in double resolves it. computeMssAreas
+// adds the bound to its error estimates instead, and camera framing skips such patches.
+bool mssPatchIsNegligible(const PatchList& patches, std::size_t k);
 
 // Spheres (convex and concave) exactly, by Gauss–Bonnet on the sphere minus the caps outside
 // the mixed cell; hyperboloids by adaptive Gauss–Kronrod quadrature along the axis of
