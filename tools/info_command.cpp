@@ -1,5 +1,6 @@
 // `surftrace info`: what a structure file holds and what reading it left out.
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <limits>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build/io/molecule.hpp"
+#include "build/io/output_file.hpp"
 #include "build/patch_list.hpp"
 #include "commands.hpp"
 #include "view/patch_kind.hpp"
@@ -67,7 +69,28 @@ struct InfoOptions {
   std::string path;
   build::ReadOptions read;
   bool json = false;
+  std::string xyzr;  // --xyzr OUT: the atoms as every command uses them
 };
+
+// The atoms as every command uses them (after the water, hydrogen, chain and model choices,
+// duplicates and radii), one "x y z r" line each in the fewest digits that read back to the
+// same doubles: an outside renderer given this file draws exactly the spheres SurfTrace does.
+void writeXyzr(const std::string& path, const build::Molecule& m) {
+  std::string text;
+  text.reserve(m.size() * 48);
+  char number[32];
+  const auto put = [&](double v, char after) {
+    const auto end = std::to_chars(number, number + sizeof number, v).ptr;
+    text.append(number, end).push_back(after);
+  };
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    put(m.centers[i].x, ' ');
+    put(m.centers[i].y, ' ');
+    put(m.centers[i].z, ' ');
+    put(m.radii[i], '\n');
+  }
+  build::writeFileAtomically(path, text);
+}
 
 std::string fixed(double v, int digits = 3) {
   char buf[64];
@@ -125,9 +148,15 @@ void runPatchListInfo(const InfoOptions& o) {
 }
 
 void runInfo(const InfoOptions& o) {
+  if (!o.xyzr.empty()) {
+    if (isPatchListInput(o.path))
+      throw std::invalid_argument("--xyzr needs the structure file: " + o.path + " is a patch list, which holds no atoms");
+    build::prepareOutputPath(o.xyzr, "--xyzr");
+  }
   if (isPatchListInput(o.path)) return runPatchListInfo(o);
   const auto start = std::chrono::steady_clock::now();
   const build::Molecule m = build::readMolecule(o.path, o.read);
+  if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::map<std::string, std::size_t> elements, chains;
@@ -247,6 +276,10 @@ void addInfoCommand(CLI::App& app) {
       ->required();
   addMoleculeOptions(*cmd, o->read);
   cmd->add_flag("--json", o->json, "Print the summary as JSON");
+  cmd->add_option("--xyzr", o->xyzr,
+                  "Also write the atoms as every command uses them (after the water, hydrogen, chain, model and "
+                  "radius choices) to this file, one 'x y z r' line each, exactly (shortest round-trip digits), "
+                  "so that another renderer draws the same spheres");
   cmd->callback([o] { runInfo(*o); });
 }
 

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "run_tool.hpp"
 #include "view/camera.hpp"
@@ -326,6 +327,24 @@ TEST(Cli, SliverPatchesDoNotMoveTheSkinsFraming) {
       EXPECT_NEAR(a.lookAt[k], b.lookAt[k], 1e-6) << view;
     }
   }
+}
+
+// `info --xyzr` writes the atoms as the commands use them (issue 20): read back, they are the
+// same doubles as the structure gives with the same choices (water dropped, chains chosen).
+TEST(Cli, InfoWritesTheAtomsAsXyzrExactly) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string xyzr = (dir / "1vis_chainA.xyzr").string();
+  const Result r = run("info " + data("paper/1vis.pdb.gz") + " --chains A --xyzr " + xyzr);
+  ASSERT_EQ(r.status, 0) << r.output;
+  surftrace::build::ReadOptions chosen;
+  chosen.chains = {"A"};
+  const auto original = surftrace::build::readMolecule(data("paper/1vis.pdb.gz"), chosen);
+  const auto written = surftrace::build::readMolecule(xyzr);
+  ASSERT_EQ(written.size(), original.size());
+  EXPECT_EQ(written.centers, original.centers);
+  EXPECT_EQ(written.radii, original.radii);
+  const Result stp = run("info " + xyzr + ".stp --xyzr " + xyzr);
+  EXPECT_NE(stp.status, 0);
 }
 
 // Bytes equal, so that NaNs and signed zeros compare too.
