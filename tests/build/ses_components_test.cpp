@@ -86,6 +86,32 @@ TEST(SesComponents, TranslationInvariant) {
   expectClosedComponents(p0, "1crn");
 }
 
+// Two crambins 100 Å apart are two outer surfaces (positive volumes, equal) with a cavity
+// each (negative, equal), and --drop-cavities keeps both outer surfaces whole.
+TEST(SesComponents, TwoMoleculesAreTwoOuterSurfaces) {
+  const Molecule m = load("structures/1crn.pdb");
+  std::vector<glm::dvec3> c = m.centers;
+  std::vector<double> r = m.radii;
+  for (std::size_t k = 0; k < m.size(); ++k) c.push_back(m.centers[k] + glm::dvec3(100, 0, 0)), r.push_back(m.radii[k]);
+  const PatchList p = buildSes(c, r, SesParams{1.4});
+  ASSERT_EQ(p.componentCount, 4u);
+  const SurfaceAreas a = computeAreas(p);
+  std::vector<SurfaceAreas::Component> outer, cavities;
+  for (const auto& k : a.components) (k.outer() ? outer : cavities).push_back(k);
+  ASSERT_EQ(outer.size(), 2u);
+  ASSERT_EQ(cavities.size(), 2u);
+  EXPECT_NEAR(outer[0].volume, outer[1].volume, 1e-9 * outer[0].volume);
+  EXPECT_NEAR(outer[0].area, outer[1].area, 1e-9 * outer[0].area);
+  EXPECT_NEAR(cavities[0].volume, cavities[1].volume, 1e-9 * outer[0].volume);
+  EXPECT_NEAR(cavities[0].volume, -28.113, 1e-3);
+  const PatchList kept = outerComponent(p);
+  EXPECT_EQ(kept.componentCount, 2u);
+  const SurfaceAreas b = computeAreas(kept);
+  ASSERT_EQ(b.components.size(), 2u);
+  EXPECT_TRUE(b.components[0].outer() && b.components[1].outer());
+  expectClosedComponents(p, "two crambins");
+}
+
 // 1VIS had 19 components that broke the isoperimetric inequality, 1AON 527 of 852 (3.04 Å²
 // "enclosing" 49 Å³): cavities sealed by clipped concave patches, split at their
 // self-intersection circles into pieces that were not closed.
