@@ -23,15 +23,29 @@ Molecule load(const char* file) { return readMolecule(std::string(SURFTRACE_TEST
 
 PatchList ses(const Molecule& m, double rp = 1.4) { return buildSes(m.centers, m.radii, SesParams{rp}); }
 
-// Each end of every partial torus is a concave triangle of its two atoms at that probe
-// position, and carries the torus's component. Returns the number of ends checked.
+// The labelling, patch by patch along every shared boundary (ORACLES A.3-A.5):
+// - each end of every partial torus is a concave triangle of its two atoms at that probe
+//   position with the torus's component, and each edge of a concave triangle is the end of
+//   exactly one torus (triangles of merged, cospherical vertices, which share a probe
+//   position, are left out: their inner edges have no torus);
+// - each clipping plane of a triangle is the bisector of its probe and another probe w,
+//   along whose intersection circle the surface crosses from one patch to w's: same
+//   component;
+// - a torus's sides are on its atoms' convex patches, whose parts computeAreas splits by the
+//   tori's components (so a torus agrees with its convex sides by construction).
+// Returns the number of torus ends checked.
 std::size_t expectTorusEndsAgree(const PatchList& p) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::size_t>> byPair;
-  for (std::size_t v = 0; v < p.concave.size(); ++v) {
-    std::array<std::uint32_t, 3> t{p.concave.atomI[v], p.concave.atomJ[v], p.concave.atomK[v]};
-    std::sort(t.begin(), t.end());
-    for (const auto& pair : {std::pair{t[0], t[1]}, std::pair{t[0], t[2]}, std::pair{t[1], t[2]}}) byPair[pair].push_back(v);
-  }
+  const auto& cv = p.concave;
+  // Probes sorted by x, to find one by its position.
+  std::vector<std::size_t> byX(cv.size());
+  for (std::size_t v = 0; v < cv.size(); ++v) byX[v] = v;
+  std::sort(byX.begin(), byX.end(), [&](std::size_t a, std::size_t b) { return cv.probe[a].x < cv.probe[b].x; });
+  auto probesAt = [&](const glm::dvec3& q, auto&& f) {
+    auto it = std::lower_bound(byX.begin(), byX.end(), q.x - 1e-6, [&](std::size_t v, double x) { return cv.probe[v].x < x; });
+    for (; it != byX.end() && cv.probe[*it].x <= q.x + 1e-6; ++it)
+      if (glm::distance(cv.probe[*it], q) <= 1e-6) f(*it);
+  };
+  std::vector<std::array<int, 3>> edgeEnds(cv.size(), {0, 0, 0});
   std::size_t ends = 0;
   for (std::size_t t = 0; t < p.tori.size(); ++t) {
     if (p.tori.phiExtent[t] >= 2 * std::numbers::pi) continue;
@@ -40,13 +54,35 @@ std::size_t expectTorusEndsAgree(const PatchList& p) {
     for (const double phi : {0.0, p.tori.phiExtent[t]}) {
       const glm::dvec3 q = p.tori.center[t] + p.tori.bigRadius[t] * (std::cos(phi) * e1 + std::sin(phi) * e2);
       bool found = false;
-      for (const std::size_t v : byPair[{key.first, key.second}]) {
-        if (glm::distance(p.concave.probe[v], q) > 1e-6) continue;
-        found = true;
-        EXPECT_EQ(p.concave.component[v], p.tori.component[t]) << "torus " << t << ", concave " << v;
-      }
+      probesAt(q, [&](std::size_t v) {
+        const std::uint32_t at[3] = {cv.atomI[v], cv.atomJ[v], cv.atomK[v]};
+        for (int e = 0; e < 3; ++e) {
+          if (std::minmax(at[e], at[(e + 1) % 3]) != key) continue;
+          found = true;
+          ++edgeEnds[v][static_cast<std::size_t>(e)];
+          EXPECT_EQ(cv.component[v], p.tori.component[t]) << "torus " << t << ", concave " << v;
+        }
+      });
       EXPECT_TRUE(found) << "torus " << t << " at φ = " << phi;
       ++ends;
+    }
+  }
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    std::size_t here = 0;
+    probesAt(cv.probe[v], [&](std::size_t) { ++here; });
+    if (here == 1) {
+      for (int e = 0; e < 3; ++e) EXPECT_EQ(edgeEnds[v][static_cast<std::size_t>(e)], 1) << "concave " << v << ", edge " << e;
+    }
+    for (std::uint32_t k = 0; k < cv.clipCount[v]; ++k) {
+      const Plane& pl = p.clipPlanes[cv.clipBegin[v] + k];
+      const glm::dvec3 n(pl);
+      const glm::dvec3 w = cv.probe[v] - 2.0 * (glm::dot(n, cv.probe[v]) + pl.w) * n;
+      bool found = false;
+      probesAt(w, [&](std::size_t o) {
+        found = true;
+        EXPECT_EQ(cv.component[o], cv.component[v]) << "concave " << v << " clipped by " << o;
+      });
+      EXPECT_TRUE(found) << "concave " << v << ", plane " << k;
     }
   }
   return ends;
