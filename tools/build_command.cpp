@@ -53,7 +53,7 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
       ->check(wholeIn(0, 4096));
   cmd.add_flag("--drop-cavities", o.dropCavities,
-               "Keep only the outer SES component: drop the inner surfaces of buried cavities a probe fits in");
+               "Keep only the outer SES components (positive volume): drop the inner surfaces of buried cavities a probe fits in");
   addMoleculeOptions(cmd, o.read);
 }
 

@@ -36,7 +36,7 @@ struct ConvexSpheres {
   std::vector<glm::dvec3> center;
   std::vector<double> radius;
   std::vector<std::uint32_t> atom;
-  std::vector<std::uint32_t> component;  // SES component (0 = outer surface)
+  std::vector<std::uint32_t> component;  // SES component (0 = an outer surface), its atom's lowest
   std::vector<double> area;              // exact area of the exposed part, Å²
   std::vector<glm::dvec3> vectorArea;    // ∫ u dΩ over the exposed part of the unit sphere (volumes)
 

@@ -406,6 +406,9 @@ TEST(Cli, DropCavitiesKeepsTheOuterSurface) {
   const auto a = nlohmann::json::parse(all.output), b = nlohmann::json::parse(outer.output);
   ASSERT_GE(a["ses"]["components"].size(), 2u);
   ASSERT_EQ(b["ses"]["components"].size(), 1u);
+  EXPECT_FALSE(a["ses"]["components"][0]["cavity"].get<bool>());
+  EXPECT_TRUE(a["ses"]["components"][1]["cavity"].get<bool>());
+  EXPECT_LT(a["ses"]["components"][1]["volume"].get<double>(), 0.0);
   // The convex patches of atoms that also face the cavity are kept whole, so the outer
   // surface alone reports their cavity side too (area per component splits them).
   const double outerArea = a["ses"]["components"][0]["area"].get<double>();
