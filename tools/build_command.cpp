@@ -53,7 +53,7 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
   cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
       ->check(wholeIn(0, 4096));
   cmd.add_flag("--drop-cavities", o.dropCavities,
-               "Keep only the outer SES component: drop the inner surfaces of buried cavities a probe fits in");
+               "Keep only the outer SES components (positive volume): drop the inner surfaces of buried cavities a probe fits in");
   addMoleculeOptions(cmd, o.read);
 }
 
@@ -289,7 +289,7 @@ void runArea(const AreaOptions& o) {
     j["ses"] = {{"total", a.sesTotal()}, {"convex", a.sesConvex},     {"toroidal", a.sesToroidal},
                 {"concave", a.sesConcave}, {"volume", a.sesVolume}, {"per_atom", a.sesPerAtom}};
     nlohmann::json components = nlohmann::json::array();
-    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}});
+    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}, {"cavity", !c.outer()}});
     j["ses"]["components"] = components;
     std::printf("%s\n", j.dump(1).c_str());
     return;
@@ -306,10 +306,16 @@ void runArea(const AreaOptions& o) {
   std::printf("  concave       %14.4f Å²  (after self-intersection clipping)\n", a.sesConcave);
   std::printf("SES volume      %14.4f Å³\n", a.sesVolume);
   if (a.components.size() > 1) {
-    double cavityArea = 0.0, cavityVolume = 0.0;
-    for (std::size_t c = 1; c < a.components.size(); ++c) cavityArea += a.components[c].area, cavityVolume -= a.components[c].volume;
-    std::printf("components      %zu: outer surface %.4f Å², %zu cavities %.4f Å² enclosing %.4f Å³ (--drop-cavities drops them)\n",
-                a.components.size(), a.components[0].area, a.components.size() - 1, cavityArea, cavityVolume);
+    // Outer surfaces have a positive volume, cavities a negative one (minus the void they
+    // enclose): printed here as the enclosed voids, positive.
+    double outerArea = 0.0, cavityArea = 0.0, cavityVolume = 0.0;
+    std::size_t outer = 0;
+    for (const auto& c : a.components) {
+      if (c.outer()) ++outer, outerArea += c.area;
+      else cavityArea += c.area, cavityVolume -= c.volume;
+    }
+    std::printf("components      %zu: %zu outer surface%s %.4f Å², %zu cavities %.4f Å² enclosing %.4f Å³ of void (--drop-cavities drops them)\n",
+                a.components.size(), outer, outer == 1 ? "" : "s", outerArea, a.components.size() - outer, cavityArea, cavityVolume);
   }
   std::printf("build           %.1f ms (+ %.1f ms reading)\n", b.buildSeconds * 1e3, b.readSeconds * 1e3);
 }

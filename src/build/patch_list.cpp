@@ -17,6 +17,7 @@
 
 #include "build/io/output_file.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "build/ses/surface_area.hpp"
 
 namespace surftrace::build {
 
@@ -624,14 +625,36 @@ PatchList atomSpheres(std::span<const glm::dvec3> centers, std::span<const doubl
 }
 
 PatchList outerComponent(const PatchList& in) {
-  auto keepOuter = [](const std::vector<std::uint32_t>& component) {
+  // New label of each component: outer ones in order, ~0u for cavities.
+  const SurfaceAreas areas = computeAreas(in);
+  std::vector<std::uint32_t> relabel(std::max<std::size_t>(in.componentCount, areas.components.size()), ~0u);
+  std::uint32_t outer = 0;
+  for (std::size_t c = 0; c < relabel.size(); ++c)
+    if (c == 0 || (c < areas.components.size() && areas.components[c].outer())) relabel[c] = outer++;
+  auto keepOuter = [&](const std::vector<std::uint32_t>& component) {
     std::vector<bool> keep(component.size());
-    for (std::size_t k = 0; k < component.size(); ++k) keep[k] = component[k] == 0;
+    for (std::size_t k = 0; k < component.size(); ++k) keep[k] = component[k] < relabel.size() && relabel[component[k]] != ~0u;
     return keep;
   };
-  const std::vector<bool> keepConvex = keepOuter(in.convex.component), keepTori = keepOuter(in.tori.component),
-                          keepConcave = keepOuter(in.concave.component);
+  std::vector<bool> keepConvex = keepOuter(in.convex.component);
+  const std::vector<bool> keepTori = keepOuter(in.tori.component), keepConcave = keepOuter(in.concave.component);
+  // A convex patch carries its atom's lowest label; it stays, with the outer label, when a
+  // torus of its atom is on an outer surface.
+  std::vector<std::uint32_t> atomOuter(in.params.atomCount, ~0u);
+  for (std::size_t t = 0; t < in.tori.size(); ++t)
+    if (keepTori[t])
+      for (const std::uint32_t x : {in.tori.atomI[t], in.tori.atomJ[t]})
+        if (x < atomOuter.size()) atomOuter[x] = std::min(atomOuter[x], relabel[in.tori.component[t]]);
   PatchList out = in;
+  for (std::size_t k = 0; k < in.convex.size(); ++k) {
+    const std::uint32_t x = in.convex.atom[k];
+    if (keepConvex[k]) out.convex.component[k] = relabel[in.convex.component[k]];
+    else if (x < atomOuter.size() && atomOuter[x] != ~0u) keepConvex[k] = true, out.convex.component[k] = atomOuter[x];
+  }
+  for (std::size_t t = 0; t < in.tori.size(); ++t)
+    if (keepTori[t]) out.tori.component[t] = relabel[in.tori.component[t]];
+  for (std::size_t k = 0; k < in.concave.size(); ++k)
+    if (keepConcave[k]) out.concave.component[k] = relabel[in.concave.component[k]];
   // Kept concave patches' clipping planes, packed in order, with their begin indices moved.
   out.clipPlanes.clear();
   for (std::size_t k = 0; k < in.concave.size(); ++k) {
@@ -652,7 +675,7 @@ PatchList outerComponent(const PatchList& in) {
       if ((*keep)[k]) v[kept++] = v[k];
     v.resize(kept);
   }, out);
-  out.componentCount = in.componentCount > 0 ? 1u : 0u;
+  out.componentCount = in.componentCount > 0 ? outer : 0u;
   return out;
 }
 

@@ -36,7 +36,7 @@ struct ConvexSpheres {
   std::vector<glm::dvec3> center;
   std::vector<double> radius;
   std::vector<std::uint32_t> atom;
-  std::vector<std::uint32_t> component;  // SES component (0 = outer surface)
+  std::vector<std::uint32_t> component;  // SES component (0 = an outer surface), its atom's lowest
   std::vector<double> area;              // exact area of the exposed part, Å²
   std::vector<glm::dvec3> vectorArea;    // ∫ u dΩ over the exposed part of the unit sphere (volumes)
 
@@ -206,9 +206,10 @@ MssExtent mssExtent(const PatchList& list, std::size_t k);
 PatchList atomSpheres(std::span<const glm::dvec3> centers, std::span<const double> radii, double inflate,
                       SurfaceKind kind);
 
-// The outer surface alone (component 0): buried cavities' inner SES components dropped,
-// clipping planes remapped. A convex patch exposed to the outside and to a cavity carries
-// label 0 and is kept whole (its area then includes the cavity side).
+// The outer surfaces alone (components with a positive volume, computeAreas, 0 always
+// among them): buried cavities' inner SES components dropped, the outer ones renumbered in
+// order, clipping planes remapped. A convex patch exposed to an outer surface and to a
+// cavity is kept whole with the outer label (its area then includes the cavity side).
 PatchList outerComponent(const PatchList& patches);
 
 // Binary patch-list file (.stp). Layout, all little-endian:

@@ -5,6 +5,9 @@
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
+#include "build/ses/clip_planes.hpp"
 #include "build/ses/ses_assembly.hpp"
 #include "build/ses/ses_builder_state.hpp"
 
@@ -69,9 +72,11 @@ void SesBuilder::State::findExtremeAtom() {
 // SES components: the faces of all atoms (nodes), joined where they share a vertex (its
 // three atoms' faces) or a free circle (its two atoms' faces); tori and concave patches
 // take their faces' component. The outer component, 0, is the extreme atom's face facing
-// +x; the others are numbered in order of their first patch (convex, tori, concave). An
-// atom exposed to two components (a one-atom wall around a cavity) has one convex patch;
-// it takes the lower number.
+// +x; the others are numbered in order of their first patch (convex, tori, concave). Two
+// probes whose spheres cut each other's patch join their faces' components too (below).
+// An atom exposed to two components (a one-atom wall around a cavity) has one convex
+// patch; it takes the lower number, and computeAreas gives each other component the part
+// its tori bound.
 void SesBuilder::State::labelComponents() {
   const std::size_t n = centers.size();
   auto& cv = out.concave;
@@ -118,6 +123,27 @@ void SesBuilder::State::labelComponents() {
   }
   for (std::size_t v = 0; v < cv.size(); ++v)
     if (vertexGroup[v] != 0) vertexFace[v] = vertexFace[v - vertexGroup[v]];
+  // Self-intersections (ORACLES A.5): where probe w's sphere cuts v's triangle (the
+  // condition under which planesOf gives v w's plane), the surface crosses from v's patch
+  // to w's along their intersection circle, so they are one surface even where no vertex
+  // joins their atoms' faces (a cavity sealed by clipped concave patches and the halves of
+  // spindle tori). Joining when the cap merely may meet the triangle can only merge
+  // components, never leave one open.
+  const double twoRp = 2.0 * params.probeRadius;
+  auto& row = tls.local().row;
+  for (std::size_t v = 0; v < cv.size(); ++v) {
+    if (vertexFace[v] == ~0u) continue;
+    row.clear();
+    probeGrid.neighbours(static_cast<std::uint32_t>(v), row);
+    const TriangleCone cone({cv.dirI[v], cv.dirJ[v], cv.dirK[v]});
+    for (const std::uint32_t w : row) {
+      if (vertexFace[w] == ~0u) continue;
+      const glm::dvec3 d = cv.probe[w] - cv.probe[v];
+      if (!(glm::dot(d, d) > 0.0)) continue;
+      const double len = glm::length(d);
+      if (cone.capMeets(d / len, len / twoRp)) unite(vertexFace[v], vertexFace[w]);
+    }
+  }
   std::vector<std::uint32_t>& label = componentScratch.faceLabel;
   label.assign(faces, ~0u);
   std::uint32_t components = 0;

@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <span>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -67,6 +70,69 @@ std::vector<Cap>& concaveCaps(const PatchList& p, std::size_t c, std::vector<Cap
   return caps;
 }
 
+
+// One exposed arc of a convex patch's boundary on its atom's unit sphere: the contact
+// circle u(φ) = α·a + β(cos φ e1 + sin φ e2) of a torus, run with the atom's region on its
+// left (ORACLES D.2): decreasing φ about a = axis for the torus's atom i, increasing for j.
+struct BoundaryArc {
+  glm::dvec3 a, e1, e2;
+  double alpha, beta, phiStart, phiEnd;
+  double toOther;  // +1 when a points from the atom to the circle's other atom, else −1
+  bool closed;     // a whole circle (a free circle of two atoms)
+  glm::dvec3 at(double phi) const { return alpha * a + beta * (std::cos(phi) * e1 + std::sin(phi) * e2); }
+  glm::dvec3 tangent(double phi) const {
+    const double sign = phiEnd > phiStart ? 1.0 : -1.0;
+    return sign * (-std::sin(phi) * e1 + std::cos(phi) * e2);
+  }
+};
+
+// The part of a convex patch bounded by `arcs` (a union of the patch's faces): its area on
+// the unit sphere by Gauss–Bonnet modulo 4π (as the builder resolves it) and its vector
+// area by Stokes, W = ½∮ u × du, which is exact.
+struct RegionPart {
+  double area = 0.0;
+  glm::dvec3 vectorArea{0.0};
+};
+RegionPart boundedRegion(std::span<const BoundaryArc> arcs) {
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  RegionPart part;
+  double turning = 0.0, maxCap = 0.0;
+  std::size_t cycles = 0;
+  std::vector<int> next(arcs.size(), -1);
+  std::vector<char> seen(arcs.size(), 0);
+  for (std::size_t k = 0; k < arcs.size(); ++k) {
+    const BoundaryArc& c = arcs[k];
+    const double p0 = c.phiStart, p1 = c.phiEnd;
+    part.vectorArea += 0.5 * (c.alpha * c.beta * (c.e2 * (std::cos(p1) - std::cos(p0)) - c.e1 * (std::sin(p1) - std::sin(p0))) +
+                              c.beta * c.beta * (p1 - p0) * c.a);
+    const double cosA = c.toOther * c.alpha;  // the cap's angular radius, about atom → other
+    turning += cosA * std::abs(p1 - p0);
+    maxCap = std::max(maxCap, kTwoPi * (1.0 - cosA));
+    if (c.closed) continue;
+    const glm::dvec3 end = c.at(p1);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t m = 0; m < arcs.size(); ++m) {
+      if (arcs[m].closed) continue;
+      const double d = glm::distance(end, arcs[m].at(arcs[m].phiStart));
+      if (d < best) best = d, next[k] = static_cast<int>(m);
+    }
+    const BoundaryArc& o = arcs[static_cast<std::size_t>(next[k])];
+    const glm::dvec3 tIn = c.tangent(p1), tOut = o.tangent(o.phiStart);
+    turning -= std::atan2(glm::dot(end, glm::cross(tIn, tOut)), glm::dot(tIn, tOut));
+  }
+  for (std::size_t k = 0; k < arcs.size(); ++k) {
+    if (seen[k]) continue;
+    ++cycles;
+    for (int m = static_cast<int>(k); m >= 0 && !seen[static_cast<std::size_t>(m)]; m = next[static_cast<std::size_t>(m)])
+      seen[static_cast<std::size_t>(m)] = 1;
+  }
+  double area = std::fmod(turning - kTwoPi * static_cast<double>(cycles), 2.0 * kTwoPi);
+  if (area < 0.0) area += 2.0 * kTwoPi;
+  if (area > 2.0 * kTwoPi - 0.5 * maxCap) area -= 2.0 * kTwoPi;
+  part.area = std::max(area, 0.0);
+  return part;
+}
+
 }  // namespace
 
 double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double phiExtent) {
@@ -89,17 +155,56 @@ SurfaceAreas computeAreas(const PatchList& p) {
     s.components[label].volume += flux / 3.0;
   };
 
+  // A convex patch whose atom faces several components (a one-atom wall between the
+  // outside and a cavity) carries one label; its parts bounded by the tori of each other
+  // component go to that component (atom → tori, a counting sort).
+  std::vector<std::uint32_t> toriBegin(p.params.atomCount + 2, 0), toriOf;
+  for (std::size_t t = 0; t < p.tori.size(); ++t) ++toriBegin[p.tori.atomI[t] + 2], ++toriBegin[p.tori.atomJ[t] + 2];
+  for (std::size_t i = 0; i < p.params.atomCount; ++i) toriBegin[i + 2] += toriBegin[i + 1];
+  toriOf.resize(toriBegin[p.params.atomCount + 1]);
+  for (std::size_t t = 0; t < p.tori.size(); ++t)
+    for (const std::uint32_t x : {p.tori.atomI[t], p.tori.atomJ[t]}) toriOf[toriBegin[x + 1]++] = static_cast<std::uint32_t>(t);
+  std::vector<BoundaryArc> arcs;
   for (std::size_t k = 0; k < p.convex.size(); ++k) {
     const double r = p.convex.radius[k], Rs = r + rp, a = p.convex.area[k];
+    const std::uint32_t x = p.convex.atom[k], label = p.convex.component[k];
     const double sas = a * (Rs * Rs) / (r * r);
     s.sas += sas;
     s.sesConvex += a;
-    s.sasPerAtom[p.convex.atom[k]] += sas;
-    s.sesPerAtom[p.convex.atom[k]] += a;
+    s.sasPerAtom[x] += sas;
+    s.sesPerAtom[x] += a;
     // Convex sphere, σ = +1: ∫ x·n dA = ρ² c·W + ρ A.
-    const double flux = r * r * glm::dot(p.convex.center[k], p.convex.vectorArea[k]) + r * a;
-    s.sesVolume += flux;
-    addToComponent(p.convex.component[k], a, flux);
+    const glm::dvec3 c = p.convex.center[k];
+    auto flux = [&](double area, const glm::dvec3& w) { return r * r * glm::dot(c, w) + r * area; };
+    double ownArea = a;
+    glm::dvec3 ownW = p.convex.vectorArea[k];
+    for (std::uint32_t m = toriBegin[x]; m < toriBegin[x + 1]; ++m) {
+      const std::uint32_t other = p.tori.component[toriOf[m]];
+      if (other == label) continue;
+      bool done = false;  // this component's part already taken at an earlier torus
+      for (std::uint32_t e = toriBegin[x]; e < m && !done; ++e) done = p.tori.component[toriOf[e]] == other;
+      if (done) continue;
+      arcs.clear();
+      for (std::uint32_t e = m; e < toriBegin[x + 1]; ++e) {
+        const std::uint32_t t = toriOf[e];
+        if (p.tori.component[t] != other) continue;
+        const bool first = p.tori.atomI[t] == x;
+        const glm::dvec3 e1 = p.tori.e1[t], e2 = glm::cross(p.tori.axis[t], e1);
+        const double ext = p.tori.phiExtent[t];
+        const bool closed = ext >= 2.0 * std::numbers::pi;
+        // u(φ) in the torus's frame (e1, axis × e1); the region is on the left.
+        BoundaryArc arc{p.tori.axis[t], e1, e2, glm::dot(p.tori.center[t] - c, p.tori.axis[t]) / Rs, p.tori.bigRadius[t] / Rs,
+                        first ? ext : 0.0, first ? 0.0 : ext, first ? 1.0 : -1.0, closed};
+        arcs.push_back(arc);
+      }
+      const RegionPart part = boundedRegion(arcs);
+      const double area = r * r * part.area;
+      ownArea -= area;
+      ownW -= part.vectorArea;
+      addToComponent(other, area, flux(area, part.vectorArea));
+    }
+    s.sesVolume += flux(a, p.convex.vectorArea[k]);
+    addToComponent(label, ownArea, flux(ownArea, ownW));
   }
   for (std::size_t t = 0; t < p.tori.size(); ++t) {
     const double a = torusPatchArea(p.tori.bigRadius[t], rp, p.tori.thetaI[t], p.tori.thetaJ[t], p.tori.phiExtent[t]);

@@ -16,11 +16,15 @@ struct SurfaceAreas {
   double sesTotal() const { return sesConvex + sesToroidal + sesConcave; }
   std::vector<double> sasPerAtom;  // params.atomCount entries
   std::vector<double> sesPerAtom;  // convex + half of each torus + a third of each concave patch
-  // Per SES component (index = label; 0 is the outer surface). A cavity's normals point into
-  // the cavity, so its volume term is negative: the enclosed void subtracted from the body.
+  // Per SES component (index = label), each a closed surface: volume is ⅓∮ x·n dA with the
+  // SES normal pointing into the solvent. An outer surface (one the solvent outside reaches:
+  // 0, and every separate molecule's) encloses its body, so its volume is positive; a
+  // cavity's normals point into the void, so its volume is negative, minus the void it
+  // encloses. (A molecule floating inside another's cavity counts as outer.)
   struct Component {
     double area = 0.0;
     double volume = 0.0;
+    bool outer() const { return volume > 0.0; }
   };
   std::vector<Component> components;
 };
