@@ -651,6 +651,29 @@ PatchList outerComponent(const PatchList& in) {
     if (keepConvex[k]) out.convex.component[k] = relabel[in.convex.component[k]];
     else if (x < atomOuter.size() && atomOuter[x] != ~0u) keepConvex[k] = true, out.convex.component[k] = atomOuter[x];
   }
+  // A kept convex patch that also faces a dropped cavity is drawn whole (its cavity side is
+  // hidden from outside), but its area and vector area are the outer side's alone, so that
+  // the list's areas are the outer surfaces' (computeAreas splits them the same way).
+  const std::vector<std::vector<ConvexPart>> parts = convexPartsOfOtherComponents(in);
+  for (std::size_t k = 0; k < in.convex.size(); ++k) {
+    if (!keepConvex[k]) continue;
+    const bool ownDropped = !(in.convex.component[k] < relabel.size() && relabel[in.convex.component[k]] != ~0u);
+    if (ownDropped) {
+      // Labelled by a cavity, kept for an outer side: its area is that outer side's.
+      double area = 0.0;
+      glm::dvec3 vectorArea(0.0);
+      for (const ConvexPart& part : parts[k])
+        if (part.component < relabel.size() && relabel[part.component] != ~0u) area += part.area, vectorArea += part.vectorArea;
+      out.convex.area[k] = area;
+      out.convex.vectorArea[k] = vectorArea;
+      continue;
+    }
+    for (const ConvexPart& part : parts[k])
+      if (!(part.component < relabel.size() && relabel[part.component] != ~0u)) {
+        out.convex.area[k] = std::max(0.0, out.convex.area[k] - part.area);
+        out.convex.vectorArea[k] -= part.vectorArea;
+      }
+  }
   for (std::size_t t = 0; t < in.tori.size(); ++t)
     if (keepTori[t]) out.tori.component[t] = relabel[in.tori.component[t]];
   for (std::size_t k = 0; k < in.concave.size(); ++k)

@@ -483,11 +483,12 @@ TEST(Cli, DropCavitiesKeepsTheOuterSurface) {
   EXPECT_FALSE(a["ses"]["components"][0]["cavity"].get<bool>());
   EXPECT_TRUE(a["ses"]["components"][1]["cavity"].get<bool>());
   EXPECT_LT(a["ses"]["components"][1]["volume"].get<double>(), 0.0);
-  // The convex patches of atoms that also face the cavity are kept whole, so the outer
-  // surface alone reports their cavity side too (area per component splits them).
+  // The convex patches of atoms that also face the cavity are kept (drawn whole), with the
+  // outer side's area alone: the kept list's area and volume are the outer surface's.
   const double outerArea = a["ses"]["components"][0]["area"].get<double>();
-  EXPECT_GE(b["ses"]["total"].get<double>(), outerArea - 1e-6);
-  EXPECT_LT(b["ses"]["total"].get<double>(), outerArea + a["ses"]["components"][1]["area"].get<double>());
+  EXPECT_NEAR(b["ses"]["total"].get<double>(), outerArea, 1e-9 * outerArea);
+  EXPECT_NEAR(b["ses"]["volume"].get<double>(), a["ses"]["components"][0]["volume"].get<double>(),
+              1e-9 * a["ses"]["volume"].get<double>());
   EXPECT_LT(b["ses"]["total"].get<double>(), a["ses"]["total"].get<double>());
 }
 

@@ -143,21 +143,10 @@ double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double 
   return area;
 }
 
-SurfaceAreas computeAreas(const PatchList& p) {
+std::vector<std::vector<ConvexPart>> convexPartsOfOtherComponents(const PatchList& p) {
   const double rp = p.params.probeRadius;
-  SurfaceAreas s;
-  s.sasPerAtom.assign(p.params.atomCount, 0.0);
-  s.sesPerAtom.assign(p.params.atomCount, 0.0);
-  s.components.resize(std::max<std::size_t>(1, p.componentCount));
-  auto addToComponent = [&s](std::uint32_t label, double area, double flux) {
-    if (label >= s.components.size()) s.components.resize(label + 1);
-    s.components[label].area += area;
-    s.components[label].volume += flux / 3.0;
-  };
-
-  // A convex patch whose atom faces several components (a one-atom wall between the
-  // outside and a cavity) carries one label; its parts bounded by the tori of each other
-  // component go to that component (atom → tori, a counting sort).
+  std::vector<std::vector<ConvexPart>> parts(p.convex.size());
+  // Atom → tori, a counting sort.
   std::vector<std::uint32_t> toriBegin(p.params.atomCount + 2, 0), toriOf;
   for (std::size_t t = 0; t < p.tori.size(); ++t) ++toriBegin[p.tori.atomI[t] + 2], ++toriBegin[p.tori.atomJ[t] + 2];
   for (std::size_t i = 0; i < p.params.atomCount; ++i) toriBegin[i + 2] += toriBegin[i + 1];
@@ -166,18 +155,9 @@ SurfaceAreas computeAreas(const PatchList& p) {
     for (const std::uint32_t x : {p.tori.atomI[t], p.tori.atomJ[t]}) toriOf[toriBegin[x + 1]++] = static_cast<std::uint32_t>(t);
   std::vector<BoundaryArc> arcs;
   for (std::size_t k = 0; k < p.convex.size(); ++k) {
-    const double r = p.convex.radius[k], Rs = r + rp, a = p.convex.area[k];
+    const double r = p.convex.radius[k], Rs = r + rp;
     const std::uint32_t x = p.convex.atom[k], label = p.convex.component[k];
-    const double sas = a * (Rs * Rs) / (r * r);
-    s.sas += sas;
-    s.sesConvex += a;
-    s.sasPerAtom[x] += sas;
-    s.sesPerAtom[x] += a;
-    // Convex sphere, σ = +1: ∫ x·n dA = ρ² c·W + ρ A.
     const glm::dvec3 c = p.convex.center[k];
-    auto flux = [&](double area, const glm::dvec3& w) { return r * r * glm::dot(c, w) + r * area; };
-    double ownArea = a;
-    glm::dvec3 ownW = p.convex.vectorArea[k];
     for (std::uint32_t m = toriBegin[x]; m < toriBegin[x + 1]; ++m) {
       const std::uint32_t other = p.tori.component[toriOf[m]];
       if (other == label) continue;
@@ -198,10 +178,45 @@ SurfaceAreas computeAreas(const PatchList& p) {
         arcs.push_back(arc);
       }
       const RegionPart part = boundedRegion(arcs);
-      const double area = r * r * part.area;
-      ownArea -= area;
+      parts[k].push_back({other, r * r * part.area, part.vectorArea});
+    }
+  }
+  return parts;
+}
+
+SurfaceAreas computeAreas(const PatchList& p) {
+  const double rp = p.params.probeRadius;
+  SurfaceAreas s;
+  s.sasPerAtom.assign(p.params.atomCount, 0.0);
+  s.sesPerAtom.assign(p.params.atomCount, 0.0);
+  s.components.resize(std::max<std::size_t>(1, p.componentCount));
+  auto addToComponent = [&s](std::uint32_t label, double area, double flux) {
+    if (label >= s.components.size()) s.components.resize(label + 1);
+    s.components[label].area += area;
+    s.components[label].volume += flux / 3.0;
+  };
+
+  // A convex patch whose atom faces several components (a one-atom wall between the
+  // outside and a cavity) carries one label; its parts bounded by the tori of each other
+  // component go to that component.
+  const std::vector<std::vector<ConvexPart>> others = convexPartsOfOtherComponents(p);
+  for (std::size_t k = 0; k < p.convex.size(); ++k) {
+    const double r = p.convex.radius[k], Rs = r + rp, a = p.convex.area[k];
+    const std::uint32_t x = p.convex.atom[k], label = p.convex.component[k];
+    const double sas = a * (Rs * Rs) / (r * r);
+    s.sas += sas;
+    s.sesConvex += a;
+    s.sasPerAtom[x] += sas;
+    s.sesPerAtom[x] += a;
+    // Convex sphere, σ = +1: ∫ x·n dA = ρ² c·W + ρ A.
+    const glm::dvec3 c = p.convex.center[k];
+    auto flux = [&](double area, const glm::dvec3& w) { return r * r * glm::dot(c, w) + r * area; };
+    double ownArea = a;
+    glm::dvec3 ownW = p.convex.vectorArea[k];
+    for (const ConvexPart& part : others[k]) {
+      ownArea -= part.area;
       ownW -= part.vectorArea;
-      addToComponent(other, area, flux(area, part.vectorArea));
+      addToComponent(part.component, part.area, flux(part.area, part.vectorArea));
     }
     s.sesVolume += flux(a, p.convex.vectorArea[k]);
     addToComponent(label, ownArea, flux(ownArea, ownW));

@@ -32,6 +32,19 @@ struct SurfaceAreas {
 // Needs the atoms' radii (convex patches store vdW radius; the SAS radius is r + rp).
 SurfaceAreas computeAreas(const PatchList& patches);
 
+// The part of a convex patch that belongs to another component than the patch's own label
+// (a one-atom wall between the outside and a cavity): the region of the patch bounded by
+// that component's tori, its area (Å², Gauss–Bonnet) and vector area (in the units of
+// ConvexSpheres::vectorArea, by Stokes). computeAreas gives these parts to their components;
+// outerComponent takes them out of the convex patches it keeps.
+struct ConvexPart {
+  std::uint32_t component;
+  double area;
+  glm::dvec3 vectorArea;
+};
+// For every convex patch (index as in patches.convex), its parts of other components.
+std::vector<std::vector<ConvexPart>> convexPartsOfOtherComponents(const PatchList& patches);
+
 // Area of one torus patch (ORACLES A.3), spindle tori keeping only |θ| >= acos(R/rp).
 double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double phiExtent);
 
