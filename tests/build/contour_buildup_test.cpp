@@ -125,7 +125,7 @@ std::vector<glm::dvec3> randomCluster(std::uint32_t seed, int n, std::vector<dou
 }
 
 template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 void expectSameBits(const PatchList& a, const PatchList& b) {

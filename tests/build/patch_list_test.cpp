@@ -119,7 +119,8 @@ PatchList randomMssList(std::uint32_t seed) {
 
 // Bitwise equality of two doubles (a round trip must not even flip a NaN payload or -0).
 template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  // (An empty vector's data() may be null, which memcmp must not be given even for 0 bytes.)
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 void expectIdentical(const PatchList& a, const PatchList& b) {

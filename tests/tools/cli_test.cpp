@@ -351,7 +351,7 @@ TEST(Cli, InfoWritesTheAtomsAsXyzrExactly) {
 // Bytes equal, so that NaNs and signed zeros compare too.
 template <typename T>
 bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // `build`'s patch list rendered as FILE (named without .stp: it is told by its magic) gives
