@@ -145,13 +145,16 @@ build::PatchList paramsOnly(const build::SurfaceRequest& request) {
 }
 
 // How far the surface can reach beyond an atom's centre: r + rp for the SES and SAS, r for the
-// vdW balls, r/√s for the skin (it lies in the union of the balls of radius √w_i = r_i/√s).
-double reachOf(double radius, const build::SurfaceRequest& request) {
+// vdW balls. The skin lies in the hull of the centres grown by the largest radius `largest`
+// (every ball of its construction is centred in that hull, shrunk to radius <= r_max); the
+// frustum and the orthographic window are convex, so every atom reaching r_max frames it (the
+// balls r_i/√s it also lies in grow without bound as s -> 0: 0.2 % of the picture at s = 0.01).
+double reachOf(double radius, double largest, const build::SurfaceRequest& request) {
   switch (request.surface) {
     case build::SurfaceKind::Ses:
     case build::SurfaceKind::Sas: return radius + request.probeRadius;
     case build::SurfaceKind::Vdw: return radius;
-    case build::SurfaceKind::Mss: return radius / std::sqrt(std::min(request.shrinkFactor, 1.0));
+    case build::SurfaceKind::Mss: return request.shrinkFactor >= 1.0 ? radius : largest;
   }
   return radius;
 }
@@ -280,7 +283,8 @@ void runTrajectory(const TrajectoryOptions& o) {
     frameSurface(setup, framing, reference);
   } else {
     std::vector<double> reach(reference.size());
-    for (std::size_t i = 0; i < reference.size(); ++i) reach[i] = reachOf(reference.radii[i], request);
+    const double largest = *std::max_element(reference.radii.begin(), reference.radii.end());
+    for (std::size_t i = 0; i < reference.size(); ++i) reach[i] = reachOf(reference.radii[i], largest, request);
     frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible, reach, framingOf(setup)));
   }
   const double framingMs = millisecondsSince(framingStart);

@@ -283,6 +283,22 @@ TEST(TrajectoryCli, DefaultCameraFollowsAMoleculeMovingAlongTheView) {
   fs::remove_all(dir);
 }
 
+// The skin of a trajectory at a small shrink factor fills the picture too: every atom reaches
+// the largest radius (the skin lies in the centres' hull grown by it), not r/√s (4.5 r at
+// s = 0.05: span 0.771 of the picture, against 0.917 now; 10 r at s = 0.01).
+TEST(TrajectoryCli, WideSkinFramesFillThePicture) {
+  const fs::path dir = freshDirectory("wide_skin");
+  const Result r = runTool("trajectory " + kPsf + " " + kDcd + " --surface mss --shrink 0.05 --frames 0:98:48 --size 48x48 "
+                           "--quiet --exr " + (dir / "%02d.exr").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Coverage c = coverageOf(dir);
+  EXPECT_EQ(c.frames, 3);
+  EXPECT_TRUE(c.clipped.empty()) << "clipped: " << ::testing::PrintToString(c.clipped);
+  EXPECT_GE(c.span, 0.85);
+  std::printf("[ framing  ] skin s = 0.05, every frame: span %.3f\n", c.span);
+  fs::remove_all(dir);
+}
+
 TEST(TrajectoryCli, ResumeRendersOnlyWhatIsMissing) {
   const fs::path dir = freshDirectory("resume");
   const std::string cmd = "trajectory " + kPsf + " " + kDcd + " --frames 0:6 --size 24x24 --quiet -o " +
