@@ -155,18 +155,33 @@ void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::
     if (molecule.centers.empty()) {
       camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
     } else {
-      const double rMax = *std::max_element(molecule.radii.begin(), molecule.radii.end());
-      const std::vector<double> grown(molecule.centers.size(), rMax);
+      const std::vector<double> grown =
+          atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
       const view::SphereCover covers[] = {patches, {molecule.centers, grown}};
       camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
     }
   } else {
-    std::vector<double> reach(molecule.radii);
-    if (list.params.surface != build::SurfaceKind::Vdw)
-      for (double& r : reach) r += list.params.probeRadius;
+    const std::vector<double> reach =
+        atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
     camera = view::frameSpheres(camera, molecule.centers, reach, setup.viewDirection);
   }
   applyExplicitCamera(setup);
+}
+
+std::vector<double> atomReach(std::span<const double> radii, build::SurfaceKind surface, double probeRadius,
+                              double shrinkFactor) {
+  std::vector<double> reach(radii.begin(), radii.end());
+  switch (surface) {
+    case build::SurfaceKind::Ses:
+    case build::SurfaceKind::Sas:
+      for (double& r : reach) r += probeRadius;
+      break;
+    case build::SurfaceKind::Vdw: break;
+    case build::SurfaceKind::Mss:
+      if (shrinkFactor < 1.0 && !radii.empty()) reach.assign(radii.size(), *std::max_element(radii.begin(), radii.end()));
+      break;
+  }
+  return reach;
 }
 
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach) {

@@ -144,21 +144,6 @@ build::PatchList paramsOnly(const build::SurfaceRequest& request) {
   return list;
 }
 
-// How far the surface can reach beyond an atom's centre: r + rp for the SES and SAS, r for the
-// vdW balls. The skin lies in the hull of the centres grown by the largest radius `largest`
-// (every ball of its construction is centred in that hull, shrunk to radius <= r_max); the
-// frustum and the orthographic window are convex, so every atom reaching r_max frames it (the
-// balls r_i/√s it also lies in grow without bound as s -> 0: 0.2 % of the picture at s = 0.01).
-double reachOf(double radius, double largest, const build::SurfaceRequest& request) {
-  switch (request.surface) {
-    case build::SurfaceKind::Ses:
-    case build::SurfaceKind::Sas: return radius + request.probeRadius;
-    case build::SurfaceKind::Vdw: return radius;
-    case build::SurfaceKind::Mss: return request.shrinkFactor >= 1.0 ? radius : largest;
-  }
-  return radius;
-}
-
 // The framing of every selected frame's atoms, each reaching `reach` from its centre, as `render`
 // frames one structure: one pass over the coordinates, no surface built. DCD and XTC frames are
 // read in parallel, one reader a thread (random access, cheap to open); a text trajectory, which
@@ -282,9 +267,8 @@ void runTrajectory(const TrajectoryOptions& o) {
                                          : paramsOnly(request);
     frameSurface(setup, framing, reference);
   } else {
-    std::vector<double> reach(reference.size());
-    const double largest = *std::max_element(reference.radii.begin(), reference.radii.end());
-    for (std::size_t i = 0; i < reference.size(); ++i) reach[i] = reachOf(reference.radii[i], largest, request);
+    const std::vector<double> reach =
+        atomReach(reference.radii, request.surface, request.probeRadius, request.shrinkFactor);
     frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible, reach, framingOf(setup)));
   }
   const double framingMs = millisecondsSince(framingStart);

@@ -218,7 +218,7 @@ std::string pdbElement(std::string_view line, const std::string& residue, Elemen
 }
 
 // A note on an element column that names no element: what was taken instead. At most
-// kMaxNotes such notes, then one that counts the rest.
+// kMaxElementNotes such notes, then one that counts the rest.
 constexpr std::size_t kMaxElementNotes = 10;
 void noteUnknownElement(Molecule& molecule, std::size_t& count, int line, const std::string& where,
                         const std::string& symbol, const AtomRecord& atom) {
