@@ -274,6 +274,10 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   if (!m.uploaded) throw std::logic_error("GlRenderer::draw before upload");
   const view::Camera& cam = o.camera;
   cam.validate();
+  if (cam.window)
+    throw std::invalid_argument(
+        "gl engine: draws centred windows with square pixels; this camera's window is off-centre (a foreign "
+        "projection matrix): use --engine embree");
   if (o.samplesPerPixel != 1 || o.shadows || o.aoSamples != 0)
     throw std::invalid_argument(
         "gl engine: renders one sample per pixel without shadows or ambient occlusion; "

@@ -7,7 +7,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
 namespace surftrace::view {
@@ -38,13 +41,47 @@ Camera::Frame Camera::frame() const {
   f.scaleY = h;
   f.invWidth = 2.0 / width;
   f.invHeight = 2.0 / height;
+  if (window) {
+    f.offCentre = true;
+    f.scaleX = 0.5 * (window->right - window->left);
+    f.scaleY = 0.5 * (window->top - window->bottom);
+    f.centreX = 0.5 * (window->right + window->left);
+    f.centreY = 0.5 * (window->top + window->bottom);
+  }
   return f;
 }
 
 Ray Camera::Frame::ray(double sx, double sy) const {
   const double x = sx * invWidth - 1.0, y = sy * invHeight - 1.0;
+  if (offCentre) {
+    // A separate branch: the centred camera's rays stay bit for bit what they always were.
+    const double u = centreX + x * scaleX, v = centreY - y * scaleY;
+    if (perspective) return Ray{eye, glm::normalize(forward + u * right + v * up)};
+    return Ray{eye + u * right + v * up, forward};
+  }
   if (perspective) return Ray{eye, glm::normalize(forward + (x * scaleX) * right - (y * scaleY) * up)};
   return Ray{eye + (x * scaleX) * right - (y * scaleY) * up, forward};
+}
+
+ViewWindow Camera::viewWindow() const {
+  if (window) return *window;
+  const double h = projection == Projection::Perspective ? halfTan(fovY) : 0.5 * orthoHeight;
+  const double w = h * (static_cast<double>(width) / height);
+  return ViewWindow{-w, w, -h, h};
+}
+
+glm::dmat4 Camera::viewMatrix() const { return glm::lookAtRH(eye, lookAt, up); }
+
+glm::dmat4 Camera::projectionMatrix() const {
+  if (!hasDepthRange()) throw std::logic_error("camera: a projection matrix needs a depth range (withDepthRange)");
+  const double aspect = static_cast<double>(width) / height;
+  if (projection == Projection::Perspective) {
+    if (!window) return glm::perspectiveRH_NO(fovY * kPi / 180.0, aspect, zNear, zFar);
+    const ViewWindow& w = *window;
+    return glm::frustumRH_NO(w.left * zNear, w.right * zNear, w.bottom * zNear, w.top * zNear, zNear, zFar);
+  }
+  const ViewWindow w = viewWindow();
+  return glm::orthoRH_NO(w.left, w.right, w.bottom, w.top, zNear, zFar);
 }
 
 Ray Camera::ray(double sx, double sy) const { return frame().ray(sx, sy); }
@@ -65,6 +102,100 @@ void Camera::validate() const {
     bad("field of view " + std::to_string(fovY) + " must be in (0, 180) degrees");
   if (projection == Projection::Orthographic && !(orthoHeight > 0.0 && std::isfinite(orthoHeight)))
     bad("orthographic height must be finite and > 0");
+  if (window) {
+    const ViewWindow& w = *window;
+    if (!(std::isfinite(w.left) && std::isfinite(w.right) && std::isfinite(w.bottom) && std::isfinite(w.top)))
+      bad("the window's edges must be finite");
+    if (!(w.left < w.right && w.bottom < w.top)) bad("the window is empty (left >= right or bottom >= top)");
+  }
+  if (!std::isfinite(zNear) || !std::isfinite(zFar)) bad("near and far must be finite");
+  if (zNear != 0.0 || zFar != 0.0) {
+    if (!(zNear < zFar)) bad("near " + std::to_string(zNear) + " must be less than far " + std::to_string(zFar));
+    if (projection == Projection::Perspective && !(zNear > 0.0))
+      bad("a perspective camera's near " + std::to_string(zNear) + " must be > 0");
+  }
+}
+
+Camera withDepthRange(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii) {
+  const glm::dvec3 f = camera.forward();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < centers.size(); ++i) {
+    const double z = glm::dot(centers[i] - camera.eye, f);
+    lo = std::min(lo, z - radii[i]), hi = std::max(hi, z + radii[i]);
+  }
+  if (!(lo <= hi)) throw std::invalid_argument("camera: no spheres to take a depth range from");
+  // A margin of 0.1 % of the depth (and 0.01 Å) keeps the scene off the planes.
+  const double pad = 1e-3 * (hi - lo) + 1e-2;
+  camera.zNear = lo - pad, camera.zFar = hi + pad;
+  if (camera.projection == Projection::Perspective) {
+    if (camera.zFar <= 0.0) throw std::invalid_argument("camera: the scene lies behind the eye");
+    camera.zNear = std::max(camera.zNear, 1e-4 * camera.zFar);
+  }
+  return camera;
+}
+
+Camera cameraFromMatrices(int width, int height, const glm::dmat4& view, const glm::dmat4& projection) {
+  auto bad = [](const std::string& what) { throw std::invalid_argument("camera: " + what); };
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(view[c][r]) || !std::isfinite(projection[c][r])) bad("the matrices must hold finite numbers");
+  // The view matrix: a rotation (rows right, up, back) and a translation; bottom row 0 0 0 1.
+  constexpr double kTol = 1e-6;
+  if (view[0][3] != 0.0 || view[1][3] != 0.0 || view[2][3] != 0.0 || view[3][3] != 1.0)
+    bad("view_matrix: its bottom row (elements 3, 7, 11, 15 column-major) must be 0 0 0 1");
+  const glm::dvec3 right(view[0][0], view[1][0], view[2][0]), up(view[0][1], view[1][1], view[2][1]),
+      back(view[0][2], view[1][2], view[2][2]);
+  const double offOrtho = std::max({std::abs(glm::dot(right, up)), std::abs(glm::dot(up, back)),
+                                    std::abs(glm::dot(right, back)), std::abs(glm::length(right) - 1.0),
+                                    std::abs(glm::length(up) - 1.0), std::abs(glm::length(back) - 1.0)});
+  if (!(offOrtho <= kTol) || !(glm::dot(glm::cross(right, up), back) > 0.0))
+    bad("view_matrix is not rigid (a rotation and a translation, as glm::lookAt makes): its rotation is off by " +
+        std::to_string(offOrtho));
+  Camera c;
+  c.width = width, c.height = height;
+  const glm::dvec3 t(view[3][0], view[3][1], view[3][2]);
+  c.eye = -(t.x * right + t.y * up + t.z * back);
+  c.up = glm::normalize(up);
+  const glm::dmat4& p = projection;
+  ViewWindow w;
+  if (p[0][3] == 0.0 && p[1][3] == 0.0 && p[2][3] < 0.0 && p[3][3] == 0.0) {
+    // Perspective, glFrustum: x' = (2n/(r−l)) x + ((r+l)/(r−l)) z, w' = −z; scaled by −p[2][3].
+    const double k = -p[2][3];
+    if (p[1][0] != 0.0 || p[3][0] != 0.0 || p[0][1] != 0.0 || p[3][1] != 0.0 || p[0][2] != 0.0 || p[1][2] != 0.0)
+      bad("projection_matrix: a perspective projection must have the form of glFrustum (elements 1, 2, 4, 6, 12, 13 "
+          "column-major zero)");
+    const double a = p[2][2] / k, b = p[3][2] / k, sx = p[0][0] / k, sy = p[1][1] / k;
+    c.projection = Projection::Perspective;
+    c.zNear = b / (a - 1.0), c.zFar = b / (a + 1.0);
+    w = ViewWindow{(p[2][0] / k - 1.0) / sx, (p[2][0] / k + 1.0) / sx, (p[2][1] / k - 1.0) / sy, (p[2][1] / k + 1.0) / sy};
+    c.fovY = 2.0 * std::atan(0.5 * (w.top - w.bottom)) * 180.0 / kPi;
+  } else if (p[0][3] == 0.0 && p[1][3] == 0.0 && p[2][3] == 0.0 && p[3][3] > 0.0) {
+    const double k = p[3][3];
+    if (p[1][0] != 0.0 || p[2][0] != 0.0 || p[0][1] != 0.0 || p[2][1] != 0.0 || p[0][2] != 0.0 || p[1][2] != 0.0)
+      bad("projection_matrix: an orthographic projection must have the form of glOrtho (elements 1, 2, 4, 6, 8, 9 "
+          "column-major zero)");
+    const double a = p[2][2] / k, b = p[3][2] / k, sx = p[0][0] / k, sy = p[1][1] / k;
+    c.projection = Projection::Orthographic;
+    c.zNear = (b + 1.0) / a, c.zFar = (b - 1.0) / a;
+    w = ViewWindow{(-1.0 - p[3][0] / k) / sx, (1.0 - p[3][0] / k) / sx, (-1.0 - p[3][1] / k) / sy, (1.0 - p[3][1] / k) / sy};
+    c.orthoHeight = w.top - w.bottom;
+  } else {
+    bad("projection_matrix is neither perspective (bottom row 0 0 −w 0) nor orthographic (bottom row 0 0 0 w)");
+  }
+  if (!(w.left < w.right && w.bottom < w.top))
+    bad("projection_matrix maps an empty or mirrored window (its x or y scale is not positive)");
+  // A centred window with square pixels is the ordinary camera (fovY or orthoHeight alone).
+  const double aspect = static_cast<double>(width) / height;
+  const double scale = std::max(w.right - w.left, w.top - w.bottom);
+  const bool centred = std::abs(w.left + w.right) <= 1e-12 * scale && std::abs(w.bottom + w.top) <= 1e-12 * scale &&
+                       std::abs((w.right - w.left) / (w.top - w.bottom) - aspect) <= 1e-12 * aspect;
+  if (!centred) c.window = w;
+  // The look-at point: in the middle of the depth range (GL's float path shifts its
+  // coordinates there).
+  const glm::dvec3 forward = -glm::normalize(back);
+  c.lookAt = c.eye + (std::isfinite(c.zFar) && c.zFar > 0.0 ? 0.5 * (std::max(c.zNear, 0.0) + c.zFar) : 1.0) * forward;
+  c.validate();
+  return c;
 }
 
 glm::dvec3 namedViewDirection(const std::string& view) {
@@ -224,8 +355,24 @@ Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, con
   return camera;
 }
 
+namespace {
+
+nlohmann::json matrixJson(const glm::dmat4& m) {
+  nlohmann::json a = nlohmann::json::array();
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) a.push_back(m[c][r]);
+  return a;
+}
+
+}  // namespace
+
 std::string cameraToJson(const Camera& c) {
   nlohmann::json j;
+  j["format"] = "surftrace-camera";
+  j["version"] = 1;
+  j["conventions"] =
+      "OpenGL: matrices column-major; the eye looks down -z; clip z in [-1, 1] for depths near..far; pixel (x, y) "
+      "counted from the top-left image corner, its centre at (x + 0.5, y + 0.5)";
   j["projection"] = c.projection == Projection::Perspective ? "perspective" : "orthographic";
   j["eye"] = {c.eye.x, c.eye.y, c.eye.z};
   j["look_at"] = {c.lookAt.x, c.lookAt.y, c.lookAt.z};
@@ -235,28 +382,103 @@ std::string cameraToJson(const Camera& c) {
   j["width"] = c.width;
   j["height"] = c.height;
   j["pixel_centre"] = 0.5;
+  if (c.window) j["window"] = {{"left", c.window->left}, {"right", c.window->right}, {"bottom", c.window->bottom},
+                               {"top", c.window->top}};
+  if (c.hasDepthRange()) {
+    j["near"] = c.zNear;
+    j["far"] = c.zFar;
+    j["view_matrix"] = matrixJson(c.viewMatrix());
+    j["projection_matrix"] = matrixJson(c.projectionMatrix());
+  }
   return j.dump();
 }
 
 Camera cameraFromJson(const std::string& text) {
-  const auto j = nlohmann::json::parse(text);
-  auto v = [&](const char* key) {
-    const auto& a = j.at(key);
-    return glm::dvec3(a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>());
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(std::string("camera: not JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw std::invalid_argument("camera: expected a JSON object");
+  auto at = [&](const char* key) -> const nlohmann::json& {
+    if (!j.contains(key)) throw std::invalid_argument(std::string("camera: the key \"") + key + "\" is missing");
+    return j.at(key);
   };
+  auto number = [&](const nlohmann::json& value, const std::string& key) {
+    if (!value.is_number()) throw std::invalid_argument("camera: \"" + key + "\" must be a number");
+    return value.get<double>();
+  };
+  auto whole = [&](const char* key) {
+    const nlohmann::json& value = at(key);
+    if (!value.is_number_integer()) throw std::invalid_argument(std::string("camera: \"") + key + "\" must be a whole number");
+    return value.get<int>();
+  };
+  auto vec = [&](const char* key) {
+    const nlohmann::json& a = at(key);
+    if (!a.is_array() || a.size() != 3) throw std::invalid_argument(std::string("camera: \"") + key + "\" must be 3 numbers");
+    return glm::dvec3(number(a[0], key), number(a[1], key), number(a[2], key));
+  };
+  auto matrix = [&](const char* key) {
+    const nlohmann::json& a = at(key);
+    if (!a.is_array() || a.size() != 16)
+      throw std::invalid_argument(std::string("camera: \"") + key + "\" must be 16 numbers (column-major)");
+    glm::dmat4 m;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m[c][r] = number(a[static_cast<std::size_t>(4 * c + r)], key);
+    return m;
+  };
+  if (j.contains("version") && !(j["version"].is_number_integer() && j["version"].get<int>() == 1))
+    throw std::invalid_argument("camera: version " + j["version"].dump() + " is not one this surftrace reads (1)");
+  const bool hasMatrices = j.contains("view_matrix") || j.contains("projection_matrix");
+  if (!j.contains("eye")) {
+    if (!hasMatrices)
+      throw std::invalid_argument("camera: give eye, look_at, up, projection and fov_y_degrees/ortho_height, or "
+                                  "view_matrix and projection_matrix");
+    return cameraFromMatrices(whole("width"), whole("height"), matrix("view_matrix"), matrix("projection_matrix"));
+  }
   Camera c;
-  const auto projection = j.at("projection").get<std::string>();
-  if (projection != "perspective" && projection != "orthographic")
-    throw std::invalid_argument("camera: unknown projection '" + projection + "'");
+  const nlohmann::json& projection = at("projection");
+  if (!projection.is_string() || (projection != "perspective" && projection != "orthographic"))
+    throw std::invalid_argument("camera: unknown projection " + projection.dump() + ": use perspective or orthographic");
   c.projection = projection == "perspective" ? Projection::Perspective : Projection::Orthographic;
-  c.eye = v("eye");
-  c.lookAt = v("look_at");
-  c.up = v("up");
-  c.fovY = j.at("fov_y_degrees").get<double>();
-  c.orthoHeight = j.at("ortho_height").get<double>();
-  c.width = j.at("width").get<int>();
-  c.height = j.at("height").get<int>();
+  c.eye = vec("eye");
+  c.lookAt = vec("look_at");
+  c.up = vec("up");
+  c.fovY = number(at("fov_y_degrees"), "fov_y_degrees");
+  c.orthoHeight = number(at("ortho_height"), "ortho_height");
+  c.width = whole("width");
+  c.height = whole("height");
+  if (j.contains("window")) {
+    const nlohmann::json& w = j["window"];
+    if (!w.is_object()) throw std::invalid_argument("camera: \"window\" must be an object");
+    auto edge = [&](const char* key) {
+      if (!w.contains(key)) throw std::invalid_argument(std::string("camera: window.") + key + " is missing");
+      return number(w.at(key), std::string("window.") + key);
+    };
+    c.window = ViewWindow{edge("left"), edge("right"), edge("bottom"), edge("top")};
+  }
+  if (j.contains("near") || j.contains("far")) {
+    c.zNear = number(at("near"), "near");
+    c.zFar = number(at("far"), "far");
+  }
   c.validate();
+  if (hasMatrices) {
+    // Both forms: the matrices must be the ones the named camera makes (a file edited in one
+    // place only would otherwise mean two different views).
+    if (!c.hasDepthRange()) throw std::invalid_argument("camera: view_matrix and projection_matrix need near and far");
+    const glm::dmat4 view = matrix("view_matrix"), proj = matrix("projection_matrix");
+    const glm::dmat4 v = c.viewMatrix(), p = c.projectionMatrix();
+    double dv = 0.0, dp = 0.0, sv = 1.0, sp = 0.0;
+    for (int col = 0; col < 4; ++col)
+      for (int r = 0; r < 4; ++r) {
+        dv = std::max(dv, std::abs(view[col][r] - v[col][r])), sv = std::max(sv, std::abs(v[col][r]));
+        dp = std::max(dp, std::abs(proj[col][r] - p[col][r])), sp = std::max(sp, std::abs(p[col][r]));
+      }
+    if (!(dv <= 1e-9 * sv) || !(dp <= 1e-9 * sp))
+      throw std::invalid_argument("camera: view_matrix/projection_matrix disagree with eye, look_at, up, the projection "
+                                  "and near/far (edit one form only by deleting the other)");
+  }
   return c;
 }
 

@@ -1,9 +1,11 @@
 // The camera: pixel-centre rays in double precision, automatic framing, named views.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include "view/ray.hpp"
@@ -20,7 +22,19 @@ enum class Projection { Perspective, Orthographic };
 //   orthographic: org = eye + (2 sx/W − 1)·(orthoHeight/2)·aspect·right
 //                           − (2 sy/H − 1)·(orthoHeight/2)·up', dir = forward
 // with forward = normalize(lookAt − eye), right = normalize(forward × up),
-// up' = right × forward, aspect = W/H.
+// up' = right × forward, aspect = W/H; an off-centre `window` (a foreign camera's glFrustum
+// or glOrtho) replaces the centred ±tan(fovY/2)·(aspect, 1) or ±orthoHeight/2·(aspect, 1).
+//
+// The same camera in OpenGL's conventions (viewMatrix, projectionMatrix; README "Cameras and
+// buffers"): column-major matrices, the eye looks down −z of the view frame, clip z in [−1, 1]
+// for depths zNear..zFar, window y up (image row 0 is the top row, glReadPixels' last).
+
+// The image window in the view frame: tangents at unit distance in front of the eye
+// (perspective) or Å (orthographic), x to the right, y up.
+struct ViewWindow {
+  double left = -1.0, right = 1.0, bottom = -1.0, top = 1.0;
+};
+
 struct Camera {
   Projection projection = Projection::Perspective;
   glm::dvec3 eye{0.0, 0.0, 10.0};
@@ -30,6 +44,12 @@ struct Camera {
   double orthoHeight = 10.0;  // Å, orthographic
   int width = 512;
   int height = 512;
+  // Set only for a window that is not centred on the view direction (or whose pixels are not
+  // square): a camera imported from another program's projection matrix.
+  std::optional<ViewWindow> window;
+  // The depth range of the GL projection, measured from the eye along forward (Å); 0 and 0
+  // until withDepthRange (or an imported camera) sets it. Rays do not depend on it.
+  double zNear = 0.0, zFar = 0.0;
 
   glm::dvec3 forward() const;
   glm::dvec3 right() const;
@@ -43,15 +63,38 @@ struct Camera {
   struct Frame {
     glm::dvec3 eye, forward, right, up;
     double scaleX, scaleY, invWidth, invHeight;
+    double centreX = 0.0, centreY = 0.0;  // the window's centre, off-centre cameras only
     bool perspective;
+    bool offCentre = false;
     // Bit-identical to Camera::ray(sx, sy).
     Ray ray(double sx, double sy) const;
   };
   Frame frame() const;
+  // The window: `window` if set, else the centred one of fovY (or orthoHeight) and W/H.
+  ViewWindow viewWindow() const;
+  bool hasDepthRange() const { return zFar > zNear; }
+  // glm::lookAt(eye, lookAt, up).
+  glm::dmat4 viewMatrix() const;
+  // glm::perspective (centred), glm::frustum (off-centre) or glm::ortho, for zNear..zFar, all
+  // right-handed with clip z in [−1, 1]. std::logic_error without a depth range.
+  glm::dmat4 projectionMatrix() const;
   // Throws std::invalid_argument naming the bad field (zero size, eye == lookAt, up
-  // parallel to the view direction, fov outside (0, 180), non-finite values).
+  // parallel to the view direction, fov outside (0, 180), non-finite values, an empty
+  // window, a depth range with zNear >= zFar or, in perspective, zNear <= 0).
   void validate() const;
 };
+
+// The camera with zNear and zFar tight around the spheres (what the scene can reach), with a
+// small margin, so that a float32 window depth resolves the scene finely: perspective near is
+// kept above 1e-4 of far (the eye may be inside the spheres' hull).
+Camera withDepthRange(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii);
+
+// The camera that a pair of OpenGL matrices (column-major, as glm and glUniformMatrix4fv keep
+// them) defines for a width x height image: any rigid view matrix, and any perspective
+// (glFrustum form, bottom row (0, 0, −w, 0), w > 0) or orthographic (glOrtho form, bottom row
+// (0, 0, 0, w)) projection with finite near and far, off-centre or not. Its rays are those of
+// the matrices at pixel centres (to rounding). std::invalid_argument naming what is wrong.
+Camera cameraFromMatrices(int width, int height, const glm::dmat4& view, const glm::dmat4& projection);
 
 // The view direction (from the eye towards the molecule) named by `view`: front (−z),
 // back (+z), left (+x), right (−x), top (−y), bottom (+y), or "x,y,z". Throws
@@ -114,7 +157,14 @@ struct SphereCover {
 Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, const glm::dvec3& direction,
                          double margin = 1.05);
 
+// The camera as JSON (format "surftrace-camera", version 1): width, height, projection, eye,
+// look_at, up, fov_y_degrees, ortho_height, pixel_centre, and when it has a depth range near,
+// far, view_matrix and projection_matrix (16 numbers each, column-major); `window` when
+// off-centre. Numbers round-trip exactly.
 std::string cameraToJson(const Camera& camera);
+// Reads cameraToJson's form, or one with only width, height, view_matrix and
+// projection_matrix (another program's camera: cameraFromMatrices). When both forms are
+// there they must agree. std::invalid_argument naming the key that is missing or wrong.
 Camera cameraFromJson(const std::string& json);
 
 }  // namespace surftrace::view
