@@ -13,6 +13,10 @@
 
 #include <embree3/rtcore_config.h>
 
+#include <nlohmann/json.hpp>
+
+#include "build/io/output_file.hpp"
+#include "build/io/text_fields.hpp"
 #include "build/mss/mss_area.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
@@ -41,6 +45,28 @@ void applyExplicitCamera(ImageSetup& setup) {
   if (setup.eye) camera.eye = *setup.eye;
   if (setup.up) camera.up = *setup.up;
   camera.validate();
+}
+
+// The end of every framing: the imported camera or the framed one with --eye/--look-at/--up,
+// and a depth range from the spheres that hold the scene.
+void finishCamera(ImageSetup& setup, std::span<const view::SphereCover> covers) {
+  view::Camera& camera = setup.render.camera;
+  if (setup.imported) {
+    camera = *setup.imported;
+  } else {
+    applyExplicitCamera(setup);
+  }
+  if (!camera.hasDepthRange()) camera = view::withDepthRange(camera, covers);
+  camera.validate();
+}
+
+view::Camera readCameraFile(const std::string& path) {
+  const std::string text = build::text::readTextFile(path, path);
+  try {
+    return view::cameraFromJson(text);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("--camera " + path + ": " + e.what());
+  }
 }
 
 }  // namespace
@@ -81,6 +107,18 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--ao-distance", o.aoDistance, "Ambient-occlusion ray length in Å")
       ->check(positive())
       ->default_val(8.0);
+  cmd.add_option("--camera", o.camera,
+                 "Use this camera (JSON, instead of framing): one written by --camera-out, or another program's with "
+                 "only width, height, view_matrix and projection_matrix (OpenGL conventions, column-major; any "
+                 "perspective or orthographic projection, off-centre too; see the README's conventions table)")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--camera-out", o.cameraOut,
+                 "Write the camera used as JSON: eye, look_at, up, projection, fov_y_degrees/ortho_height, near and "
+                 "far tight around the scene, and the OpenGL view_matrix and projection_matrix (column-major), for "
+                 "another renderer to draw the same view");
+  for (const char* name : {"--view", "--eye", "--look-at", "--up", "--fov", "--ortho"})
+    o.framingOptions.push_back(cmd.get_option(name));
+  o.sizeOption = cmd.get_option("--size");
 }
 
 ImageSetup resolveImageOptions(const ImageOptions& o) {
@@ -105,8 +143,31 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
     setup.up = parseVector("--up", o.up);
     if (*setup.up == glm::dvec3(0.0)) throw std::invalid_argument("--up '" + o.up + "': the up vector must not be zero");
   }
+  if (!o.camera.empty()) {
+    for (const CLI::Option* option : o.framingOptions)
+      if (option && option->count() > 0)
+        throw std::invalid_argument(option->get_name() + " cannot be combined with --camera " + o.camera +
+                                    ", which fixes the whole view (edit the file, or drop --camera)");
+    setup.imported = readCameraFile(o.camera);
+    const view::Camera& c = *setup.imported;
+    if (o.sizeOption && o.sizeOption->count() > 0 && (c.width != ro.camera.width || c.height != ro.camera.height))
+      throw std::invalid_argument("--size " + o.size + " disagrees with --camera " + o.camera + " (" +
+                                  std::to_string(c.width) + "x" + std::to_string(c.height) +
+                                  "): drop --size, the camera fixes it");
+    ro.camera = c;
+  }
+  if (!o.cameraOut.empty()) {
+    build::prepareOutputPath(o.cameraOut, "--camera-out");
+    setup.cameraOut = o.cameraOut;
+  }
   checkImageFitsInMemory(o.size, ro.camera.width, ro.camera.height);
   return setup;
+}
+
+void writeCameraOut(const ImageSetup& setup) {
+  if (setup.cameraOut.empty()) return;
+  const auto json = nlohmann::json::parse(view::cameraToJson(setup.render.camera));
+  build::writeFileAtomically(setup.cameraOut, json.dump(2) + "\n");
 }
 
 void checkImageFitsInMemory(const std::string& sizeText, int width, int height) {
@@ -153,19 +214,22 @@ void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::
     }
     const view::SphereCover patches{centers, radii};
     if (molecule.centers.empty()) {
-      camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
+      if (!setup.imported) camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
+      finishCamera(setup, {&patches, 1});
     } else {
       const std::vector<double> grown =
           atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
       const view::SphereCover covers[] = {patches, {molecule.centers, grown}};
-      camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
+      if (!setup.imported) camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
+      finishCamera(setup, covers);
     }
   } else {
     const std::vector<double> reach =
         atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
-    camera = view::frameSpheres(camera, molecule.centers, reach, setup.viewDirection);
+    if (!setup.imported) camera = view::frameSpheres(camera, molecule.centers, reach, setup.viewDirection);
+    const view::SphereCover cover{molecule.centers, reach};
+    finishCamera(setup, {&cover, 1});
   }
-  applyExplicitCamera(setup);
 }
 
 std::vector<double> atomReach(std::span<const double> radii, build::SurfaceKind surface, double probeRadius,
@@ -185,8 +249,9 @@ std::vector<double> atomReach(std::span<const double> radii, build::SurfaceKind 
 }
 
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach) {
-  setup.render.camera = view::frameSpheres(setup.render.camera, centers, reach, setup.viewDirection);
-  applyExplicitCamera(setup);
+  if (!setup.imported) setup.render.camera = view::frameSpheres(setup.render.camera, centers, reach, setup.viewDirection);
+  const view::SphereCover cover{centers, reach};
+  finishCamera(setup, {&cover, 1});
 }
 
 view::SphereFraming framingOf(const ImageSetup& setup) {
@@ -194,8 +259,12 @@ view::SphereFraming framingOf(const ImageSetup& setup) {
 }
 
 void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing) {
-  setup.render.camera = framing.frame(setup.render.camera);
-  applyExplicitCamera(setup);
+  if (!setup.imported) setup.render.camera = framing.frame(setup.render.camera);
+  // Every sphere lies in the framing's box: its corners bound the depth range.
+  const std::vector<glm::dvec3> corners = framing.boxCorners();
+  const std::vector<double> zero(corners.size(), 0.0);
+  const view::SphereCover cover{corners, zero};
+  finishCamera(setup, {&cover, 1});
 }
 
 view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& camera) {

@@ -33,6 +33,11 @@ struct ImageOptions {
   bool shadows = false;
   int ao = 0;
   double aoDistance = 8.0;
+  std::string camera;     // --camera FILE: the camera instead of framing
+  std::string cameraOut;  // --camera-out FILE
+  // The options that --camera replaces (named in the error when given with it).
+  std::vector<CLI::Option*> framingOptions;
+  CLI::Option* sizeOption = nullptr;
 };
 
 void addImageOptions(CLI::App& cmd, ImageOptions& options);
@@ -44,6 +49,10 @@ struct ImageSetup {
   glm::dvec3 viewDirection{0, 0, -1};
   std::optional<glm::dvec3> eye, lookAt, up;
   glm::vec3 uniformColor{0.8f};
+  // From --camera: used as it is, no framing (its depth range is taken from the scene when the
+  // file has none).
+  std::optional<view::Camera> imported;
+  std::string cameraOut;
 };
 ImageSetup resolveImageOptions(const ImageOptions& options);
 
@@ -70,6 +79,12 @@ void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::s
 // framingOf(setup) or to copies of it, merge, and frame the camera on the result.
 view::SphereFraming framingOf(const ImageSetup& setup);
 void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing);
+// Every framing function above ends the same way: an imported camera (--camera) replaces the
+// framing, --eye/--look-at/--up override it, and the camera gets its depth range (near, far)
+// tight around what frames it.
+
+// Writes the camera to --camera-out (if given), whole or not at all.
+void writeCameraOut(const ImageSetup& setup);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
 

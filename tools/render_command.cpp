@@ -131,6 +131,7 @@ void runRender(const RenderCommandOptions& o) {
   } else {
     frameSurface(setup, list, molecule);
   }
+  writeCameraOut(setup);
 
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
                                     : view::atomColors(molecule, ro.color, setup.uniformColor);

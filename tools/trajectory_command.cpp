@@ -271,6 +271,7 @@ void runTrajectory(const TrajectoryOptions& o) {
         atomReach(reference.radii, request.surface, request.probeRadius, request.shrinkFactor);
     frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible, reach, framingOf(setup)));
   }
+  writeCameraOut(setup);
   const double framingMs = millisecondsSince(framingStart);
   view::RenderOptions& ro = setup.render;
   const std::vector<glm::vec3> colors = view::atomColors(reference, ro.color, setup.uniformColor);

@@ -117,13 +117,24 @@ void Camera::validate() const {
 }
 
 Camera withDepthRange(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii) {
+  const SphereCover cover{centers, radii};
+  return withDepthRange(camera, {&cover, 1});
+}
+
+Camera withDepthRange(Camera camera, std::span<const SphereCover> covers) {
   const glm::dvec3 f = camera.forward();
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    const double z = glm::dot(centers[i] - camera.eye, f);
-    lo = std::min(lo, z - radii[i]), hi = std::max(hi, z + radii[i]);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo = -kInf, hi = kInf;
+  for (const SphereCover& cover : covers) {
+    double coverLo = kInf, coverHi = -kInf;
+    for (std::size_t i = 0; i < cover.centers.size(); ++i) {
+      const double z = glm::dot(cover.centers[i] - camera.eye, f);
+      coverLo = std::min(coverLo, z - cover.radii[i]), coverHi = std::max(coverHi, z + cover.radii[i]);
+    }
+    lo = std::max(lo, coverLo), hi = std::min(hi, coverHi);
   }
-  if (!(lo <= hi)) throw std::invalid_argument("camera: no spheres to take a depth range from");
+  if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi))
+    throw std::invalid_argument("camera: no spheres to take a depth range from");
   // A margin of 0.1 % of the depth (and 0.01 Å) keeps the scene off the planes.
   const double pad = 1e-3 * (hi - lo) + 1e-2;
   camera.zNear = lo - pad, camera.zFar = hi + pad;
@@ -260,6 +271,15 @@ Camera SphereFraming::aim(Camera camera) const {
     camera.eye = camera.lookAt - (hi_[2] - lo_[2] + camera.orthoHeight) * forward_;
   }
   return camera;
+}
+
+std::vector<glm::dvec3> SphereFraming::boxCorners() const {
+  std::vector<glm::dvec3> corners;
+  if (empty()) return corners;
+  for (int k = 0; k < 8; ++k)
+    corners.push_back((k & 1 ? hi_[0] : lo_[0]) * right_ + (k & 2 ? hi_[1] : lo_[1]) * up_ +
+                      (k & 4 ? hi_[2] : lo_[2]) * forward_);
+  return corners;
 }
 
 Camera SphereFraming::frame(Camera camera) const {

@@ -4,6 +4,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -84,10 +85,6 @@ struct Camera {
   void validate() const;
 };
 
-// The camera with zNear and zFar tight around the spheres (what the scene can reach), with a
-// small margin, so that a float32 window depth resolves the scene finely: perspective near is
-// kept above 1e-4 of far (the eye may be inside the spheres' hull).
-Camera withDepthRange(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii);
 
 // The camera that a pair of OpenGL matrices (column-major, as glm and glUniformMatrix4fv keep
 // them) defines for a width x height image: any rigid view matrix, and any perspective
@@ -123,6 +120,9 @@ class SphereFraming {
   Camera frame(Camera camera) const;
   // The look-at point and up (and for an orthographic camera the window and the eye) of frame().
   Camera aim(Camera camera) const;
+  // The corners of the box, in the view frame of the framing direction, that holds every
+  // sphere added (for a depth range: withDepthRange over them, with radius 0).
+  std::vector<glm::dvec3> boxCorners() const;
 
  private:
   glm::dvec3 right_, up_, forward_;
@@ -161,6 +161,14 @@ Camera frameSphereCovers(Camera camera, std::span<const SphereCover> covers, con
 // look_at, up, fov_y_degrees, ortho_height, pixel_centre, and when it has a depth range near,
 // far, view_matrix and projection_matrix (16 numbers each, column-major); `window` when
 // off-centre. Numbers round-trip exactly.
+// The camera with zNear and zFar tight around the spheres (what the scene can reach), with a
+// small margin, so that a float32 window depth resolves the scene finely: perspective near is
+// kept above 1e-4 of far (the eye may be inside the spheres' hull).
+Camera withDepthRange(Camera camera, std::span<const glm::dvec3> centers, std::span<const double> radii);
+// The same for a scene that lies in each of `covers`: the tightest range any of them proves
+// along the view direction, intersected.
+Camera withDepthRange(Camera camera, std::span<const SphereCover> covers);
+
 std::string cameraToJson(const Camera& camera);
 // Reads cameraToJson's form, or one with only width, height, view_matrix and
 // projection_matrix (another program's camera: cameraFromMatrices). When both forms are
