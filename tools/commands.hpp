@@ -12,8 +12,6 @@ namespace surftrace::tools {
 // Adds the options that choose atoms and radii (model, chains, water, hydrogens, radii
 // table, default radius, format) to `cmd`, storing them in `options`.
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
-// --shrink: the MSS shrink factor in (0, 1], default 0.5, with a readable error.
-void addShrinkOption(CLI::App& cmd, double& shrink);
 
 // Prints what the reader assumed (Molecule::notes) on stderr, one "surftrace: note:" line each.
 void printReadNotes(const build::Molecule& molecule);
@@ -23,7 +21,8 @@ void printReadNotes(const build::Molecule& molecule);
 bool isPatchListInput(const std::string& path);
 
 void addInfoCommand(CLI::App& app);
-void addBuildCommands(CLI::App& app);  // build, area
+void addBuildCommand(CLI::App& app);
+void addAreaCommand(CLI::App& app);
 // `commandLine` is the whole invocation, recorded in every image's metadata.
 void addRenderCommand(CLI::App& app, const std::string& commandLine);
 void addCompareCommand(CLI::App& app);

@@ -18,6 +18,7 @@
 #include "build/io/output_file.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/mss/mss_area.hpp"
+#include "build/surface.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
 
@@ -217,35 +218,17 @@ void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::
       if (!setup.imported) camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
       finishCamera(setup, {&patches, 1});
     } else {
-      const std::vector<double> grown =
-          atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
+      const std::vector<double> grown = build::SurfaceRequest::of(list.params).reach(molecule.radii);
       const view::SphereCover covers[] = {patches, {molecule.centers, grown}};
       if (!setup.imported) camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
       finishCamera(setup, covers);
     }
   } else {
-    const std::vector<double> reach =
-        atomReach(molecule.radii, list.params.surface, list.params.probeRadius, list.params.shrinkFactor);
+    const std::vector<double> reach = build::SurfaceRequest::of(list.params).reach(molecule.radii);
     if (!setup.imported) camera = view::frameSpheres(camera, molecule.centers, reach, setup.viewDirection);
     const view::SphereCover cover{molecule.centers, reach};
     finishCamera(setup, {&cover, 1});
   }
-}
-
-std::vector<double> atomReach(std::span<const double> radii, build::SurfaceKind surface, double probeRadius,
-                              double shrinkFactor) {
-  std::vector<double> reach(radii.begin(), radii.end());
-  switch (surface) {
-    case build::SurfaceKind::Ses:
-    case build::SurfaceKind::Sas:
-      for (double& r : reach) r += probeRadius;
-      break;
-    case build::SurfaceKind::Vdw: break;
-    case build::SurfaceKind::Mss:
-      if (shrinkFactor < 1.0 && !radii.empty()) reach.assign(radii.size(), *std::max_element(radii.begin(), radii.end()));
-      break;
-  }
-  return reach;
 }
 
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach) {
@@ -283,6 +266,7 @@ view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& came
   if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
   meta["surftrace:color"] = r.color;
   meta["surftrace:command"] = r.commandLine;
+  for (const auto& [key, value] : r.engineSettings) meta[key] = value;
   meta["Software"] = kSoftware;
   return meta;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -63,16 +64,8 @@ void checkImageFitsInMemory(const std::string& sizeText, int width, int height);
 // Frames render.camera on what the surface can reach, as `render` does for a structure: the
 // skin lies in its patches' bounding balls and in the hull of the atoms grown by the largest
 // radius (the tighter of the two is taken along each axis); r + rp bounds the SES and the
-// SAS; r the vdW balls. Then --eye, --look-at and --up override the framing, and the camera is validated.
+// SAS; r the vdW balls (build::SurfaceRequest::reach). Then --eye, --look-at and --up override the framing, and the camera is validated.
 void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule);
-// How far a surface reaches beyond each atom's centre, for framing from the atoms alone:
-// r + rp for the SES and SAS, r for the vdW balls (and the skin at s >= 1), and for the skin
-// the largest radius r_max: it lies in the centres' hull grown by r_max (every ball of its
-// construction is centred in that hull, shrunk to radius² <= Σλ_i r_i² <= r_max²), and the
-// frustum and the orthographic window are convex, so balls of r_max about the centres frame it
-// (the balls r_i/√s it also lies in grow without bound as s -> 0).
-std::vector<double> atomReach(std::span<const double> radii, build::SurfaceKind surface, double probeRadius,
-                              double shrinkFactor);
 // The same over spheres given by `centers` and `reach` (a patch list's convex patches).
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach);
 // The same over spheres that come in pieces (every frame of a trajectory): add them to
@@ -96,6 +89,7 @@ inline constexpr const char* kSoftware = "surftrace " SURFTRACE_VERSION;
 struct ImageRecord {
   std::string engine;      // "embree" or "gl"
   std::string glContext;   // the GL context's description, for engine "gl"
+  std::vector<std::pair<std::string, std::string>> engineSettings;  // the engine's own, as metadata keys
   std::string surface;     // the --surface option
   double probeRadius = 0;
   std::optional<double> shrinkFactor;  // the skin's

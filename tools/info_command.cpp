@@ -147,98 +147,71 @@ void runPatchListInfo(const InfoOptions& o) {
   std::printf("patches    %s; %zu mixed-cell planes\n", counts.empty() ? "none" : counts.c_str(), p.cellPlanes.size());
 }
 
-void runInfo(const InfoOptions& o) {
-  if (!o.xyzr.empty()) {
-    if (isPatchListInput(o.path))
-      throw std::invalid_argument("--xyzr needs the structure file: " + o.path + " is a patch list, which holds no atoms");
-    build::prepareOutputPath(o.xyzr, "--xyzr");
-  }
-  if (isPatchListInput(o.path)) return runPatchListInfo(o);
-  const auto start = std::chrono::steady_clock::now();
-  const build::Molecule m = build::readMolecule(o.path, o.read);
-  if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
+// What `info` says of a molecule beyond its records: counts, extent, radii and their sources.
+struct MoleculeSummary {
   std::map<std::string, std::size_t> elements, chains;
-  std::size_t hetatm = 0;
-  std::size_t residues = 0;
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  double rMin = std::numeric_limits<double>::infinity(), rMax = 0, rSum = 0;
-  std::string lastResidue;
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    const auto& a = m.atoms[i];
-    ++elements[a.element];
-    ++chains[a.chain];
-    hetatm += a.hetatm;
-    const std::string residueKey = a.chain + "/" + std::to_string(a.residueNumber) + a.insertionCode + a.residue;
-    if (residueKey != lastResidue) ++residues, lastResidue = residueKey;
-    lo = glm::min(lo, m.centers[i]);
-    hi = glm::max(hi, m.centers[i]);
-    rMin = std::min(rMin, m.radii[i]);
-    rMax = std::max(rMax, m.radii[i]);
-    rSum += m.radii[i];
-  }
-  const auto& s = m.skipped;
+  std::size_t hetatm = 0, residues = 0;
+  glm::dvec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
+  double rMin = std::numeric_limits<double>::infinity(), rMax = 0, rMean = 0;
   // Sources in table order, only those that gave some atom a radius.
   std::vector<std::pair<std::string, std::size_t>> sources;
+};
+
+MoleculeSummary summarise(const build::Molecule& m) {
+  MoleculeSummary u;
+  std::string lastResidue;
+  double rSum = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const auto& a = m.atoms[i];
+    ++u.elements[a.element];
+    ++u.chains[a.chain];
+    u.hetatm += a.hetatm;
+    const std::string residueKey = a.chain + "/" + std::to_string(a.residueNumber) + a.insertionCode + a.residue;
+    if (residueKey != lastResidue) ++u.residues, lastResidue = residueKey;
+    u.lo = glm::min(u.lo, m.centers[i]);
+    u.hi = glm::max(u.hi, m.centers[i]);
+    u.rMin = std::min(u.rMin, m.radii[i]);
+    u.rMax = std::max(u.rMax, m.radii[i]);
+    rSum += m.radii[i];
+  }
+  u.rMean = rSum / static_cast<double>(m.size());
   for (std::size_t k = 0; k < build::kRadiusSourceCount; ++k)
     if (m.radiusSources[k] != 0)
-      sources.emplace_back(build::radiusSourceName(static_cast<build::RadiusSource>(k)), m.radiusSources[k]);
+      u.sources.emplace_back(build::radiusSourceName(static_cast<build::RadiusSource>(k)), m.radiusSources[k]);
+  return u;
+}
 
-  if (o.json) {
-    nlohmann::json j;
-    j["file"] = m.source;
-    j["format"] = build::formatName(m.format);
-    j["crc32"] = m.inputCrc32;
-    j["models"] = m.modelCount;
-    j["model_used"] = m.modelUsed;
-    j["atoms"] = m.size();
-    j["hetatm"] = hetatm;
-    j["residues"] = residues;
-    j["chains"] = chains;
-    j["elements"] = elements;
-    j["bbox"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}};
-    nlohmann::json bySource = nlohmann::json::object();
-    for (const auto& [name, n] : sources) bySource[name] = n;
-    j["radii"] = {{"set", m.radiiSet},
-                  {"min", rMin},
-                  {"mean", rSum / static_cast<double>(m.size())},
-                  {"max", rMax},
-                  {"sources", bySource}};
-    j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
-                    {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius},
-                    {"water_virtual_sites", s.virtualSites}, {"duplicates", s.duplicates}};
-    j["elements_guessed"] = {{"from_atom_names", m.elementsFromNames}, {"from_masses", m.elementsFromMasses}};
-    if (m.beadRadius)
-      j["coarse_grained"] = {{"martini", m.martini}, {"beads", m.size()}, {"bead_radius", *m.beadRadius}};
-    j["notes"] = m.notes;
-    j["read_seconds"] = seconds;
-    std::printf("%s\n", j.dump(2).c_str());
-    return;
-  }
-
-  std::ostringstream out;
-  out << "file       " << m.source << " (" << build::formatName(m.format) << ", CRC-32 " << std::hex << m.inputCrc32
-      << std::dec << ", read in " << fixed(seconds * 1e3, 1) << " ms)\n";
-  out << "models     " << m.modelCount << " (using model " << m.modelUsed << ")\n";
-  out << "atoms      " << m.size() << " (" << hetatm << " HETATM) in " << residues << " residues\n";
-  out << "chains     " << chains.size() << ":";
-  for (const auto& [c, n] : chains) out << " " << (c.empty() ? "-" : c) << " (" << n << ")";
-  out << "\nelements   ";
-  for (const auto& [e, n] : elements) out << (e.empty() ? "none" : e) << " " << n << "  ";
-  out << "\n           elements guessed: " << m.elementsFromNames << " from atom names, " << m.elementsFromMasses
-      << " from masses";
+void printMoleculeJson(const build::Molecule& m, const MoleculeSummary& u, double seconds) {
+  const auto& s = m.skipped;
+  nlohmann::json j;
+  j["file"] = m.source;
+  j["format"] = build::formatName(m.format);
+  j["crc32"] = m.inputCrc32;
+  j["models"] = m.modelCount;
+  j["model_used"] = m.modelUsed;
+  j["atoms"] = m.size();
+  j["hetatm"] = u.hetatm;
+  j["residues"] = u.residues;
+  j["chains"] = u.chains;
+  j["elements"] = u.elements;
+  j["bbox"] = {{"min", {u.lo.x, u.lo.y, u.lo.z}}, {"max", {u.hi.x, u.hi.y, u.hi.z}}};
+  nlohmann::json bySource = nlohmann::json::object();
+  for (const auto& [name, n] : u.sources) bySource[name] = n;
+  j["radii"] = {{"set", m.radiiSet}, {"min", u.rMin}, {"mean", u.rMean}, {"max", u.rMax}, {"sources", bySource}};
+  j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
+                  {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius},
+                  {"water_virtual_sites", s.virtualSites}, {"duplicates", s.duplicates}};
+  j["elements_guessed"] = {{"from_atom_names", m.elementsFromNames}, {"from_masses", m.elementsFromMasses}};
   if (m.beadRadius)
-    out << "\n" << (m.martini ? "MARTINI coarse-grained: " : "coarse-grained: ") << m.size()
-        << (m.martini ? " beads" : " particles") << ", radius " << fixed(*m.beadRadius, 2) << " Å (--bead-radius)";
-  out << "\nbbox       min (" << fixed(lo.x) << ", " << fixed(lo.y) << ", " << fixed(lo.z) << ")  max (" << fixed(hi.x)
-      << ", " << fixed(hi.y) << ", " << fixed(hi.z) << ")  size " << fixed(hi.x - lo.x, 1) << " x "
-      << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
-  out << "radii      " << m.radiiSet << ": min " << fixed(rMin, 2) << ", mean "
-      << fixed(rSum / static_cast<double>(m.size()), 2) << ", max " << fixed(rMax, 2) << " Å";
-  out << "\n           from";
-  for (std::size_t k = 0; k < sources.size(); ++k)
-    out << (k ? ", " : " ") << sources[k].first << " " << sources[k].second << (sources[k].second == 1 ? " atom" : " atoms");
+    j["coarse_grained"] = {{"martini", m.martini}, {"beads", m.size()}, {"bead_radius", *m.beadRadius}};
+  j["notes"] = m.notes;
+  j["read_seconds"] = seconds;
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
+// The "skipped" and "notes" lines of the text summary.
+void printSkipped(std::ostringstream& out, const build::Molecule& m) {
+  const auto& s = m.skipped;
   out << "\nskipped    ";
   bool any = false;
   auto note = [&](std::size_t n, const char* what) {
@@ -256,7 +229,53 @@ void runInfo(const InfoOptions& o) {
   if (!any) out << "nothing";
   out << "\n";
   for (std::size_t k = 0; k < m.notes.size(); ++k) out << (k ? "           " : "notes      ") << m.notes[k] << "\n";
+}
+
+void printMoleculeText(const build::Molecule& m, const MoleculeSummary& u, double seconds) {
+  const glm::dvec3 &lo = u.lo, &hi = u.hi;
+  std::ostringstream out;
+  out << "file       " << m.source << " (" << build::formatName(m.format) << ", CRC-32 " << std::hex << m.inputCrc32
+      << std::dec << ", read in " << fixed(seconds * 1e3, 1) << " ms)\n";
+  out << "models     " << m.modelCount << " (using model " << m.modelUsed << ")\n";
+  out << "atoms      " << m.size() << " (" << u.hetatm << " HETATM) in " << u.residues << " residues\n";
+  out << "chains     " << u.chains.size() << ":";
+  for (const auto& [c, n] : u.chains) out << " " << (c.empty() ? "-" : c) << " (" << n << ")";
+  out << "\nelements   ";
+  for (const auto& [e, n] : u.elements) out << (e.empty() ? "none" : e) << " " << n << "  ";
+  out << "\n           elements guessed: " << m.elementsFromNames << " from atom names, " << m.elementsFromMasses
+      << " from masses";
+  if (m.beadRadius)
+    out << "\n" << (m.martini ? "MARTINI coarse-grained: " : "coarse-grained: ") << m.size()
+        << (m.martini ? " beads" : " particles") << ", radius " << fixed(*m.beadRadius, 2) << " Å (--bead-radius)";
+  out << "\nbbox       min (" << fixed(lo.x) << ", " << fixed(lo.y) << ", " << fixed(lo.z) << ")  max (" << fixed(hi.x)
+      << ", " << fixed(hi.y) << ", " << fixed(hi.z) << ")  size " << fixed(hi.x - lo.x, 1) << " x "
+      << fixed(hi.y - lo.y, 1) << " x " << fixed(hi.z - lo.z, 1) << " Å\n";
+  out << "radii      " << m.radiiSet << ": min " << fixed(u.rMin, 2) << ", mean " << fixed(u.rMean, 2) << ", max "
+      << fixed(u.rMax, 2) << " Å";
+  out << "\n           from";
+  for (std::size_t k = 0; k < u.sources.size(); ++k)
+    out << (k ? ", " : " ") << u.sources[k].first << " " << u.sources[k].second
+        << (u.sources[k].second == 1 ? " atom" : " atoms");
+  printSkipped(out, m);
   std::fputs(out.str().c_str(), stdout);
+}
+
+void runInfo(const InfoOptions& o) {
+  if (!o.xyzr.empty()) {
+    if (isPatchListInput(o.path))
+      throw std::invalid_argument("--xyzr needs the structure file: " + o.path + " is a patch list, which holds no atoms");
+    build::prepareOutputPath(o.xyzr, "--xyzr");
+  }
+  if (isPatchListInput(o.path)) return runPatchListInfo(o);
+  const auto start = std::chrono::steady_clock::now();
+  const build::Molecule m = build::readMolecule(o.path, o.read);
+  if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const MoleculeSummary summary = summarise(m);
+  if (o.json)
+    printMoleculeJson(m, summary, seconds);
+  else
+    printMoleculeText(m, summary, seconds);
 }
 
 }  // namespace

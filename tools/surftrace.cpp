@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   app.fallthrough();
 
   surftrace::tools::addInfoCommand(app);
-  surftrace::tools::addBuildCommands(app);
+  surftrace::tools::addBuildCommand(app);
+  surftrace::tools::addAreaCommand(app);
   std::string commandLine;
   for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
   surftrace::tools::addRenderCommand(app, commandLine);

@@ -36,6 +36,7 @@
 #include "commands.hpp"
 #include "image_options.hpp"
 #include "option_checks.hpp"
+#include "pipeline.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
 #include "trajectory_plan.hpp"
@@ -51,10 +52,7 @@ namespace fs = std::filesystem;
 struct TrajectoryOptions {
   std::string topology, trajectory;
   build::ReadOptions read;
-  std::string surface = "ses";
-  double probe = 1.4;
-  double shrink = 0.5;
-  bool dropCavities = false;
+  SurfaceOptions surface;
   ImageOptions image;
   std::string output, exr;
   std::string frames;
@@ -138,8 +136,7 @@ bool complete(const std::string& path) {
 // The request's patch list parameters without building it, for framing as `render` frames.
 build::PatchList paramsOnly(const build::SurfaceRequest& request) {
   build::PatchList list;
-  const bool skinAsBalls = request.surface == build::SurfaceKind::Mss && request.shrinkFactor >= 1.0;
-  list.params.surface = skinAsBalls ? build::SurfaceKind::Vdw : request.surface;
+  list.params.surface = request.builtKind();
   list.params.probeRadius = request.probeRadius;
   return list;
 }
@@ -204,268 +201,350 @@ struct Work {
   view::FrameBuffers image;
 };
 
-void runTrajectory(const TrajectoryOptions& o) {
-  // Every option is checked before the slow work starts.
+// Where the frames go, checked before any frame is read: the output folders exist (made if
+// missing) and can be written; --mp4 has its PNGs, all the frames and ffmpeg.
+struct Outputs {
+  FramePattern png, exr;
+  std::optional<fs::path> ffmpeg;
+};
+
+Outputs checkOutputs(const TrajectoryOptions& o, const Shard& shard) {
   if (o.output.empty() && o.exr.empty())
     throw std::invalid_argument("nothing to write: give -o frames/%05d.png and/or --exr frames/%05d.exr");
-  const FramePattern png = o.output.empty() ? FramePattern() : FramePattern("-o", o.output);
-  const FramePattern exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
-  // The output folders exist (made if missing) and can be written, before any frame is read.
-  if (!png.empty()) build::prepareOutputPath(png(0), "-o");
-  if (!exr.empty()) build::prepareOutputPath(exr(0), "--exr");
+  Outputs out;
+  out.png = o.output.empty() ? FramePattern() : FramePattern("-o", o.output);
+  out.exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
+  if (!out.png.empty()) build::prepareOutputPath(out.png(0), "-o");
+  if (!out.exr.empty()) build::prepareOutputPath(out.exr(0), "--exr");
   if (!o.timings.empty()) build::prepareOutputPath(o.timings, "--timings");
   if (!o.mp4.empty()) build::prepareOutputPath(o.mp4, "--mp4");
-  ImageSetup setup = resolveImageOptions(o.image);
-  const build::SurfaceRequest request{build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
-  const Shard shard = shardFromEnvironment(o.shard);
-  std::optional<fs::path> ffmpeg;
-  if (!o.mp4.empty()) {
-    if (o.output.empty()) throw std::invalid_argument("--mp4 is made from the PNG frames: give -o frames/%05d.png too");
-    if (shard.count > 1)
-      throw std::invalid_argument("--mp4 needs every frame, but this process renders a shard (" + shard.origin +
-                                  "): make the movie once all shards are done, e.g. with ffmpeg");
-    ffmpeg = findOnPath("ffmpeg");
-    if (!ffmpeg) throw std::invalid_argument("--mp4 needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
+  if (o.mp4.empty()) return out;
+  if (o.output.empty()) throw std::invalid_argument("--mp4 is made from the PNG frames: give -o frames/%05d.png too");
+  if (shard.count > 1)
+    throw std::invalid_argument("--mp4 needs every frame, but this process renders a shard (" + shard.origin +
+                                "): make the movie once all shards are done, e.g. with ffmpeg");
+  out.ffmpeg = findOnPath("ffmpeg");
+  if (!out.ffmpeg) throw std::invalid_argument("--mp4 needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
+  return out;
+}
+
+// --flexible: the atoms that move (empty: all of them).
+struct Flexible {
+  std::vector<std::uint32_t> atoms;
+  std::vector<char> isFlexible;  // per atom, when atoms is not empty
+};
+
+Flexible flexibleAtoms(const std::string& selection, const build::Molecule& reference) {
+  Flexible f;
+  if (selection.empty()) return f;
+  f.atoms = build::selectAtoms(reference, selection);
+  f.isFlexible.assign(reference.size(), 0);
+  for (std::uint32_t i : f.atoms) f.isFlexible[i] = 1;
+  return f;
+}
+
+// One camera for the whole run (stage "frame the camera"), written to --camera-out.
+void frameTrajectory(ImageSetup& setup, const TrajectoryOptions& o, build::Trajectory& trajectory,
+                     const std::vector<std::size_t>& frames, const build::Molecule& reference, const Flexible& flexible) {
+  const build::SurfaceRequest request = o.surface.request();
+  if (setup.imported && setup.imported->hasDepthRange()) {
+    // --camera fixes the view and its depth range: no pass over the frames is needed.
+    frameSpheres(setup, reference.centers, request.reach(reference.radii));
+  } else if (o.frameCamera == "first") {
+    const build::PatchList framing = request.builtKind() == build::SurfaceKind::Mss
+                                         ? build::buildSurface(reference, request)
+                                         : paramsOnly(request);
+    frameSurface(setup, framing, reference);
+  } else {
+    const std::vector<double> reach = request.reach(reference.radii);
+    frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible.atoms, reach,
+                                        framingOf(setup)));
   }
+  writeCameraOut(setup);
+}
+
+// This process's frames, less those a finished earlier run wrote (--resume).
+std::vector<std::size_t> framesToRender(const TrajectoryOptions& o, const std::vector<std::size_t>& mine,
+                                        const Outputs& out, std::size_t& skipped) {
+  std::vector<std::size_t> todo;
+  skipped = 0;
+  for (std::size_t k : mine) {
+    const bool done =
+        o.resume && complete(out.png.empty() ? "" : out.png(k)) && complete(out.exr.empty() ? "" : out.exr(k));
+    if (done)
+      ++skipped;
+    else
+      todo.push_back(k);
+  }
+  return todo;
+}
+
+// --timings: one row a frame, flushed as it is written, so that an interrupted run keeps the
+// rows of the frames it finished; --resume appends to them.
+class TimingsFile {
+ public:
+  TimingsFile(const std::string& path, bool resume) : path_(path) {
+    if (path.empty()) return;
+    std::error_code ec;
+    const bool append = resume && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0;
+    file_.reset(std::fopen(path.c_str(), append ? "a" : "w"));
+    if (!file_) throw build::OutputError("--timings " + path + ": cannot write the file: " + std::strerror(errno));
+    if (!append &&
+        (std::fputs("frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n",
+                    file_.get()) < 0 ||
+         std::fflush(file_.get()) != 0))
+      failed();
+  }
+  void row(const Work& w) {
+    if (!file_) return;
+    if (std::fprintf(file_.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w.frame, w.time, w.readMs, w.buildMs, w.renderMs,
+                     w.writeMs, w.moved, w.recomputed, w.patches) < 0 ||
+        std::fflush(file_.get()) != 0)
+      failed();
+  }
+
+ private:
+  [[noreturn]] void failed() const {
+    throw build::OutputError("--timings " + path_ + ": write failed: " + std::strerror(errno));
+  }
+  std::string path_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_{nullptr, std::fclose};
+};
+
+// The frames of one process through the stages "read", "build or update", "render" and
+// "write": the build of frame k+1 beside the drawing of frame k and the writing of frame k-1.
+// The first error of any stage (a bad frame, a full disk) is kept and stops the input; the
+// pipeline then drains, and the error is thrown once it has (an exception escaping a stage
+// let the process exit while the build of the next frame still ran: a crash on a full disk).
+class FrameLoop {
+ public:
+  FrameLoop(const TrajectoryOptions& o, build::Trajectory& trajectory, const build::Molecule& reference,
+            const Flexible& flexible, const ImageSetup& setup, std::vector<glm::vec3> colors, const Outputs& out)
+      : o_(o), trajectory_(trajectory), reference_(reference), flexible_(flexible), setup_(setup),
+        colors_(std::move(colors)), out_(out), builder_(o.surface.request()), current_(reference),
+        renderer_(EngineOptions{}), timings_(o.timings, o.resume) {
+    record_ = recordOf(o.surface, o.topology, o.image, o.commandLine);
+    record_.trajectory = o.trajectory;
+    renderer_.describe(record_);
+  }
+
+  void run(const std::vector<std::size_t>& todo);
+
+  std::vector<double> readMs, buildMs, renderMs, writeMs;
+  double rigidDrift = 0.0;  // how far atoms held rigid actually moved in the trajectory
+  std::size_t written = 0;
+
+ private:
+  std::shared_ptr<Work> readAndBuild(std::size_t frame);
+  void render(Work& w);
+  void write(Work& w, ProgressBar& bar, std::size_t total);
+
+  const TrajectoryOptions& o_;
+  build::Trajectory& trajectory_;
+  const build::Molecule& reference_;
+  const Flexible& flexible_;
+  const ImageSetup& setup_;
+  const std::vector<glm::vec3> colors_;
+  const Outputs& out_;
+  build::SurfaceBuilder builder_;
+  build::Molecule current_;
+  bool built_ = false;
+  FrameRenderer renderer_;
+  TimingsFile timings_;
+  ImageRecord record_;
+};
+
+std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
+  auto w = std::make_shared<Work>();
+  w->frame = frame;
+  auto t = std::chrono::steady_clock::now();
+  trajectory_.load(w->frame);
+  w->time = trajectory_.frame().time;
+  const auto& c = trajectory_.molecule().centers;
+  if (flexible_.atoms.empty()) {
+    current_.centers = c;
+  } else {
+    for (std::uint32_t i : flexible_.atoms) current_.centers[i] = c[i];
+    for (std::size_t i = 0; i < c.size(); ++i)
+      if (!flexible_.isFlexible[i]) rigidDrift = std::max(rigidDrift, glm::length(c[i] - reference_.centers[i]));
+  }
+  w->readMs = millisecondsSince(t);
+  t = std::chrono::steady_clock::now();
+  if (!built_) {
+    w->list = builder_.build(current_);
+    built_ = true;
+  } else {
+    w->list = flexible_.atoms.empty() ? builder_.update(current_) : builder_.update(current_, flexible_.atoms);
+  }
+  w->buildMs = millisecondsSince(t);
+  w->recomputed = builder_.lastRecomputed();
+  w->patches = w->list.patchCount();
+  w->moved = flexible_.atoms.empty() ? current_.size() : flexible_.atoms.size();
+  return w;
+}
+
+void FrameLoop::render(Work& w) {
+  const auto t = std::chrono::steady_clock::now();
+  w.image = renderer_.render(w.list, setup_.render, colors_);
+  w.renderMs = millisecondsSince(t);
+  w.list = build::PatchList();
+}
+
+void FrameLoop::write(Work& w, ProgressBar& bar, std::size_t total) {
+  const auto t = std::chrono::steady_clock::now();
+  ImageRecord record = record_;
+  record.frame = w.frame;
+  record.timePs = w.time;
+  writeImage(out_.png.empty() ? "" : out_.png(w.frame), out_.exr.empty() ? "" : out_.exr(w.frame), w.image, record,
+             setup_.render.camera);
+  w.writeMs = millisecondsSince(t);
+  readMs.push_back(w.readMs), buildMs.push_back(w.buildMs);
+  renderMs.push_back(w.renderMs), writeMs.push_back(w.writeMs);
+  timings_.row(w);
+  // One line per frame when nobody watches a bar (the logs of batch jobs).
+  if (!o_.quiet && !isatty(STDERR_FILENO))
+    std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w.frame, w.buildMs, w.renderMs);
+  bar.items(++written, total, "frames");
+}
+
+void FrameLoop::run(const std::vector<std::size_t>& todo) {
+  ProgressBar bar(!o_.quiet, "frames");
+  bar.items(0, todo.size(), "frames");
+  std::size_t next = 0;
+  std::exception_ptr failure;
+  std::atomic<bool> failed{false};
+  // Runs one stage; the first error is kept, and the stage's frame dropped.
+  const auto guarded = [&](auto&& stage) {
+    try {
+      stage();
+      return true;
+    } catch (...) {
+      if (!failed.exchange(true)) failure = std::current_exception();
+      return false;
+    }
+  };
+  using Item = std::shared_ptr<Work>;
+  tbb::parallel_pipeline(
+      3,
+      tbb::make_filter<void, Item>(tbb::filter_mode::serial_in_order,
+                                   [&](tbb::flow_control& fc) -> Item {
+                                     Item w;
+                                     if (next == todo.size() || failed.load() ||
+                                         !guarded([&] { w = readAndBuild(todo[next++]); }))
+                                       fc.stop();
+                                     return w;
+                                   }) &
+          tbb::make_filter<Item, Item>(tbb::filter_mode::serial_in_order,
+                                       [&](Item w) -> Item {
+                                         if (!w || failed.load() || !guarded([&] { render(*w); })) return nullptr;
+                                         return w;
+                                       }) &
+          tbb::make_filter<Item, void>(tbb::filter_mode::serial_in_order, [&](Item w) {
+            if (w && !failed.load()) guarded([&] { write(*w, bar, todo.size()); });
+          }));
+  if (failure) {
+    bar.clear();
+    std::rethrow_exception(failure);
+  }
+}
+
+// ffmpeg's image sequences must be numbered without gaps: the frames are linked as 0, 1, 2, ...
+void makeMovie(const TrajectoryOptions& o, const Outputs& out, const std::vector<std::size_t>& frames) {
+  const fs::path links = fs::path(o.mp4).parent_path() / ("." + fs::path(o.mp4).filename().string() + ".frames");
+  fs::remove_all(links);
+  fs::create_directories(links);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%08zu.png", i);
+    fs::create_symlink(fs::absolute(out.png(frames[i])), links / name);
+  }
+  const int status = runProgram({out.ffmpeg->string(), "-y", "-loglevel", "error", "-framerate", std::to_string(o.fps),
+                                 "-i", (links / "%08d.png").string(), "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v",
+                                 "libx264", "-pix_fmt", "yuv420p", o.mp4});
+  fs::remove_all(links);
+  if (status != 0) throw std::runtime_error("ffmpeg failed (exit " + std::to_string(status) + ") making " + o.mp4);
+  std::printf("wrote %s (%zu frames at %g frames/s)\n", o.mp4.c_str(), frames.size(), o.fps);
+}
+
+void printPlan(const TrajectoryOptions& o, const build::Trajectory& trajectory, const build::Molecule& reference,
+               std::size_t selected, std::size_t mine, const Shard& shard, std::size_t todo, std::size_t skipped,
+               std::size_t flexible) {
+  std::printf("%s + %s: %zu atoms (%zu in the file), %zu frames; %zu selected%s, %zu to render%s%s\n",
+              o.topology.c_str(), o.trajectory.c_str(), reference.size(), reference.fileAtomCount,
+              trajectory.frameCount(), selected,
+              shard.count > 1 ? (", " + std::to_string(mine) + " in " + shard.origin).c_str() : "", todo,
+              skipped ? (", " + std::to_string(skipped) + " done already (--resume)").c_str() : "",
+              flexible == 0 ? "" : (", " + std::to_string(flexible) + " flexible atoms").c_str());
+  std::fflush(stdout);
+}
+
+void printTimings(const FrameLoop& loop, double loopSeconds, double setupMs, double framingMs) {
+  std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms, of which %.0f ms framing the camera); "
+              "medians per frame: read %.2f ms, build %.2f ms, render %.2f ms, write %.2f ms\n",
+              loop.written, loopSeconds, loopSeconds > 0 ? static_cast<double>(loop.written) / loopSeconds : 0.0,
+              setupMs, framingMs, median(loop.readMs), median(loop.buildMs), median(loop.renderMs),
+              median(loop.writeMs));
+}
+
+void runTrajectory(const TrajectoryOptions& o) {
+  // Every option is checked before the slow work starts.
+  const Shard shard = shardFromEnvironment(o.shard);
+  const Outputs out = checkOutputs(o, shard);
+  ImageSetup setup = resolveImageOptions(o.image);
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                   static_cast<std::size_t>(o.threads));
-
   const auto start = std::chrono::steady_clock::now();
   build::Trajectory trajectory(o.topology, o.trajectory, o.read);
   for (const std::string& note : trajectory.source().notes())
     std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
   const std::vector<std::size_t> mine = framesOfShard(frames, shard);
-
   // The reference frame: the first one selected, whichever shard this is, so that every shard
   // has the same camera and the same rigid atoms.
   trajectory.load(frames.front());
   const build::Molecule reference = trajectory.molecule();
   printReadNotes(reference);
-  std::vector<std::uint32_t> flexible;
-  std::vector<char> isFlexible;
-  if (!o.flexible.empty()) {
-    flexible = build::selectAtoms(reference, o.flexible);
-    isFlexible.assign(reference.size(), 0);
-    for (std::uint32_t i : flexible) isFlexible[i] = 1;
-  }
-
+  const Flexible flexible = flexibleAtoms(o.flexible, reference);
   if (mine.empty()) {
     std::printf("%s: no frames to render: %zu frames are selected, and this shard renders those at positions %zu, "
                 "%zu, ... of them (the selected frame at position i, counted from 0, goes to shard i mod %zu)\n",
                 shard.origin.c_str(), frames.size(), shard.index, shard.index + shard.count, shard.count);
     return;
   }
-
-  // One camera for the whole run.
   const auto framingStart = std::chrono::steady_clock::now();
-  if (o.frameCamera == "first") {
-    const build::PatchList framing = request.surface == build::SurfaceKind::Mss && request.shrinkFactor < 1.0
-                                         ? build::buildSurface(reference, request)
-                                         : paramsOnly(request);
-    frameSurface(setup, framing, reference);
-  } else {
-    const std::vector<double> reach =
-        atomReach(reference.radii, request.surface, request.probeRadius, request.shrinkFactor);
-    frameSpheres(setup, frameEveryFrame(trajectory, o.trajectory, frames, reference, flexible, reach, framingOf(setup)));
-  }
-  writeCameraOut(setup);
+  frameTrajectory(setup, o, trajectory, frames, reference, flexible);
   const double framingMs = millisecondsSince(framingStart);
-  view::RenderOptions& ro = setup.render;
-  const std::vector<glm::vec3> colors = view::atomColors(reference, ro.color, setup.uniformColor);
-
-  // This process's frames, less those a finished earlier run wrote (--resume).
-  std::vector<std::size_t> todo;
   std::size_t skipped = 0;
-  for (std::size_t k : mine) {
-    const bool done = o.resume && complete(png.empty() ? "" : png(k)) && complete(exr.empty() ? "" : exr(k));
-    if (done)
-      ++skipped;
-    else
-      todo.push_back(k);
-  }
+  const std::vector<std::size_t> todo = framesToRender(o, mine, out, skipped);
   const double setupMs = millisecondsSince(start);
-  std::printf("%s + %s: %zu atoms (%zu in the file), %zu frames; %zu selected%s, %zu to render%s%s\n",
-              o.topology.c_str(), o.trajectory.c_str(), reference.size(), reference.fileAtomCount,
-              trajectory.frameCount(), frames.size(),
-              shard.count > 1 ? (", " + std::to_string(mine.size()) + " in " + shard.origin).c_str() : "",
-              todo.size(), skipped ? (", " + std::to_string(skipped) + " done already (--resume)").c_str() : "",
-              flexible.empty() ? "" : (", " + std::to_string(flexible.size()) + " flexible atoms").c_str());
-  std::fflush(stdout);
+  printPlan(o, trajectory, reference, frames.size(), mine.size(), shard, todo.size(), skipped, flexible.atoms.size());
 
-  // Timings: one row a frame, flushed as it is written, so that an interrupted run keeps the
-  // rows of the frames it finished; --resume appends to them.
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> timings(nullptr, std::fclose);
-  const auto timingsFailed = [&] {
-    throw build::OutputError("--timings " + o.timings + ": write failed: " + std::strerror(errno));
-  };
-  if (!o.timings.empty()) {
-    std::error_code ec;
-    const bool append = o.resume && fs::is_regular_file(o.timings, ec) && fs::file_size(o.timings, ec) > 0;
-    timings.reset(std::fopen(o.timings.c_str(), append ? "a" : "w"));
-    if (!timings) throw build::OutputError("--timings " + o.timings + ": cannot write the file: " + std::strerror(errno));
-    if (!append &&
-        (std::fputs("frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n",
-                    timings.get()) < 0 ||
-         std::fflush(timings.get()) != 0))
-      timingsFailed();
-  }
-
-  const trace::EmbreeDevice device;
-  build::SurfaceBuilder builder(request);
-  build::Molecule current = reference;
-  bool built = false;
-  double rigidDrift = 0.0;  // how far atoms held rigid actually moved in the trajectory
-  std::size_t next = 0, written = 0;
-  std::vector<double> readMs, buildMs, renderMs, writeMs;
-  ProgressBar bar(!o.quiet, "frames");
-  bar.items(0, todo.size(), "frames");
+  FrameLoop loop(o, trajectory, reference, flexible, setup,
+                 view::atomColors(reference, setup.render.color, setup.uniformColor), out);
   const auto loopStart = std::chrono::steady_clock::now();
-
-  // Build of frame k+1 beside the drawing of frame k and the writing of frame k-1. The first
-  // error of any stage (a bad frame, a full disk) is kept and stops the input; the pipeline
-  // then drains, and the error is thrown once it has (an exception escaping a stage let the
-  // process exit while the build of the next frame still ran: a crash on a full disk).
-  ImageRecord recordTemplate;
-  recordTemplate.engine = "embree";
-  recordTemplate.surface = o.surface;
-  recordTemplate.probeRadius = o.probe;
-  if (request.surface == build::SurfaceKind::Mss) recordTemplate.shrinkFactor = o.shrink;
-  recordTemplate.input = o.topology;
-  recordTemplate.trajectory = o.trajectory;
-  recordTemplate.color = o.image.color;
-  recordTemplate.commandLine = o.commandLine;
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  const auto keep = [&](const std::exception_ptr& error) {
-    if (!failed.exchange(true)) failure = error;
-  };
-  tbb::parallel_pipeline(
-      3,
-      tbb::make_filter<void, std::shared_ptr<Work>>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& fc) -> std::shared_ptr<Work> {
-            if (next == todo.size() || failed.load()) {
-              fc.stop();
-              return nullptr;
-            }
-            try {
-              auto w = std::make_shared<Work>();
-              w->frame = todo[next++];
-              auto t = std::chrono::steady_clock::now();
-              trajectory.load(w->frame);
-              w->time = trajectory.frame().time;
-              const auto& c = trajectory.molecule().centers;
-              if (flexible.empty()) {
-                current.centers = c;
-              } else {
-                for (std::uint32_t i : flexible) current.centers[i] = c[i];
-                for (std::size_t i = 0; i < c.size(); ++i)
-                  if (!isFlexible[i]) rigidDrift = std::max(rigidDrift, glm::length(c[i] - reference.centers[i]));
-              }
-              w->readMs = millisecondsSince(t);
-              t = std::chrono::steady_clock::now();
-              if (!built) {
-                w->list = builder.build(current);
-                built = true;
-              } else {
-                w->list = flexible.empty() ? builder.update(current) : builder.update(current, flexible);
-              }
-              w->buildMs = millisecondsSince(t);
-              w->recomputed = builder.lastRecomputed();
-              w->patches = w->list.patchCount();
-              w->moved = flexible.empty() ? current.size() : flexible.size();
-              return w;
-            } catch (...) {
-              keep(std::current_exception());
-              fc.stop();
-              return nullptr;
-            }
-          }) &
-          tbb::make_filter<std::shared_ptr<Work>, std::shared_ptr<Work>>(
-              tbb::filter_mode::serial_in_order,
-              [&](std::shared_ptr<Work> w) -> std::shared_ptr<Work> {
-                if (!w || failed.load()) return nullptr;
-                try {
-                  const auto t = std::chrono::steady_clock::now();
-                  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(w->list), device);
-                  w->image = trace::render(scene, ro, colors);
-                  w->renderMs = millisecondsSince(t);
-                  w->list = build::PatchList();
-                  return w;
-                } catch (...) {
-                  keep(std::current_exception());
-                  return nullptr;
-                }
-              }) &
-          tbb::make_filter<std::shared_ptr<Work>, void>(
-              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Work> w) {
-                if (!w || failed.load()) return;
-                try {
-                  const auto t = std::chrono::steady_clock::now();
-                  ImageRecord record = recordTemplate;
-                  record.frame = w->frame;
-                  record.timePs = w->time;
-                  const view::ImageMetadata meta = imageMetadata(record, ro.camera);
-                  // Each written whole or not at all (view::writePng/writeExr), every write checked.
-                  if (!png.empty()) view::writePng(png(w->frame), w->image, meta);
-                  if (!exr.empty()) view::writeExr(exr(w->frame), w->image, meta);
-                  w->writeMs = millisecondsSince(t);
-                  readMs.push_back(w->readMs), buildMs.push_back(w->buildMs);
-                  renderMs.push_back(w->renderMs), writeMs.push_back(w->writeMs);
-                  if (timings &&
-                      (std::fprintf(timings.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w->frame, w->time,
-                                    w->readMs, w->buildMs, w->renderMs, w->writeMs, w->moved, w->recomputed,
-                                    w->patches) < 0 ||
-                       std::fflush(timings.get()) != 0))
-                    timingsFailed();
-                  // One line per frame when nobody watches a bar (the logs of batch jobs).
-                  if (!o.quiet && !isatty(STDERR_FILENO))
-                    std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w->frame, w->buildMs, w->renderMs);
-                  bar.items(++written, todo.size(), "frames");
-                } catch (...) {
-                  keep(std::current_exception());
-                }
-              }));
-  if (failure) {
-    bar.clear();
-    std::rethrow_exception(failure);
-  }
-
-  const double loopSeconds = millisecondsSince(loopStart) * 1e-3;
-  std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms, of which %.0f ms framing the camera); "
-              "medians per frame: read %.2f ms, build %.2f ms, render %.2f ms, write %.2f ms\n",
-              written, loopSeconds, loopSeconds > 0 ? static_cast<double>(written) / loopSeconds : 0.0, setupMs,
-              framingMs,
-              median(readMs), median(buildMs), median(renderMs), median(writeMs));
-  if (!flexible.empty())
+  loop.run(todo);
+  printTimings(loop, millisecondsSince(loopStart) * 1e-3, setupMs, framingMs);
+  if (!flexible.atoms.empty())
     std::printf("atoms outside --flexible were held at frame %zu; in the trajectory they moved up to %.3f Å\n",
-                frames.front(), rigidDrift);
-  if (!png.empty() && !todo.empty()) std::printf("wrote %s ... %s\n", png(todo.front()).c_str(), png(todo.back()).c_str());
-  if (!exr.empty() && !todo.empty()) std::printf("wrote %s ... %s\n", exr(todo.front()).c_str(), exr(todo.back()).c_str());
-
-  if (ffmpeg) {
-    // ffmpeg's image sequences must be numbered without gaps: link the frames as 0, 1, 2, ...
-    const fs::path links = fs::path(o.mp4).parent_path() / ("." + fs::path(o.mp4).filename().string() + ".frames");
-    fs::remove_all(links);
-    fs::create_directories(links);
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "%08zu.png", i);
-      fs::create_symlink(fs::absolute(png(frames[i])), links / name);
-    }
-    const int status = runProgram({ffmpeg->string(), "-y", "-loglevel", "error", "-framerate", std::to_string(o.fps),
-                                   "-i", (links / "%08d.png").string(), "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-                                   "-c:v", "libx264", "-pix_fmt", "yuv420p", o.mp4});
-    fs::remove_all(links);
-    if (status != 0) throw std::runtime_error("ffmpeg failed (exit " + std::to_string(status) + ") making " + o.mp4);
-    std::printf("wrote %s (%zu frames at %g frames/s)\n", o.mp4.c_str(), frames.size(), o.fps);
-  }
+                frames.front(), loop.rigidDrift);
+  if (!out.png.empty() && !todo.empty())
+    std::printf("wrote %s ... %s\n", out.png(todo.front()).c_str(), out.png(todo.back()).c_str());
+  if (!out.exr.empty() && !todo.empty())
+    std::printf("wrote %s ... %s\n", out.exr(todo.front()).c_str(), out.exr(todo.back()).c_str());
+  if (out.ffmpeg) makeMovie(o, out, frames);
 }
 
 }  // namespace
+
+constexpr const char* kTrajectoryExamples =
+      "Frames are numbered from 0 (as in MDAnalysis and VMD): -o f/%05d.png writes frame 7 to f/00007.png.\n"
+      "Examples:\n"
+      "  surftrace trajectory adk.psf adk_dims.dcd -o frames/%05d.png --size 512x512\n"
+      "  surftrace trajectory adk.psf adk_dims.dcd --frames 0:98:4 --surface mss --shrink 0.5 -o f/%03d.png --mp4 adk.mp4\n"
+      "  surftrace trajectory top.gro traj.xtc --flexible 'resid 120-160' -o f/%05d.png --timings t.csv\n"
+      "  sbatch --array=0-3 ...  (task t renders the i-th selected frame when i mod 4 = t; see the README)";
 
 void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
   auto o = std::make_shared<TrajectoryOptions>();
@@ -474,13 +553,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       "trajectory",
       "Ray-trace a molecular surface frame after frame from a molecular-dynamics trajectory (one camera for the whole "
       "run, partial updates for --flexible atoms, frames shared out with --shard or a Slurm job array)");
-  cmd->footer(
-      "Frames are numbered from 0 (as in MDAnalysis and VMD): -o f/%05d.png writes frame 7 to f/00007.png.\n"
-      "Examples:\n"
-      "  surftrace trajectory adk.psf adk_dims.dcd -o frames/%05d.png --size 512x512\n"
-      "  surftrace trajectory adk.psf adk_dims.dcd --frames 0:98:4 --surface mss --shrink 0.5 -o f/%03d.png --mp4 adk.mp4\n"
-      "  surftrace trajectory top.gro traj.xtc --flexible 'resid 120-160' -o f/%05d.png --timings t.csv\n"
-      "  sbatch --array=0-3 ...  (task t renders the i-th selected frame when i mod 4 = t; see the README)");
+  cmd->footer(kTrajectoryExamples);
   cmd->add_option("TOPOLOGY", o->topology,
                   "The atoms: PSF (CHARMM/NAMD), GRO, PDB or mmCIF (gzipped allowed), in the trajectory's atom order")
       ->required()
@@ -490,13 +563,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
                   "or a multi-model PDB/mmCIF")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--surface", o->surface,
-                  "ses (solvent excluded), mss (molecular skin, --shrink), vdw (atom spheres) or sas (r + probe)")
-      ->check(CLI::IsMember({"ses", "mss", "vdw", "sas"}))
-      ->default_val("ses");
-  cmd->add_option("--probe", o->probe, "Probe radius rp in Å (> 0)")->check(positive())->default_val(1.4);
-  addShrinkOption(*cmd, o->shrink);
-  cmd->add_flag("--drop-cavities", o->dropCavities, "Leave out the inner SES components of buried cavities");
+  addSurfaceOptions(*cmd, o->surface);
   cmd->add_option("-o,--output", o->output,
                   "PNG file name pattern with one integer conversion for the frame number, e.g. frames/%05d.png "
                   "(folders are made as needed)");

@@ -94,6 +94,20 @@ struct ConcaveTriangles {
 // the others contain the axis direction. The patches are grouped by kind, in MssKind order
 // (validate() checks it): mssKindRange gives each kind's range.
 enum class MssKind : std::uint32_t { Convex = 0, Edge = 1, Face = 2, Concave = 3 };
+// The skin's kinds, one row each in MssKind order: counts, names and the rows of the kind
+// tables of the renderers (view::kPatchKinds, trace/patch_kinds.hpp, gl/gpu_kinds.hpp) follow it.
+struct MssKindInfo {
+  MssKind kind;
+  const char* name;     // "convex", "edge", "face", "concave"
+  const char* patches;  // what its patches are, for people
+};
+inline constexpr MssKindInfo kMssKinds[] = {
+    {MssKind::Convex, "convex", "atom spheres"},
+    {MssKind::Edge, "edge", "hyperboloids of Delaunay edges"},
+    {MssKind::Face, "face", "hyperboloids of Delaunay triangles"},
+    {MssKind::Concave, "concave", "spheres of Delaunay tetrahedra"},
+};
+inline constexpr std::size_t kMssKindCount = sizeof(kMssKinds) / sizeof(kMssKinds[0]);
 struct MssQuadrics {
   std::vector<std::uint32_t> kind;     // MssKind: the simplex has kind + 1 atoms
   std::vector<glm::dvec3> center;      // z_X

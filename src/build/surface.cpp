@@ -1,6 +1,7 @@
 // The one pipeline from a molecule to a patch list (surface.hpp).
 #include "build/surface.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "build/mss/mss_builder.hpp"
@@ -15,6 +16,29 @@ SurfaceKind parseSurfaceKind(const std::string& name) {
   throw std::invalid_argument("unknown surface '" + name + "': choose ses, mss, vdw or sas");
 }
 
+SurfaceRequest SurfaceRequest::of(const SurfaceParams& params) {
+  SurfaceRequest r;
+  r.surface = params.surface;
+  r.probeRadius = params.probeRadius;
+  r.shrinkFactor = params.shrinkFactor;
+  return r;
+}
+
+std::vector<double> SurfaceRequest::reach(std::span<const double> radii) const {
+  std::vector<double> reach(radii.begin(), radii.end());
+  switch (surface) {
+    case SurfaceKind::Ses:
+    case SurfaceKind::Sas:
+      for (double& r : reach) r += probeRadius;
+      break;
+    case SurfaceKind::Vdw: break;
+    case SurfaceKind::Mss:
+      if (!skinIsUnionOfBalls() && !radii.empty()) reach.assign(radii.size(), *std::max_element(radii.begin(), radii.end()));
+      break;
+  }
+  return reach;
+}
+
 PatchList buildSurface(const Molecule& m, const SurfaceRequest& r) {
   PatchList list;
   switch (r.surface) {
@@ -23,7 +47,7 @@ PatchList buildSurface(const Molecule& m, const SurfaceRequest& r) {
       if (r.dropCavities) list = outerComponent(list);
       break;
     case SurfaceKind::Mss:
-      if (r.shrinkFactor >= 1.0) {
+      if (r.skinIsUnionOfBalls()) {
         list = atomSpheres(m.centers, m.radii, 0.0, SurfaceKind::Vdw);
         list.params.shrinkFactor = 1.0;
       } else {
@@ -49,7 +73,7 @@ struct SurfaceBuilder::State {
   bool built = false;
 
   bool usesSes() const { return request.surface == SurfaceKind::Ses; }
-  bool usesMss() const { return request.surface == SurfaceKind::Mss && request.shrinkFactor < 1.0; }
+  bool usesMss() const { return request.surface == SurfaceKind::Mss && !request.skinIsUnionOfBalls(); }
 
   // A copy of the builder's list with the molecule's provenance, as buildSurface gives it.
   PatchList finish(const PatchList& fresh, const Molecule& m) const {
@@ -125,8 +149,7 @@ void checkPatchListMatches(const PatchList& list, const std::string& source, con
   if (list.params.atomCount != m.size() || list.params.inputCrc32 != m.inputCrc32)
     fail("from a different input (" + std::to_string(list.params.atomCount) + " atoms) than " + m.source + " with these options (" +
          std::to_string(m.size()) + " atoms)");
-  const bool skinAsBalls = r.surface == SurfaceKind::Mss && r.shrinkFactor >= 1.0;
-  const SurfaceKind expected = skinAsBalls ? SurfaceKind::Vdw : r.surface;
+  const SurfaceKind expected = r.builtKind();
   if (list.params.surface != expected)
     fail(std::string("for the ") + surfaceKindName(list.params.surface) + " surface, not the " + surfaceKindName(expected));
   if ((expected == SurfaceKind::Ses || expected == SurfaceKind::Sas) && list.params.probeRadius != r.probeRadius)

@@ -6,17 +6,34 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 
 namespace surftrace::build {
 
+// The rules of a surface live here, and nowhere else: what each kind is built as, and how far
+// it reaches beyond its atoms.
 struct SurfaceRequest {
   SurfaceKind surface = SurfaceKind::Ses;
   double probeRadius = 1.4;    // SES, SAS
   double shrinkFactor = 0.5;   // MSS, in (0, 1]; 1 is the union of the van der Waals balls
   bool dropCavities = false;   // SES: the outer component only
+
+  // The request a patch list was built for (its surface, probe and shrink factor).
+  static SurfaceRequest of(const SurfaceParams& params);
+  // The skin at s = 1 is exactly the union of the van der Waals balls: built as the vdW spheres.
+  bool skinIsUnionOfBalls() const { return surface == SurfaceKind::Mss && shrinkFactor >= 1.0; }
+  // The kind of the patch list buildSurface makes: Vdw for the skin at s = 1, else `surface`.
+  SurfaceKind builtKind() const { return skinIsUnionOfBalls() ? SurfaceKind::Vdw : surface; }
+  // How far the surface reaches beyond each atom's centre (for framing from the atoms alone):
+  // r + rp for the SES and SAS, r for the vdW balls (and the skin at s = 1), and for the skin
+  // the largest radius r_max: it lies in the centres' hull grown by r_max (every ball of its
+  // construction is centred in that hull, shrunk to radius² <= Σλ_i r_i² <= r_max²), and the
+  // frustum and the orthographic window are convex, so balls of r_max about the centres frame
+  // it (the balls r_i/√s it also lies in grow without bound as s -> 0).
+  std::vector<double> reach(std::span<const double> radii) const;
 };
 
 // "ses", "mss", "vdw", "sas"; std::invalid_argument naming the choices otherwise.

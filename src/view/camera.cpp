@@ -139,7 +139,8 @@ Camera withDepthRange(Camera camera, std::span<const SphereCover> covers) {
   const double pad = 1e-3 * (hi - lo) + 1e-2;
   camera.zNear = lo - pad, camera.zFar = hi + pad;
   if (camera.projection == Projection::Perspective) {
-    if (camera.zFar <= 0.0) throw std::invalid_argument("camera: the scene lies behind the eye");
+    // A scene wholly behind the eye shows nothing; any range holds that.
+    if (camera.zFar <= 0.0) camera.zFar = 1.0;
     camera.zNear = std::max(camera.zNear, 1e-4 * camera.zFar);
   }
   return camera;

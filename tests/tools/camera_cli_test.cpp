@@ -149,6 +149,14 @@ TEST(CameraCli, TrajectoryExportsItsOneCamera) {
                        " --frames 0:3 --surface vdw --size 32x32 --quiet --exr " + dir + "/%02d.exr --camera-out " + cam);
   ASSERT_EQ(r.status, 0) << r.output;
   const view::Camera exported = view::cameraFromJson(readJson(cam).dump());
+  // The exported camera read back by another run draws the same frames.
+  const std::string again = temp("traj_cam_again");
+  const Result second = run("trajectory " + data("trajectories/adk_dims/adk.psf.gz") + " " +
+                            data("trajectories/adk_dims/adk_dims.dcd") + " --frames 2:3 --surface vdw --quiet --exr " +
+                            again + "/%02d.exr --camera " + cam);
+  ASSERT_EQ(second.status, 0) << second.output;
+  const Result same = run("compare " + again + "/02.exr " + dir + "/02.exr --preset exact");
+  EXPECT_EQ(same.status, 0) << same.output;
   for (const char* frame : {"/00.exr", "/02.exr"}) {
     view::ImageMetadata meta;
     const view::FrameBuffers image = view::readExr(dir + frame, &meta);

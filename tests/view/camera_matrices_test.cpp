@@ -216,6 +216,10 @@ TEST(CameraMatrices, DepthRangeHoldsEverySphereTightly) {
   c.eye = {0, 0, 5};  // inside the scene: near stays positive
   const Camera e = withDepthRange(c, centers, radii);
   EXPECT_GT(e.zNear, 0.0);
+  c.eye = {0, 0, -40};  // looking away: nothing to see, and still a valid range
+  const Camera f = withDepthRange(c, centers, radii);
+  EXPECT_GT(f.zNear, 0.0);
+  EXPECT_GT(f.zFar, f.zNear);
 }
 
 }  // namespace

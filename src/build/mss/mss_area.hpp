@@ -13,8 +13,12 @@ namespace surftrace::build {
 
 struct MssAreas {
   // Å² by patch kind (MssKind order: convex, edge, face, concave) and in all.
-  double byKind[4] = {0, 0, 0, 0};
-  double total() const { return byKind[0] + byKind[1] + byKind[2] + byKind[3]; }
+  double byKind[kMssKindCount] = {};  // MssKind order (kMssKinds)
+  double total() const {
+    double sum = 0.0;
+    for (double a : byKind) sum += a;
+    return sum;
+  }
   double volume = 0.0;         // Å³ enclosed by the skin (divergence theorem over the patches)
   // Estimated quadrature error of the hyperboloid areas (the spheres are closed form): the sum
   // over all pieces of |Kronrod 15 − Gauss 7|, which bounds the 7-point rule's error on a smooth

@@ -42,7 +42,6 @@ constexpr double kReachSlack = 1e-9;
 // One block's patches of one kind (the MSS arrays of a patch list), with cell-plane indices
 // relative to the chunk. The list is the chunks kind by kind, block by block.
 using Chunk = PatchList;
-constexpr std::size_t kKinds = 4;
 
 bool isMssGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
 
@@ -334,7 +333,7 @@ struct MssBuilder::State {
   std::vector<double> radii, weights;
   Geometry geometry;
   NeighbourGrid grid;
-  std::vector<std::array<Chunk, kKinds>> blocks;
+  std::vector<std::array<Chunk, kMssKindCount>> blocks;
   PatchList list;
   MssUpdateStats stats;
   tbb::enumerable_thread_specific<Scratch> scratch;
@@ -346,7 +345,7 @@ struct MssBuilder::State {
     tbb::enumerable_thread_specific<std::size_t> exact(0);
     tbb::parallel_for(std::size_t{0}, which.size(), [&](std::size_t n) {
       const std::uint32_t b = which[n];
-      std::array<Chunk, kKinds>& chunks = blocks[b];
+      std::array<Chunk, kMssKindCount>& chunks = blocks[b];
       for (Chunk& chunk : chunks) chunk.clearKeepingMemory();
       Scratch& sc = scratch.local();
       const auto end = static_cast<std::uint32_t>(std::min<std::size_t>(centers.size(), (b + 1) * std::size_t{kBlockAtoms}));
@@ -366,7 +365,7 @@ struct MssBuilder::State {
     list.params.atomCount = static_cast<std::uint32_t>(centers.size());
     list.componentCount = 0;
     // Chunk c = kind·blocks + block: the list holds the kinds in order, each by block.
-    const std::size_t count = kKinds * blocks.size();
+    const std::size_t count = kMssKindCount * blocks.size();
     auto chunk = [&](std::size_t c) -> const Chunk& { return blocks[c % blocks.size()][c / blocks.size()]; };
     patchOffset.assign(count + 1, 0);
     planeOffset.assign(count + 1, 0);

@@ -1,0 +1,70 @@
+// What `build` and `area` read and build (surface_input.hpp).
+#include "surface_input.hpp"
+
+#include <chrono>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include <tbb/global_control.h>
+
+#include "build/surface.hpp"
+#include "commands.hpp"
+#include "option_checks.hpp"
+
+namespace surftrace::tools {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void addSurfaceInputOptions(CLI::App& cmd, SurfaceInputOptions& o) {
+  cmd.add_option("FILE", o.path,
+                 "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed); `area` also takes a patch list from "
+                 "`build` (.stp, told by its content)")
+      ->required();
+  addSurfaceOptions(cmd, o.surface, SurfaceChoice::Built);
+  cmd.add_option("--threads", o.threads, "Worker threads (default: all cores); results do not depend on it")
+      ->check(wholeIn(0, 4096));
+  addMoleculeOptions(cmd, o.read);
+}
+
+Built readAndBuild(const SurfaceInputOptions& o) {
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<std::size_t>(o.threads));
+  auto start = std::chrono::steady_clock::now();
+  Built b;
+  if (isPatchListInput(o.path)) {
+    b.patches = build::readPatchList(o.path);
+    if (o.surface.probeGiven() && o.surface.probe != b.patches.params.probeRadius)
+      throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +
+                                  " Å; --probe " + std::to_string(o.surface.probe) + " cannot change it (rebuild it)");
+    if (b.patches.params.surface != build::SurfaceKind::Ses)
+      throw std::invalid_argument(o.path + ": the areas of a " + build::surfaceKindName(b.patches.params.surface) +
+                                  " patch list need its structure (per-atom shares): run `area` on the structure");
+    b.molecule.source = o.path;
+    b.molecule.atoms.resize(b.patches.params.atomCount);
+    b.molecule.centers.resize(b.patches.params.atomCount);
+    b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 0; k < b.patches.convex.size(); ++k)
+      b.molecule.radii[b.patches.convex.atom[k]] = b.patches.convex.radius[k];
+    b.readSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    if (o.surface.dropCavities) b.patches = build::outerComponent(b.patches);
+    b.buildSeconds = secondsSince(start);
+    return b;
+  }
+  b.molecule = readInput(o.path, "", 0, o.read);
+  b.readSeconds = secondsSince(start);
+  start = std::chrono::steady_clock::now();
+  b.patches = build::buildSurface(b.molecule, o.surface.request());
+  b.buildSeconds = secondsSince(start);
+  return b;
+}
+
+}  // namespace surftrace::tools
