@@ -27,9 +27,8 @@ int depthChannelOf(const ImageChannels& image, const std::string& asked) {
   for (const char* name : {"Z", "depth", "Y"})
     if (const int c = image.find(name); c >= 0) return c;
   if (image.names.size() == 1) return 0;
-  throw std::runtime_error(image.path + ": no depth channel among its " + std::to_string(image.names.size()) +
-                           " channels (" + image.nameList() +
-                           "); expected one named Z, depth or Y, or a one-channel image: name it with --test-depth-channel");
+  throw std::runtime_error(image.path + ": no depth channel among its channels " + image.nameList() +
+                           "; expected one named Z, depth or Y, or a one-channel image: name it with --test-depth-channel");
 }
 
 // The normal's three channels: N.X N.Y N.Z (SurfTrace's names), R G B, X Y Z, or the only three.
@@ -40,8 +39,8 @@ std::array<int, 3> normalChannelsOf(const ImageChannels& image) {
     if (c[0] >= 0 && c[1] >= 0 && c[2] >= 0) return c;
   }
   if (image.names.size() == 3) return {0, 1, 2};
-  throw std::runtime_error(image.path + ": no normal channels among its " + std::to_string(image.names.size()) +
-                           " channels (" + image.nameList() + "); expected R, G, B (or N.X, N.Y, N.Z, or X, Y, Z)");
+  throw std::runtime_error(image.path + ": no normal channels among its channels " + image.nameList() +
+                           "; expected R, G, B (or N.X, N.Y, N.Z, or X, Y, Z)");
 }
 
 void checkSize(const ImageChannels& image, const Camera& camera, const char* what) {
