@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -12,6 +13,12 @@ namespace surftrace::view {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 std::string sizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
@@ -67,8 +74,8 @@ const char* encodingName(NormalEncoding e) { return e == NormalEncoding::Signed 
 DepthToRay::DepthToRay(const Camera& camera, DepthConvention convention) : frame_(camera.frame()), convention_(convention) {
   if (convention != DepthConvention::Window) return;
   if (!camera.hasDepthRange())
-    throw std::invalid_argument("the reference's camera has no near and far (near " + std::to_string(camera.zNear) +
-                                ", far " + std::to_string(camera.zFar) +
+    throw std::invalid_argument("the reference's camera has no near and far (near " + shortNumber(camera.zNear) +
+                                ", far " + shortNumber(camera.zFar) +
                                 "): window depth needs the depth range it was written for; re-render the reference "
                                 "with this SurfTrace (every image records them), or pass --depth-convention view-z or ray");
   const glm::dmat4 p = camera.projectionMatrix();
