@@ -46,6 +46,7 @@ struct TestImage {
   view::TestChannels carried;
   view::ImageMetadata meta;
   std::string description;
+  std::string details;  // lines under "test", each ending in a newline
 };
 
 // Exit codes: 0 within the limits, 2 outside them (1 is an error, from main).
@@ -95,17 +96,16 @@ TestImage readForeign(const CompareOptions& o, const view::ForeignBufferOptions&
                                 "surftrace render --exr");
   try {
     view::ForeignFrame foreign = view::foreignFrame(depth, normalImage, f, *camera);
-    TestImage t{std::move(foreign.frame), foreign.carried, {}, {}};
+    TestImage t{std::move(foreign.frame), foreign.carried, {}, {}, {}};
     char range[96] = "";
     if (f.depthConvention == view::DepthConvention::Window)
       std::snprintf(range, sizeof range, " for near %.6g, far %.6g Å", camera->zNear, camera->zFar);
-    t.description = "another renderer's buffers: depth channel " + foreign.depthChannel + " as " +
-                    view::conventionName(f.depthConvention) + " depth" + range + ", rows from the " +
-                    view::originName(f.origin) + "; " +
-                    (normals ? std::string("normals ") + o.testNormal + " in " + view::spaceName(f.normalSpace) + " space, " +
-                                   view::encodingName(f.normalEncoding)
-                             : std::string("no normals")) +
-                    "; compared in Å along the reference's rays";
+    t.description = "another renderer's buffers, compared in Å along the reference's rays";
+    t.details = "          depth   channel " + foreign.depthChannel + ", " + view::conventionName(f.depthConvention) +
+                " depth" + range + ", rows from the " + view::originName(f.origin) + "\n          normals " +
+                (normals ? o.testNormal + ", " + view::spaceName(f.normalSpace) + " space, " + view::encodingName(f.normalEncoding)
+                         : std::string("none (no --test-normal)")) +
+                "\n";
     return t;
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(o.reference + ": " + e.what());  // the camera's: name the reference
@@ -164,8 +164,8 @@ void runCompare(const CompareOptions& o) {
                                   "metadata); compare only renderings of the same view, or pass --ignore-camera");
   }
   const view::FrameComparison c = view::compareFrames(test, ref, camera ? &*camera : nullptr, testImage.carried);
-  std::printf("test      %s (%s)\nreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
-              o.reference.c_str(), refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?",
+  std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
+              testImage.details.c_str(), o.reference.c_str(), refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?",
               c.summary().c_str());
   if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
   if (!o.diff.empty()) {

@@ -197,7 +197,7 @@ std::vector<std::string> CompareThresholds::violations(const FrameComparison& c)
   if (maxCoverageFraction && c.coverageFraction > *maxCoverageFraction)
     std::snprintf(line, sizeof line, "coverage mismatch %.4g%% > %.4g%%", 100 * c.coverageFraction, 100 * *maxCoverageFraction), v.emplace_back(line);
   if (maxDepthP99Relative && relative > *maxDepthP99Relative)
-    std::snprintf(line, sizeof line, "depth p99 %.3g of the scene > %.3g", relative, *maxDepthP99Relative), v.emplace_back(line);
+    std::snprintf(line, sizeof line, "depth p99 %.3g of the scene (%.3g Å) > %.3g", relative, c.depthP99, *maxDepthP99Relative), v.emplace_back(line);
   if (minKindAgreement && c.compared.kind && c.kindAgreement < *minKindAgreement)
     std::snprintf(line, sizeof line, "patch-kind agreement %.4f%% < %.4f%%", 100 * c.kindAgreement, 100 * *minKindAgreement), v.emplace_back(line);
   if (minPatchAgreement && c.compared.patchId && c.patchAgreement < *minPatchAgreement)
