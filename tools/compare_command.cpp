@@ -222,9 +222,9 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--report", o->report, "Write the metrics as JSON here");
   cmd->add_option("--diff", o->diff, "Write a false-colour difference PNG here");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
-                                         "kinds > 99.9%), exact (a re-render by the same engine), or none (report "
-                                         "the metrics, judge nothing), foreign (another renderer's buffers: coverage < 0.1%, "
-                                         "depth p99 < 1e-3 of the scene, normal p99 < 1°). Default: foreign for another "
+                                         "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
+                                         "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
+                                         "< 1°), or none (report the metrics, judge nothing). Default: foreign for another "
                                          "renderer's buffers, exact when the two images' metadata name the same engine, "
                                          "else gl-vs-embree")
       ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "none"}));
