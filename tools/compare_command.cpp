@@ -1,4 +1,5 @@
-// `surftrace compare`: two renderings of one view, pixel by pixel, with pass/fail limits.
+// `surftrace compare`: two renderings of one view, pixel by pixel, with pass/fail limits; the
+// rendering under test may be SurfTrace's EXR or another renderer's depth and normal buffers.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -9,6 +10,7 @@
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
+#include "view/foreign_buffers.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
 
@@ -19,6 +21,32 @@ struct CompareOptions {
   std::string test, reference, report, diff, preset;
   std::optional<double> maxCoverage, maxDepthP99, minKind, minPatch, maxNormalP99;
   bool ignoreCamera = false;
+  // Another renderer's buffers (empty: not given; the defaults are foreignOptions').
+  std::string depthChannel, depthConvention, testNormal, normalSpace, normalEncoding, testOrigin;
+  bool foreignFlags() const {
+    return !depthChannel.empty() || !depthConvention.empty() || !testNormal.empty() || !normalSpace.empty() ||
+           !normalEncoding.empty() || !testOrigin.empty();
+  }
+};
+
+view::ForeignBufferOptions foreignOptions(const CompareOptions& o) {
+  view::ForeignBufferOptions f;
+  f.depthChannel = o.depthChannel;
+  if (o.depthConvention == "view-z") f.depthConvention = view::DepthConvention::ViewZ;
+  if (o.depthConvention == "ray") f.depthConvention = view::DepthConvention::Ray;
+  if (o.testOrigin == "top-left") f.origin = view::RowOrigin::TopLeft;
+  if (o.normalSpace == "world") f.normalSpace = view::NormalSpace::World;
+  if (o.normalEncoding == "unorm") f.normalEncoding = view::NormalEncoding::Unorm;
+  return f;
+}
+
+// What the test holds: SurfTrace's buffers, or another renderer's read into the reference's view.
+struct TestImage {
+  view::FrameBuffers frame;
+  view::TestChannels carried;
+  view::ImageMetadata meta;
+  std::string description;
+  std::string details;  // lines under "test", each ending in a newline
 };
 
 // Exit codes: 0 within the limits, 2 outside them (1 is an error, from main).
@@ -47,17 +75,87 @@ std::string defaultPreset(const view::ImageMetadata& test, const view::ImageMeta
   return preset;
 }
 
+std::string sizeMismatch(const std::string& test, int tw, int th, const std::string& ref, int rw, int rh) {
+  return test + " is " + std::to_string(tw) + "x" + std::to_string(th) + " but " + ref + " is " + std::to_string(rw) + "x" +
+         std::to_string(rh);
+}
+
+// Another renderer's buffers (TEST and --test-normal) along the reference camera's rays.
+TestImage readForeign(const CompareOptions& o, const view::ForeignBufferOptions& f, const view::FrameBuffers& ref,
+                      const std::optional<view::Camera>& camera) {
+  const view::ImageChannels depth = view::readImageChannels(o.test);
+  std::optional<view::ImageChannels> normals;
+  if (!o.testNormal.empty()) normals = view::readImageChannels(o.testNormal);
+  const view::ImageChannels* normalImage = normals ? &*normals : nullptr;
+  for (const view::ImageChannels* image : {&depth, normalImage})
+    if (image && (image->width != ref.width || image->height != ref.height))
+      throw std::invalid_argument(sizeMismatch(image->path, image->width, image->height, o.reference, ref.width, ref.height));
+  if (!camera)
+    throw std::invalid_argument(o.reference + " records no camera (surftrace:camera metadata), and another renderer's "
+                                "buffers are compared along the reference camera's rays: render the reference with "
+                                "surftrace render --exr");
+  try {
+    view::ForeignFrame foreign = view::foreignFrame(depth, normalImage, f, *camera);
+    TestImage t{std::move(foreign.frame), foreign.carried, {}, {}, {}};
+    char range[96] = "";
+    if (f.depthConvention == view::DepthConvention::Window)
+      std::snprintf(range, sizeof range, " for near %.6g, far %.6g Å", camera->zNear, camera->zFar);
+    t.description = "another renderer's buffers, compared in Å along the reference's rays";
+    t.details = "          depth   channel " + foreign.depthChannel + ", " + view::conventionName(f.depthConvention) +
+                " depth" + range + ", rows from the " + view::originName(f.origin) + "\n          normals " +
+                (normals ? o.testNormal + ", " + view::spaceName(f.normalSpace) + " space, " + view::encodingName(f.normalEncoding)
+                         : std::string("none (no --test-normal)")) +
+                "\n";
+    return t;
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(o.reference + ": " + e.what());  // the camera's: name the reference
+  }
+}
+
+// On a failure with another renderer's buffers: whether their rows might be upside down (the
+// most common slip: glReadPixels' rows come bottom first), from the same buffers read the other way.
+std::string originHint(const CompareOptions& o, view::ForeignBufferOptions f, const view::FrameBuffers& ref,
+                       const view::Camera& camera, const view::FrameComparison& c) {
+  f.origin = f.origin == view::RowOrigin::BottomLeft ? view::RowOrigin::TopLeft : view::RowOrigin::BottomLeft;
+  const TestImage flipped = readForeign(o, f, ref, camera);
+  const view::FrameComparison other = view::compareFrames(flipped.frame, ref, &camera, flipped.carried);
+  if (!(c.coverageFraction > 1e-3 && other.coverageFraction < 0.25 * c.coverageFraction)) return "";
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "\n  hint: with --test-origin %s the coverage mismatch would be %.4g%% (it is %.4g%%): are the rows upside "
+                "down?",
+                view::originName(f.origin), 100 * other.coverageFraction, 100 * c.coverageFraction);
+  return text;
+}
+
+// Without --preset, the limits for another renderer's buffers. Says which.
+std::string foreignPreset() {
+  std::printf("limits    --preset foreign (another renderer's buffers: coverage, depth and normals when given; "
+              "pass --preset to choose)\n");
+  return "foreign";
+}
+
 void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
-  view::ImageMetadata testMeta, refMeta;
-  const view::FrameBuffers test = view::readExr(o.test, &testMeta);
+  view::ImageMetadata refMeta;
   const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
-  if (test.width != ref.width || test.height != ref.height)
-    throw std::invalid_argument(o.test + " is " + std::to_string(test.width) + "x" + std::to_string(test.height) + " but " +
-                                o.reference + " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
   std::optional<view::Camera> camera;
   if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
+  // Another renderer's buffers when a flag says so, or when TEST lacks SurfTrace's channels.
+  const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
+  const view::ForeignBufferOptions foreignOpts = foreignOptions(o);
+  TestImage testImage;
+  if (foreign) {
+    testImage = readForeign(o, foreignOpts, ref, camera);
+  } else {
+    testImage.frame = view::readExr(o.test, &testImage.meta);
+    testImage.description = testImage.meta.count("surftrace:renderer") ? testImage.meta.at("surftrace:renderer") : "?";
+  }
+  const view::FrameBuffers& test = testImage.frame;
+  const view::ImageMetadata& testMeta = testImage.meta;
+  if (test.width != ref.width || test.height != ref.height)
+    throw std::invalid_argument(sizeMismatch(o.test, test.width, test.height, o.reference, ref.width, ref.height));
   if (!o.ignoreCamera && camera && testMeta.count("surftrace:camera")) {
     const view::Camera other = view::cameraFromJson(testMeta.at("surftrace:camera"));
     if (other.eye != camera->eye || other.lookAt != camera->lookAt || other.up != camera->up ||
@@ -65,13 +163,13 @@ void runCompare(const CompareOptions& o) {
       throw std::invalid_argument("the two images were rendered with different cameras (see their surftrace:camera "
                                   "metadata); compare only renderings of the same view, or pass --ignore-camera");
   }
-  const view::FrameComparison c = view::compareFrames(test, ref, camera ? &*camera : nullptr);
-  std::printf("test      %s (%s)\nreference %s (%s)\n%s\n", o.test.c_str(),
-              testMeta.count("surftrace:renderer") ? testMeta.at("surftrace:renderer").c_str() : "?", o.reference.c_str(),
-              refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?", c.summary().c_str());
+  const view::FrameComparison c = view::compareFrames(test, ref, camera ? &*camera : nullptr, testImage.carried);
+  std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
+              testImage.details.c_str(), o.reference.c_str(), refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?",
+              c.summary().c_str());
   if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
   if (!o.diff.empty()) {
-    const std::vector<float> rgb = view::differenceImage(test, ref);
+    const std::vector<float> rgb = view::differenceImage(test, ref, testImage.carried);
     view::FrameBuffers image;
     image.width = ref.width;
     image.height = ref.height;
@@ -83,20 +181,25 @@ void runCompare(const CompareOptions& o) {
     view::writePng(o.diff, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
                                                          "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
   }
-  const std::string preset = o.preset.empty() ? defaultPreset(testMeta, refMeta) : o.preset;
+  const std::string preset = !o.preset.empty() ? o.preset : foreign ? foreignPreset() : defaultPreset(testMeta, refMeta);
   view::CompareThresholds limits = preset == "none" ? view::CompareThresholds{} : view::CompareThresholds::preset(preset);
   if (o.maxCoverage) limits.maxCoverageFraction = o.maxCoverage;
   if (o.maxDepthP99) limits.maxDepthP99Relative = o.maxDepthP99;
   if (o.minKind) limits.minKindAgreement = o.minKind;
   if (o.minPatch) limits.minPatchAgreement = o.minPatch;
   if (o.maxNormalP99) limits.maxNormalP99Degrees = o.maxNormalP99;
+  // A limit on a buffer the test does not carry is neither passed nor failed.
+  const auto unjudged = limits.notCompared(c);
+  for (const auto& line : unjudged) std::printf("not compared: %s\n", line.c_str());
+  const std::string scope = unjudged.empty() ? "" : ", on what the test carries";
   const auto violations = limits.violations(c);
   if (violations.empty()) {
-    std::printf("PASS (%s)\n", preset == "none" ? "no limits: --preset none" : preset.c_str());
+    std::printf("PASS (%s%s)\n", preset == "none" ? "no limits: --preset none" : preset.c_str(), scope.c_str());
     return;
   }
-  std::string text = "FAIL:";
+  std::string text = "FAIL (" + preset + scope + "):";
   for (const auto& v : violations) text += "\n  " + v;
+  if (foreign) text += originHint(o, foreignOpts, ref, *camera, c);
   throw LimitsExceeded(text);
 }
 
@@ -106,24 +209,63 @@ void addCompareCommand(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   auto* cmd = app.add_subcommand(
       "compare",
-      "Compare a rendering (TEST.exr) with a reference of the same view (REFERENCE.exr, usually the Embree image) "
-      "pixel by pixel: coverage, depth, normal, patch kind and id, masking the reference's silhouette band, seams "
-      "and flagged pixels. Exit status 0 within the limits, 2 outside them, 1 on an error");
-  cmd->add_option("TEST", o->test, "EXR under test (e.g. from --engine gl)")->required()->check(CLI::ExistingFile);
+      "Compare a rendering (TEST.exr, or another renderer's depth and normal buffers) with a reference of the same "
+      "view (REFERENCE.exr, usually the Embree image) pixel by pixel: coverage, depth, normal, patch kind and id, "
+      "masking the reference's silhouette band, seams and flagged pixels. Exit status 0 within the limits, 2 outside "
+      "them, 1 on an error");
+  cmd->add_option("TEST", o->test,
+                  "Image under test: an EXR from surftrace render (e.g. --engine gl), or another renderer's depth "
+                  "buffer in any format OpenImageIO reads (EXR, PFM, float TIFF, 16-bit PNG; see --depth-convention)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("REFERENCE", o->reference, "Reference EXR; its masks and camera are used")->required()->check(CLI::ExistingFile);
   cmd->add_option("--report", o->report, "Write the metrics as JSON here");
   cmd->add_option("--diff", o->diff, "Write a false-colour difference PNG here");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
-                                         "kinds > 99.9%), exact (a re-render by the same engine), or none (report "
-                                         "the metrics, judge nothing). Default: exact when the two images' metadata "
-                                         "name the same engine, else gl-vs-embree")
-      ->check(CLI::IsMember({"gl-vs-embree", "exact", "none"}));
+                                         "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
+                                         "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
+                                         "< 1°), or none (report the metrics, judge nothing). Default: foreign for another "
+                                         "renderer's buffers, exact when the two images' metadata name the same engine, "
+                                         "else gl-vs-embree")
+      ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "none"}));
   cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
   cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));
   cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(numberIn(0, 1));
   cmd->add_option("--min-patch", o->minPatch, "Smallest patch-id agreement fraction")->check(numberIn(0, 1));
   cmd->add_option("--max-normal-p99", o->maxNormalP99, "Largest normal-angle p99 in degrees")->check(numberIn(0, HUGE_VAL));
   cmd->add_flag("--ignore-camera", o->ignoreCamera, "Compare even if the images' recorded cameras differ");
+  // Another renderer's buffers (README "Validating your renderer"): any of these, or a TEST
+  // without SurfTrace's channels, reads TEST as a depth buffer of the reference's camera.
+  const char* foreignGroup = "Another renderer's buffers (TEST without SurfTrace's channels)";
+  cmd->add_option("--test-depth-channel", o->depthChannel, "TEST's depth channel (default: Z, depth or Y, else the only channel)")
+      ->group(foreignGroup);
+  cmd->add_option("--depth-convention", o->depthConvention,
+                  "What TEST's depth means: window (GL depth in [0, 1] under glDepthRange 0..1 for the reference "
+                  "camera's near and far, background 1.0; the default), view-z (Å along the view direction, −z of the "
+                  "view frame) or ray (Å from the eye along the pixel's ray); background +inf or <= 0. Compared in Å "
+                  "along the reference's rays")
+      ->check(CLI::IsMember({"window", "view-z", "ray"}))
+      ->group(foreignGroup);
+  cmd->add_option("--test-origin", o->testOrigin,
+                  "Which image row TEST's first stored row is: bottom-left (glReadPixels' order, and a PFM's; the "
+                  "default) or top-left (image order); applies to --test-normal too")
+      ->check(CLI::IsMember({"bottom-left", "top-left"}))
+      ->group(foreignGroup);
+  cmd->add_option("--test-normal", o->testNormal,
+                  "Normal buffer of TEST's renderer, same size and row order (channels R, G, B, or N.X, N.Y, N.Z); "
+                  "without it normals are not compared")
+      ->check(CLI::ExistingFile)
+      ->group(foreignGroup);
+  cmd->add_option("--normal-space", o->normalSpace,
+                  "Space of --test-normal: view (x right, y up, z towards the eye: the view matrix's frame; the "
+                  "default) or world")
+      ->check(CLI::IsMember({"view", "world"}))
+      ->group(foreignGroup);
+  cmd->add_option("--normal-encoding", o->normalEncoding,
+                  "Components of --test-normal: signed (snorm: in [-1, 1]; the default) or unorm ((n + 1) / 2, e.g. an 8- or "
+                  "16-bit PNG)")
+      ->check(CLI::IsMember({"signed", "snorm", "unorm"}))
+      ->group(foreignGroup);
   cmd->callback([o] {
     try {
       runCompare(*o);

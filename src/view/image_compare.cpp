@@ -49,6 +49,11 @@ Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
   return n;
 }
 
+// Whether the test image hits at pixel p: its patch kind when it carries kinds, else a finite depth.
+bool testHits(const FrameBuffers& test, std::size_t p, const TestChannels& carried) {
+  return carried.kind ? test.kind[p] != 0 : std::isfinite(test.depth[p]);
+}
+
 void checkSameSize(const FrameBuffers& a, const FrameBuffers& b) {
   if (a.width != b.width || a.height != b.height)
     throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
@@ -57,10 +62,12 @@ void checkSameSize(const FrameBuffers& a, const FrameBuffers& b) {
 
 }  // namespace
 
-FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref, const Camera* camera) {
+FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref, const Camera* camera,
+                              const TestChannels& carried) {
   checkSameSize(test, ref);
   FrameComparison c;
   c.pixels = ref.pixels();
+  c.compared = carried;
   std::vector<double> depth, depthPixels, angle;
   std::size_t kindSame = 0, patchSame = 0;
   double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
@@ -74,7 +81,7 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
         ++c.silhouette;
         continue;
       }
-      if ((test.kind[p] != 0) != refHit) {
+      if (testHits(test, p, carried) != refHit) {
         ++c.coverageMismatch;
         continue;
       }
@@ -82,17 +89,21 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
       const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
       depth.push_back(dt);
       if (camera) depthPixels.push_back(dt / camera->pixelFootprint(ref.depth[p]));
-      if (!n.kindSeam) {
+      if (!n.kindSeam && carried.kind) {
         ++c.kindSamples;
         kindSame += test.kind[p] == ref.kind[p];
       }
       if (n.seam) continue;
-      const glm::dvec3 nt(test.normal[3 * p], test.normal[3 * p + 1], test.normal[3 * p + 2]);
-      const glm::dvec3 nr(ref.normal[3 * p], ref.normal[3 * p + 1], ref.normal[3 * p + 2]);
-      const double lt = glm::length(nt), lr = glm::length(nr);
-      angle.push_back(lt > 0.0 && lr > 0.0 ? std::acos(std::clamp(glm::dot(nt / lt, nr / lr), -1.0, 1.0)) * kDegrees : 180.0);
-      ++c.patchSamples;
-      patchSame += test.patchId[p] == ref.patchId[p];
+      if (carried.normal) {
+        const glm::dvec3 nt(test.normal[3 * p], test.normal[3 * p + 1], test.normal[3 * p + 2]);
+        const glm::dvec3 nr(ref.normal[3 * p], ref.normal[3 * p + 1], ref.normal[3 * p + 2]);
+        const double lt = glm::length(nt), lr = glm::length(nr);
+        angle.push_back(lt > 0.0 && lr > 0.0 ? std::acos(std::clamp(glm::dot(nt / lt, nr / lr), -1.0, 1.0)) * kDegrees : 180.0);
+      }
+      if (carried.patchId) {
+        ++c.patchSamples;
+        patchSame += test.patchId[p] == ref.patchId[p];
+      }
     }
   c.coverageFraction = static_cast<double>(c.coverageMismatch) / static_cast<double>(std::max<std::size_t>(1, c.pixels - c.silhouette));
   c.depthSamples = depth.size();
@@ -115,14 +126,26 @@ std::string FrameComparison::summary() const {
   char text[640];
   std::snprintf(text, sizeof text,
                 "coverage mismatch %zu of %zu px (%.4f%%; silhouette band %zu px masked)\n"
-                "depth error      median %.3g  p99 %.3g  max %.3g Å  (p99 = %.3g of the scene size %.1f Å, %.3g px)\n"
-                "normal error     median %.3g°  p99 %.3g°  max %.3g°\n"
-                "patch kind       %.4f%% agree (%zu px)\n"
-                "patch id         %.4f%% agree (%zu px)",
+                "depth error      median %.3g  p99 %.3g  max %.3g Å  (p99 = %.3g of the scene size %.1f Å, %.3g px)\n",
                 coverageMismatch, pixels - silhouette, 100.0 * coverageFraction, silhouette, depthMedian, depthP99, depthMax,
-                sceneSize > 0 ? depthP99 / sceneSize : 0.0, sceneSize, depthP99Pixels, normalMedianDegrees, normalP99Degrees,
-                normalMaxDegrees, 100.0 * kindAgreement, kindSamples, 100.0 * patchAgreement, patchSamples);
-  return text;
+                sceneSize > 0 ? depthP99 / sceneSize : 0.0, sceneSize, depthP99Pixels);
+  std::string out = text;
+  if (compared.normal)
+    std::snprintf(text, sizeof text, "normal error     median %.3g°  p99 %.3g°  max %.3g°\n", normalMedianDegrees,
+                  normalP99Degrees, normalMaxDegrees);
+  else
+    std::snprintf(text, sizeof text, "normal error     not compared (the test image carries no normals)\n");
+  out += text;
+  if (compared.kind)
+    std::snprintf(text, sizeof text, "patch kind       %.4f%% agree (%zu px)\n", 100.0 * kindAgreement, kindSamples);
+  else
+    std::snprintf(text, sizeof text, "patch kind       not compared (the test image carries no patch kinds)\n");
+  out += text;
+  if (compared.patchId)
+    std::snprintf(text, sizeof text, "patch id         %.4f%% agree (%zu px)", 100.0 * patchAgreement, patchSamples);
+  else
+    std::snprintf(text, sizeof text, "patch id         not compared (the test image carries no patch ids)");
+  return out + text;
 }
 
 std::string FrameComparison::json() const {
@@ -133,9 +156,15 @@ std::string FrameComparison::json() const {
   j["depth"] = {{"samples", depthSamples},  {"median", depthMedian}, {"p99", depthP99}, {"max", depthMax},
                 {"p99_relative", sceneSize > 0 ? depthP99 / sceneSize : 0.0}, {"p99_pixels", depthP99Pixels},
                 {"scene_size", sceneSize}, {"unit", "Å"}};
-  j["normal_degrees"] = {{"median", normalMedianDegrees}, {"p99", normalP99Degrees}, {"max", normalMaxDegrees}};
-  j["patch_kind"] = {{"samples", kindSamples}, {"agreement", kindAgreement}};
-  j["patch_id"] = {{"samples", patchSamples}, {"agreement", patchAgreement}};
+  // A metric not compared keeps its key, with "compared": false and no figures to misread.
+  j["normal_degrees"] = compared.normal ? nlohmann::json{{"compared", true}, {"median", normalMedianDegrees},
+                                                         {"p99", normalP99Degrees}, {"max", normalMaxDegrees}}
+                                        : nlohmann::json{{"compared", false}};
+  j["patch_kind"] = compared.kind ? nlohmann::json{{"compared", true}, {"samples", kindSamples}, {"agreement", kindAgreement}}
+                                  : nlohmann::json{{"compared", false}};
+  j["patch_id"] = compared.patchId
+                      ? nlohmann::json{{"compared", true}, {"samples", patchSamples}, {"agreement", patchAgreement}}
+                      : nlohmann::json{{"compared", false}};
   return j.dump(1);
 }
 
@@ -151,8 +180,12 @@ CompareThresholds CompareThresholds::preset(const std::string& name) {
     t.minKindAgreement = 1.0;
     t.minPatchAgreement = 1.0;
     t.maxNormalP99Degrees = 1e-3;
+  } else if (name == "foreign") {
+    t.maxCoverageFraction = 1e-3;
+    t.maxDepthP99Relative = 1e-3;
+    t.maxNormalP99Degrees = 1.0;
   } else {
-    throw std::invalid_argument("unknown preset '" + name + "': use gl-vs-embree or exact");
+    throw std::invalid_argument("unknown preset '" + name + "': use gl-vs-embree, exact or foreign");
   }
   return t;
 }
@@ -164,31 +197,48 @@ std::vector<std::string> CompareThresholds::violations(const FrameComparison& c)
   if (maxCoverageFraction && c.coverageFraction > *maxCoverageFraction)
     std::snprintf(line, sizeof line, "coverage mismatch %.4g%% > %.4g%%", 100 * c.coverageFraction, 100 * *maxCoverageFraction), v.emplace_back(line);
   if (maxDepthP99Relative && relative > *maxDepthP99Relative)
-    std::snprintf(line, sizeof line, "depth p99 %.3g of the scene > %.3g", relative, *maxDepthP99Relative), v.emplace_back(line);
-  if (minKindAgreement && c.kindAgreement < *minKindAgreement)
+    std::snprintf(line, sizeof line, "depth p99 %.3g of the scene (%.3g Å) > %.3g", relative, c.depthP99, *maxDepthP99Relative), v.emplace_back(line);
+  if (minKindAgreement && c.compared.kind && c.kindAgreement < *minKindAgreement)
     std::snprintf(line, sizeof line, "patch-kind agreement %.4f%% < %.4f%%", 100 * c.kindAgreement, 100 * *minKindAgreement), v.emplace_back(line);
-  if (minPatchAgreement && c.patchAgreement < *minPatchAgreement)
+  if (minPatchAgreement && c.compared.patchId && c.patchAgreement < *minPatchAgreement)
     std::snprintf(line, sizeof line, "patch-id agreement %.4f%% < %.4f%%", 100 * c.patchAgreement, 100 * *minPatchAgreement), v.emplace_back(line);
-  if (maxNormalP99Degrees && c.normalP99Degrees > *maxNormalP99Degrees)
+  if (maxNormalP99Degrees && c.compared.normal && c.normalP99Degrees > *maxNormalP99Degrees)
     std::snprintf(line, sizeof line, "normal p99 %.3g° > %.3g°", c.normalP99Degrees, *maxNormalP99Degrees), v.emplace_back(line);
   return v;
 }
 
-std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref) {
+std::vector<std::string> CompareThresholds::notCompared(const FrameComparison& c) const {
+  std::vector<std::string> v;
+  char line[256];
+  if (maxNormalP99Degrees && !c.compared.normal)
+    std::snprintf(line, sizeof line, "normal p99 < %.3g° (the test image carries no normals)", *maxNormalP99Degrees),
+        v.emplace_back(line);
+  if (minKindAgreement && !c.compared.kind)
+    std::snprintf(line, sizeof line, "patch-kind agreement > %.4g%% (the test image carries no patch kinds)",
+                  100 * *minKindAgreement),
+        v.emplace_back(line);
+  if (minPatchAgreement && !c.compared.patchId)
+    std::snprintf(line, sizeof line, "patch-id agreement > %.4g%% (the test image carries no patch ids)",
+                  100 * *minPatchAgreement),
+        v.emplace_back(line);
+  return v;
+}
+
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref, const TestChannels& carried) {
   checkSameSize(test, ref);
   std::vector<float> rgb(3 * ref.pixels(), 0.0f);
   for (int y = 0; y < ref.height; ++y)
     for (int x = 0; x < ref.width; ++x) {
       const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
       float* out = &rgb[3 * p];
-      const bool refHit = ref.kind[p] != 0, testHit = test.kind[p] != 0;
+      const bool refHit = ref.kind[p] != 0, testHit = testHits(test, p, carried);
       glm::vec3 c(0.15f);  // agreeing background
       if (neighbourhood(ref, x, y).band) {
         c = {0.2f, 0.3f, 0.8f};
       } else if (refHit != testHit) {
         c = {1.0f, 0.0f, 0.0f};
       } else if (refHit) {
-        if (test.kind[p] != ref.kind[p]) {
+        if (carried.kind && test.kind[p] != ref.kind[p]) {
           c = {0.0f, 1.0f, 0.0f};
         } else {
           const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));

@@ -11,6 +11,16 @@
 
 namespace surftrace::view {
 
+// What the image under test carries. SurfTrace's own images carry every buffer; another
+// renderer's (view/foreign_buffers.hpp) carry coverage and depth, normals when it wrote them,
+// and no patch kinds or ids. A metric of a buffer not carried is "not compared": neither
+// passed nor failed. Without kinds, coverage is "the depth is finite".
+struct TestChannels {
+  bool normal = true;
+  bool kind = true;
+  bool patchId = true;
+};
+
 struct FrameComparison {
   std::size_t pixels = 0;
   std::size_t silhouette = 0;         // reference hit/miss changes within the 3×3 neighbourhood: masked
@@ -24,15 +34,17 @@ struct FrameComparison {
   double kindAgreement = 1.0, patchAgreement = 1.0;
   double normalMedianDegrees = 0.0, normalP99Degrees = 0.0, normalMaxDegrees = 0.0;
   double sceneSize = 0.0;             // depth range of the reference's hits (Å), for relative depth
+  TestChannels compared;              // the metrics measured; the others are "not compared"
 
   std::string summary() const;
   std::string json() const;
 };
 
-// `footprint(t)` gives the pixel footprint at ray distance t (Camera::pixelFootprint); pass
-// nothing to skip the footprint-relative figure. Throws std::invalid_argument if the sizes differ.
+// `camera` gives the pixel footprint at ray distance t (Camera::pixelFootprint); pass nothing
+// to skip the footprint-relative figure. `carried` says which of the test's buffers hold
+// anything. Throws std::invalid_argument if the sizes differ.
 FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& reference,
-                              const Camera* camera = nullptr);
+                              const Camera* camera = nullptr, const TestChannels& carried = {});
 
 // Pass/fail limits; an unset limit is not checked.
 struct CompareThresholds {
@@ -45,15 +57,21 @@ struct CompareThresholds {
   // "gl-vs-embree": the agreement issue 5 requires of the GL path (coverage < 0.1%,
   // depth p99 < 1e-3 of the scene, kind agreement > 99.9%); "exact": a re-render of a
   // reference by the same engine (coverage 0, depth p99 < 1e-6 of the scene, kinds and ids
-  // identical). Throws std::invalid_argument naming the known presets.
+  // identical); "foreign": another renderer's buffers (coverage < 0.1%, depth p99 < 1e-3 of
+  // the scene, normal p99 < 1°, which an 8-bit normal buffer meets). Throws
+  // std::invalid_argument naming the known presets.
   static CompareThresholds preset(const std::string& name);
-  // Empty when every set limit holds; otherwise one line per violated limit.
+  // Empty when every set limit on a compared metric holds; otherwise one line per violated limit.
   std::vector<std::string> violations(const FrameComparison& c) const;
+  // One line per set limit on a metric that was not compared (the test does not carry it),
+  // saying which buffer is missing.
+  std::vector<std::string> notCompared(const FrameComparison& c) const;
 };
 
 // A false-colour difference image (RGB, row 0 at the top): grey = agree, red = coverage
 // mismatch, blue = silhouette band (masked), yellow→magenta = depth error on a log scale
-// from 1e-6 Å to 1 Å, green = patch kind differs.
-std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& reference);
+// from 1e-6 Å to 1 Å, green = patch kind differs (when the test carries kinds).
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& reference,
+                                   const TestChannels& carried = {});
 
 }  // namespace surftrace::view

@@ -1,6 +1,8 @@
-// Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR.
+// Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR, and
+// the channels of any image file another program wrote.
 #include "view/image_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <span>
@@ -119,6 +121,63 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
     for (const auto& attr : spec.extra_attribs)
       if (attr.type() == oiio::TypeDesc::STRING) (*metadata)[attr.name().string()] = attr.get_string();
   return f;
+}
+
+bool hasFrameBufferChannels(const std::string& path) {
+  auto in = oiio::ImageInput::open(path);
+  if (!in) throw std::runtime_error(path + ": cannot read: " + oiio::geterror());
+  const std::vector<std::string>& names = in->spec().channelnames;
+  auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  return std::all_of(std::begin(kFloatChannels), std::end(kFloatChannels), has) &&
+         std::all_of(std::begin(kUintChannels), std::end(kUintChannels), has);
+}
+
+int ImageChannels::find(const std::string& name) const {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+bool ImageChannels::isFloat(int channel) const {
+  const std::string& t = types[static_cast<std::size_t>(channel)];
+  return t == "float" || t == "half" || t == "double";
+}
+
+std::string ImageChannels::nameList() const {
+  std::string text;
+  for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+ImageChannels readImageChannels(const std::string& path) {
+  auto in = oiio::ImageInput::open(path);
+  if (!in) throw std::runtime_error(path + ": cannot read: " + oiio::geterror());
+  const oiio::ImageSpec& spec = in->spec();
+  if (spec.deep) throw std::runtime_error(path + ": a deep image (several samples per pixel); expected one value per pixel");
+  if (spec.nchannels <= 0 || spec.width <= 0 || spec.height <= 0)
+    throw std::runtime_error(path + ": an empty image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             ", " + std::to_string(spec.nchannels) + " channels)");
+  ImageChannels image;
+  image.path = path;
+  image.format = in->format_name();
+  image.width = spec.width, image.height = spec.height;
+  for (int c = 0; c < spec.nchannels; ++c) {
+    image.names.push_back(spec.channelnames.size() > static_cast<std::size_t>(c) ? spec.channelnames[static_cast<std::size_t>(c)]
+                                                                                 : "channel " + std::to_string(c));
+    image.types.emplace_back(spec.channelformat(c).c_str());
+  }
+  image.values.resize(image.pixels() * image.names.size());
+  if (!in->read_image(0, 0, 0, spec.nchannels, oiio::TypeDesc::FLOAT, image.values.data()))
+    throw std::runtime_error(path + ": " + in->geterror());
+  // A PFM stores its bottom row first and OpenImageIO hands its rows over top first: turn them
+  // back, so that a buffer written as it was reads as it was.
+  if (image.format == "pnm" && spec.format == oiio::TypeDesc::FLOAT) {
+    const std::size_t row = static_cast<std::size_t>(image.width) * image.names.size();
+    for (int y = 0; y < image.height / 2; ++y)
+      std::swap_ranges(image.values.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)),
+                       image.values.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y + 1)),
+                       image.values.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(image.height - 1 - y)));
+  }
+  return image;
 }
 
 }  // namespace surftrace::view

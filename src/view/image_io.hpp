@@ -1,8 +1,10 @@
-// Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR.
+// Writing and reading rendered frames through OpenImageIO: PNG colour, multi-channel EXR, and
+// the channels of any image file another program wrote.
 #pragma once
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "view/frame_buffers.hpp"
 
@@ -23,5 +25,35 @@ void writeExr(const std::string& path, const FrameBuffers& frame, const ImageMet
 // Reads an EXR written by writeExr (or by the GL path) back. Throws std::runtime_error
 // naming the file and the missing channel when it is not such a file.
 FrameBuffers readExr(const std::string& path, ImageMetadata* metadata = nullptr);
+
+// Whether `path` is an image with every channel writeExr writes (a SurfTrace EXR), as opposed
+// to another program's buffers. Throws std::runtime_error when it cannot be read.
+bool hasFrameBufferChannels(const std::string& path);
+
+// The channels of any image file OpenImageIO reads (EXR, PFM, TIFF, PNG, ...), each as float:
+// floating-point channels as they are, integer ones normalised to [0, 1] (a 16-bit PNG's
+// 65535 is 1.0). Rows come in the order the file stores them, which is what a program that
+// wrote a buffer as it was (glReadPixels' rows, bottom first) put there: for a PFM, a format
+// defined bottom row first, that is the file's order, not the top-first order in which
+// OpenImageIO turns it into an image.
+struct ImageChannels {
+  std::string path;
+  std::string format;             // OpenImageIO's name for the file format ("openexr", "pnm", ...)
+  int width = 0, height = 0;
+  std::vector<std::string> names;
+  std::vector<std::string> types;  // per channel, as stored: "float", "half", "uint16", ...
+  std::vector<float> values;       // names.size() per pixel, row by row, stored order
+
+  std::size_t pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  // The channel called `name`, or -1.
+  int find(const std::string& name) const;
+  bool isFloat(int channel) const;  // float, half or double in the file (not normalised integers)
+  float at(std::size_t pixel, int channel) const { return values[pixel * names.size() + static_cast<std::size_t>(channel)]; }
+  // "R, G, B" for messages.
+  std::string nameList() const;
+};
+
+// Throws std::runtime_error naming the file when OpenImageIO cannot read it (or it is deep).
+ImageChannels readImageChannels(const std::string& path);
 
 }  // namespace surftrace::view

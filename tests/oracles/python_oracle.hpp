@@ -48,17 +48,17 @@ struct OracleRun {
   }
 };
 
-// Runs tests/oracles/`script` with `args` under oraclePython(). `scratch` is a folder for the
-// captured output (the caller's temporary folder).
-inline OracleRun runOracleScript(const std::string& script, const std::vector<std::string>& args,
+// Runs the Python script at `path` (an oracle, or a script of examples/) with `args` under
+// oraclePython(). `scratch` is a folder for the captured output (the caller's temporary folder).
+inline OracleRun runPythonScript(const std::filesystem::path& path, const std::vector<std::string>& args,
                                  const std::filesystem::path& scratch) {
   OracleRun run;
   if (oraclePython().empty()) return run;
+  const std::string script = path.filename().string();
   const std::filesystem::path outFile = scratch / (script + ".stdout");
   const std::filesystem::path errFile = scratch / (script + ".stderr");
   run.command = shellQuoted(oraclePython());
-  run.command.append(" ").append(
-      shellQuoted(std::string(SURFTRACE_SOURCE_DIR) + "/tests/oracles/" + script));
+  run.command.append(" ").append(shellQuoted(path.string()));
   for (const std::string& a : args) run.command.append(" ").append(shellQuoted(a));
   const std::string full = run.command + " > " + shellQuoted(outFile.string()) + " 2> " +
                            shellQuoted(errFile.string());
@@ -71,6 +71,12 @@ inline OracleRun runOracleScript(const std::string& script, const std::vector<st
   run.out = slurp(outFile);
   run.err = slurp(errFile);
   return run;
+}
+
+// Runs tests/oracles/`script` with `args` under oraclePython().
+inline OracleRun runOracleScript(const std::string& script, const std::vector<std::string>& args,
+                                 const std::filesystem::path& scratch) {
+  return runPythonScript(std::filesystem::path(SURFTRACE_SOURCE_DIR) / "tests" / "oracles" / script, args, scratch);
 }
 
 }  // namespace surftrace::test
