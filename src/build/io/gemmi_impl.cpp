@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/molecule.hpp"
 #include "build/io/radii.hpp"

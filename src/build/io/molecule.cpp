@@ -24,6 +24,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/io/radii.hpp"

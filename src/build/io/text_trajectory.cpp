@@ -15,6 +15,7 @@
 #include <string_view>
 #include <utility>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 
 namespace surftrace::build {

@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/trajectory.hpp"
 
