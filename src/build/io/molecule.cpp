@@ -26,8 +26,9 @@
 
 #include "build/core/assert.hpp"
 #include "build/io/error.hpp"
-#include "build/io/text_fields.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"
 
 namespace surftrace::build {
@@ -44,6 +45,7 @@ namespace {
 
 using text::inQuotes;
 using text::isSpace;
+using text::LineCursor;
 using text::parseWhole;
 using text::splitFields;
 using text::trim;
@@ -62,28 +64,6 @@ std::string lowerCase(std::string s) {
 
 std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
 std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
-
-// Splits a text into lines (without "\r\n"), counting from 1.
-class LineReader {
- public:
-  explicit LineReader(const std::string& text) : text_(text) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    std::size_t end = text_.find('\n', pos_);
-    if (end == std::string::npos) end = text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  int number() const { return number_; }
-
- private:
-  const std::string& text_;
-  std::size_t pos_ = 0;
-  int number_ = 0;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Bytes
@@ -366,7 +346,7 @@ Molecule parsePqr(const std::string& text, const std::string& name, const ReadOp
   int models = 0;  // MODEL records so far; atoms before the first belong to model 1
   std::size_t atomsSeen = 0;
   std::size_t zeroRadius = 0;
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   while (reader.next(line)) {
     const int lineNumber = reader.number();
@@ -453,7 +433,7 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
     throw InputError(
         name, 0,
         "model " + std::to_string(options.model) + " was asked for, but an XYZR file has 1 model");
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   int serial = 0;
   while (reader.next(line)) {
@@ -506,7 +486,7 @@ Molecule parseXyz(const std::string& text, const std::string& name, int model) {
   molecule.source = name;
   molecule.format = MoleculeFormat::Xyz;
   molecule.modelUsed = model;
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   int frames = 0;
   while (reader.next(line)) {

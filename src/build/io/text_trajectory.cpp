@@ -17,6 +17,7 @@
 
 #include "build/core/assert.hpp"
 #include "build/io/error.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"
 
@@ -32,6 +33,7 @@ namespace {
 
 using text::inQuotes;
 using text::isSpace;
+using text::LineCursor;
 using text::parseWhole;
 using text::splitFields;
 using text::trim;
@@ -47,40 +49,6 @@ using Cell = std::array<double, 6>;
 
 // Frames are numbered from 0 in messages, as in --frames and the output file names.
 std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
-
-// Lines of a text from a byte offset on, without "\r\n", counting from the line given.
-class LineCursor {
- public:
-  LineCursor(const std::string& text, std::size_t offset, int firstLine)
-      : text_(text), pos_(offset), number_(firstLine - 1) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    line_ = pos_;
-    const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-    const std::size_t end =
-        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  std::size_t skip(std::size_t count) {
-    std::size_t skipped = 0;
-    std::string_view line;
-    while (skipped < count && next(line)) ++skipped;
-    return skipped;
-  }
-  std::size_t offset() const { return std::min(pos_, text_.size()); }  // of the next line
-  std::size_t lineOffset() const { return line_; }                     // of the line last read
-  int number() const { return number_; }                               // of the line last read
-
- private:
-  const std::string& text_;
-  std::size_t pos_;
-  std::size_t line_ = 0;
-  int number_;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Frame index

@@ -14,8 +14,9 @@
 #include <utility>
 
 #include "build/io/error.hpp"
-#include "build/io/text_fields.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace::build::detail {
 
@@ -23,6 +24,7 @@ namespace {
 
 using text::inQuotes;
 using text::isSpace;
+using text::LineCursor;
 using text::parseWhole;
 using text::splitFields;
 using text::trim;
@@ -34,48 +36,6 @@ bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); 
 
 
 
-
-// Lines of a text from a byte offset on, without "\r\n", counting from the line given.
-class LineCursor {
- public:
-  LineCursor(const std::string& text, std::size_t offset, int firstLine)
-      : text_(text), pos_(offset), number_(firstLine - 1) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-    const std::size_t end =
-        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  // Skips `count` lines; returns how many there were.
-  std::size_t skip(std::size_t count) {
-    std::size_t skipped = 0;
-    while (skipped < count && pos_ < text_.size()) {
-      const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-      pos_ = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) + 1
-                : text_.size();
-      ++number_;
-      ++skipped;
-    }
-    return skipped;
-  }
-  bool onlySpaceLeft() const {
-    for (std::size_t i = pos_; i < text_.size(); ++i)
-      if (!isSpace(text_[i])) return false;
-    return true;
-  }
-  std::size_t offset() const { return pos_; }
-  int number() const { return number_; }  // of the line last read or skipped
-
- private:
-  const std::string& text_;
-  std::size_t pos_;
-  int number_;
-};
 
 // Frames are numbered from 0 in messages, as in --frames and the output file names.
 std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
