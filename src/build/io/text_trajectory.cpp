@@ -18,6 +18,7 @@
 #include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/line_cursor.hpp"
+#include "build/io/pdb_records.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"
 
@@ -41,6 +42,9 @@ using text::upper;
 
 namespace fs = std::filesystem;
 using Cell = std::array<double, 6>;
+using pdb::isAtomRecord;
+using pdb::isEndRecord;
+using pdb::recordIs;
 
 
 
@@ -113,25 +117,6 @@ std::vector<Span> indexXyz(const std::string& text, const std::string& path, std
   }
   if (spans.empty()) throw InputError(path, 0, "no XYZ frame (the file is blank)");
   return spans;
-}
-
-bool recordIs(std::string_view line, std::string_view name) {
-  if (line.size() < name.size()) return false;
-  for (std::size_t i = 0; i < name.size(); ++i)
-    if (upper(line[i]) != name[i]) return false;
-  return true;
-}
-
-// END, but not ENDMDL: as gemmi (which readMolecule uses) reads it, "END" then the end of the
-// line or a byte whose bits 0xD0 are clear (space, tab, CR, '!' to '/').
-bool isEndRecord(std::string_view line) {
-  if (!recordIs(line, "END")) return false;
-  return line.size() == 3 || (static_cast<unsigned char>(line[3]) & 0xD0) == 0;
-}
-
-// ATOM and HETATM records as gemmi tells them: the first four characters, any case.
-bool isAtomRecord(std::string_view line) {
-  return recordIs(line, "ATOM") || recordIs(line, "HETA");
 }
 
 // CRYST1 a b c alpha beta gamma in columns 7-54; none for the 1 Å cube that stands for "no
