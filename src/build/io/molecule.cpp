@@ -26,6 +26,7 @@
 
 #include "build/core/assert.hpp"
 #include "build/io/error.hpp"
+#include "build/io/file_formats.hpp"
 #include "build/io/line_cursor.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/text_fields.hpp"
@@ -52,15 +53,6 @@ using text::trim;
 using text::upper;
 
 namespace fs = std::filesystem;
-
-
-
-
-std::string lowerCase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 
 std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
 std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
@@ -166,22 +158,10 @@ void checkText(const std::string& text, const std::string& name, bool wasGzipped
 }
 
 MoleculeFormat formatFromPath(const fs::path& path, const std::string& name) {
-  std::string file = lowerCase(path.filename().string());
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
-  const std::size_t dot = file.rfind('.');
-  const std::string ext = dot == std::string::npos ? std::string() : file.substr(dot + 1);
-  if (ext == "pdb" || ext == "ent" || ext == "brk") return MoleculeFormat::Pdb;
-  // Biological assemblies: .pdb1, .pdb2, ...
-  if (ext.size() > 3 && ext.compare(0, 3, "pdb") == 0 &&
-      std::all_of(ext.begin() + 3, ext.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return MoleculeFormat::Pdb;
-  if (ext == "cif" || ext == "mmcif" || ext == "mcif") return MoleculeFormat::Mmcif;
-  if (ext == "pqr") return MoleculeFormat::Pqr;
-  if (ext == "xyzr" || ext == "xyzrn") return MoleculeFormat::Xyzr;
-  if (ext == "xyz") return MoleculeFormat::Xyz;
-  if (ext == "gro") return MoleculeFormat::Gro;
-  if (ext == "psf") return MoleculeFormat::Psf;
-  if (ext == "dcd" || ext == "xtc")
+  const std::string ext = formatExtension(path);
+  const ExtensionFormats formats = formatsOfExtension(ext);
+  if (formats.molecule) return *formats.molecule;
+  if (formats.trajectory)
     throw InputError(name, 0,
                      "is a trajectory (." + ext +
                          "), which holds coordinates but no atoms: give it after its topology, "
@@ -966,8 +946,7 @@ void countElementSources(Molecule& molecule) {
 
 std::string text::textOfBytes(std::string bytes, const std::string& name) {
   const bool gzipped = hasGzipMagic(bytes);
-  const std::string file = lowerCase(fs::path(name).filename().string());
-  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
+  if (!gzipped && hasGzipExtension(name))
     throw InputError(
         name, 0,
         bytes.empty()

@@ -17,6 +17,7 @@
 
 #include "build/core/assert.hpp"
 #include "build/io/error.hpp"
+#include "build/io/file_formats.hpp"
 #include "build/io/line_cursor.hpp"
 #include "build/io/pdb_records.hpp"
 #include "build/io/text_fields.hpp"
@@ -196,16 +197,12 @@ std::vector<Span> indexPdb(const std::string& text, const std::string& path, std
 }
 
 TrajectoryFormat formatOf(const fs::path& path, const std::string& name) {
-  std::string file = path.filename().string();
-  for (char& c : file) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
-  const std::string ext = fs::path(file).extension().string();
-  if (ext == ".gro") return TrajectoryFormat::Gro;
-  if (ext == ".xyz") return TrajectoryFormat::Xyz;
-  if (ext == ".pdb" || ext == ".ent") return TrajectoryFormat::Pdb;
-  if (ext == ".cif" || ext == ".mmcif") return TrajectoryFormat::Mmcif;
+  const std::string ext = formatExtension(path);
+  const std::optional<TrajectoryFormat> format = formatsOfExtension(ext).trajectory;
+  if (format && *format != TrajectoryFormat::Dcd && *format != TrajectoryFormat::Xtc) return *format;
   throw InputError(name, 0,
-                   "cannot tell the text trajectory format from the extension " + inQuotes(ext) +
+                   "cannot tell the text trajectory format from the extension " +
+                       inQuotes(ext.empty() ? "" : "." + ext) +
                        "; expected .gro, .xyz, .pdb, .ent, .cif or .mmcif, optionally with .gz");
 }
 
