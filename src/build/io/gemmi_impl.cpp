@@ -42,10 +42,10 @@ std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
 namespace {
 
 using text::inQuotes;
+using text::isAlpha;
 using text::isSpace;
 using text::trim;
 using text::upper;
-bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
 // A whole-field decimal number. gemmi's own readers parse what they can and ignore the rest
 // ("abc" reads as 0, "1.2.3" as 1.2, "nan" as NaN), so every number SurfTrace uses is

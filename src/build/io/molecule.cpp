@@ -44,13 +44,7 @@ Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, in
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::LineCursor;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
+using namespace text;
 
 namespace fs = std::filesystem;
 
@@ -220,19 +214,6 @@ struct PqrFields {
   bool pdbColumns = false;
 };
 
-// Residue number with an optional insertion code ("52A").
-bool parseResidueNumber(std::string_view text, int& number, char& icode) {
-  icode = ' ';
-  if (!text.empty() && std::isalpha(static_cast<unsigned char>(text.back())) && text.size() > 1) {
-    icode = text.back();
-    text.remove_suffix(1);
-  }
-  const std::optional<int> value = parseInt(text);
-  if (!value) return false;
-  number = *value;
-  return true;
-}
-
 // The whitespace reading; returns "" on success or why it failed.
 std::string pqrWhitespace(const std::vector<std::string_view>& f, PqrFields& out) {
   const std::size_t n = f.size();
@@ -259,7 +240,7 @@ std::string pqrWhitespace(const std::vector<std::string_view>& f, PqrFields& out
     // PDB2PQR --whitespace still writes the chain and a four-digit residue number together
     // ("A1001").
     const std::string_view glued = f[3 + at];
-    if (n == 9 && glued.size() > 1 && std::isalpha(static_cast<unsigned char>(glued[0])) &&
+    if (n == 9 && glued.size() > 1 && isAlpha(glued[0]) &&
         parseResidueNumber(glued.substr(1), number, icode)) {
       chain = glued.substr(0, 1);
     } else {

@@ -33,27 +33,14 @@ std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::LineCursor;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
+using namespace text;
 
 namespace fs = std::filesystem;
 using Cell = std::array<double, 6>;
 using pdb::isAtomRecord;
 using pdb::isEndRecord;
 using pdb::recordIs;
-
-
-
-
-
-
-// Frames are numbered from 0 in messages, as in --frames and the output file names.
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
+using detail::frameName;
 
 // ---------------------------------------------------------------------------------------------
 // Frame index
@@ -66,29 +53,12 @@ struct Span {
   std::optional<Cell> cell;  // PDB: CRYST1
 };
 
-// Walks the frames of a file, ending the index at the first frame that cannot be complete.
-// A problem in the first frame is an error (there is nothing to read); after that it is a note.
-class IndexWalk {
- public:
-  IndexWalk(const std::string& path, std::vector<Span>& spans, std::string& note)
-      : path_(path), spans_(spans), note_(note) {}
-  void stop(int line, const std::string& why) {
-    if (spans_.empty()) throw InputError(path_, line, why);
-    note_ = path_ + ":" + std::to_string(line) + ": " + why + "; " +
-            (spans_.size() == 1 ? std::string("only frame 0 is read")
-                                : "only frames 0-" + std::to_string(spans_.size() - 1) + " are read");
-  }
-
- private:
-  const std::string& path_;
-  std::vector<Span>& spans_;
-  std::string& note_;
-};
-
 // XYZ: a count line, a comment line, then that many atom lines; blank lines between frames.
 std::vector<Span> indexXyz(const std::string& text, const std::string& path, std::string& note) {
   std::vector<Span> spans;
-  IndexWalk walk(path, spans, note);
+  const auto stop = [&](int line, const std::string& why) {
+    detail::endFrameIndex(path, line, why, spans.size(), note);
+  };
   LineCursor cursor(text, 0, 1);
   std::string_view line;
   for (;;) {
@@ -102,15 +72,15 @@ std::vector<Span> indexXyz(const std::string& text, const std::string& path, std
     const std::string frame = frameName(spans.size());
     const std::optional<long long> count = parseWhole<long long>(line);
     if (!count || *count < 0) {
-      walk.stop(span.line, "expected the atom count of " + frame + ", got " + inQuotes(trim(line)));
+      stop(span.line, "expected the atom count of " + frame + ", got " + inQuotes(trim(line)));
       break;
     }
     span.atoms = static_cast<std::size_t>(*count);
     const std::size_t present = cursor.skip(span.atoms + 1);
     if (present < span.atoms + 1) {
-      walk.stop(span.line, "the atom count of " + frame + " is " + std::to_string(span.atoms) +
-                               ", but the file ends " + std::to_string(present) +
-                               " lines later, before its comment line and atoms are complete");
+      stop(span.line, "the atom count of " + frame + " is " + std::to_string(span.atoms) +
+                          ", but the file ends " + std::to_string(present) +
+                          " lines later, before its comment line and atoms are complete");
       break;
     }
     span.end = cursor.offset();

@@ -22,23 +22,7 @@ namespace surftrace::build::detail {
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::LineCursor;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
-
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-
-
-
-
-
-// Frames are numbered from 0 in messages, as in --frames and the output file names.
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
+using namespace text;
 
 // ---------------------------------------------------------------------------------------------
 // GRO
@@ -161,19 +145,6 @@ std::string elementOfMass(double mass) {
   return {};
 }
 
-// A residue number with an optional insertion code ("52A"), as CHARMM writes it.
-bool parseResidueNumber(std::string_view text, int& number, char& icode) {
-  icode = ' ';
-  if (text.size() > 1 && isAlpha(text.back())) {
-    icode = text.back();
-    text.remove_suffix(1);
-  }
-  const std::optional<int> value = parseWhole<int>(text);
-  if (!value) return false;
-  number = *value;
-  return true;
-}
-
 // One !NATOM line's fields: id segid resid resname name type charge mass [...]. Returns why
 // they do not read, or "" with `atom` filled (element by mass, else by name).
 std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
@@ -213,6 +184,19 @@ std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// Frame indexes
+
+std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
+
+void endFrameIndex(const std::string& path, int line, const std::string& why,
+                   std::size_t indexed, std::string& note) {
+  if (indexed == 0) throw InputError(path, line, why);
+  note = path + ":" + std::to_string(line) + ": " + why + "; " +
+         (indexed == 1 ? std::string("only frame 0 is read")
+                       : "only frames 0-" + std::to_string(indexed - 1) + " are read");
+}
+
+// ---------------------------------------------------------------------------------------------
 // GRO
 
 std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::string& path,
@@ -221,13 +205,8 @@ std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::str
   std::vector<GroFrameSpan> spans;
   LineCursor cursor(text, 0, 1);
   std::string_view line;
-  // The first frame's problems are errors (there is nothing to read); a later frame's end
-  // the index, and the note says why.
   const auto stop = [&](int lineNumber, const std::string& why) {
-    if (spans.empty()) throw InputError(path, lineNumber, why);
-    note = path + ":" + std::to_string(lineNumber) + ": " + why + "; " +
-           (spans.size() == 1 ? std::string("only frame 0 is read")
-                              : "only frames 0-" + std::to_string(spans.size() - 1) + " are read");
+    endFrameIndex(path, lineNumber, why, spans.size(), note);
   };
   while (!cursor.onlySpaceLeft()) {
     GroFrameSpan span;
