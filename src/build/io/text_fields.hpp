@@ -1,5 +1,6 @@
 // Small pieces of text parsing that every text reader (molecule.cpp, topology_formats.cpp,
-// text_trajectory.cpp) shares: whitespace, fields, whole numbers, quoting for messages.
+// text_trajectory.cpp, gemmi_impl.cpp, radii.cpp) shares: character classes, fields, whole
+// numbers, residue numbers, quoting for messages.
 #pragma once
 
 #include <charconv>
