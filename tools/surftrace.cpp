@@ -5,7 +5,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/io/error.hpp"
 #include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "image_options.hpp"

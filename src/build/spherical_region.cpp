@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "build/ses/sas_geometry.hpp"
+#include "build/core/vector_math.hpp"
 
 namespace surftrace::build {
 namespace {

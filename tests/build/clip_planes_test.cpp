@@ -8,8 +8,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "build/core/vector_math.hpp"
 #include "build/ses/clip_planes.hpp"
-#include "build/ses/sas_geometry.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -10,8 +10,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "build/core/vector_math.hpp"
 #include "build/ses/contour_buildup.hpp"
-#include "build/ses/sas_geometry.hpp"
 #include "build/io/molecule.hpp"
 #include "build/ses/surface_area.hpp"
 #include "oracles/freesasa_oracle.hpp"

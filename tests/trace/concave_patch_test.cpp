@@ -18,6 +18,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "build/core/vector_math.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "build/ses/sas_geometry.hpp"

@@ -17,12 +17,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <numbers>
 #include <string>
 #include <vector>
 
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
+#include "build/io/binary_reader.hpp"
 #include "build/io/trajectory.hpp"
 
 namespace surftrace::build {
@@ -32,25 +32,8 @@ namespace {
 namespace fs = std::filesystem;
 
 using Bytes = std::vector<unsigned char>;
-
-// The file's integers and floats, decoded byte by byte so that the host's order never matters.
-struct ByteOrder {
-  bool big = false;
-
-  std::uint32_t u32(const unsigned char* p) const {
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= std::uint32_t{p[big ? 3 - i : i]} << (8 * i);
-    return v;
-  }
-  std::uint64_t u64(const unsigned char* p) const {
-    std::uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= std::uint64_t{p[big ? 7 - i : i]} << (8 * i);
-    return v;
-  }
-  std::int32_t i32(const unsigned char* p) const { return std::bit_cast<std::int32_t>(u32(p)); }
-  float f32(const unsigned char* p) const { return std::bit_cast<float>(u32(p)); }
-  double f64(const unsigned char* p) const { return std::bit_cast<double>(u64(p)); }
-};
+using binary::ByteOrder;
+using binary::bytesText;
 
 // MDAnalysis (coordinates/units.py) converts CHARMM's AKMA time unit to ps with the factor
 // 1 / (1 / 4.888821e-2); written the same way so that frame times agree to the last bit.
@@ -58,10 +41,6 @@ constexpr double kPsPerAkma = 1.0 / (1.0 / 4.888821e-2);
 
 constexpr std::uint64_t kCellRecordBytes = 48;  // six float64
 constexpr char kAxisName[4] = {'x', 'y', 'z', 'w'};
-
-std::string bytesText(std::uint64_t n) {
-  return std::to_string(n) + (n == 1 ? " byte" : " bytes");
-}
 
 // The unit cell as MDAnalysis 2.x reports it (DCDReader._frame_to_ts): the record holds
 // (a, gamma, b, beta, alpha, c). CHARMM >= 25 and NAMD > 2.5 write the angles' cosines, NAMD 2.5
@@ -116,12 +95,11 @@ class DcdSource final : public FrameSource {
   // One whole header record at `offset` whose length is not known in advance: checks its two
   // markers and returns the payload in `out`; `offset` moves past the record.
   void readRecord(std::uint64_t& offset, Bytes& out, const std::string& what);
-  [[noreturn]] void fail(const std::string& message) const { throw InputError(path(), 0, message); }
+  [[noreturn]] void fail(const std::string& message) const { file_.fail(message); }
   void decodeFrame(std::size_t index, Frame& frame);
   void checkFourthDimension();
 
-  std::ifstream file_;
-  std::uint64_t fileSize_ = 0;
+  binary::Reader file_;
   ByteOrder order_;
   std::uint64_t markerBytes_ = 4;
 
@@ -142,17 +120,15 @@ class DcdSource final : public FrameSource {
   Bytes buffer_;
 };
 
-DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()) {
+DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()), file_(path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) fail("is a directory, not a file");
-  file_.open(path, std::ios::binary);
-  if (!file_) fail(std::string("cannot open: ") + std::strerror(errno));
-  fileSize_ = fs::file_size(path, ec);
-  if (ec) fail("cannot read its size: " + ec.message());
+  if (!file_.open()) fail(std::string("cannot open: ") + std::strerror(errno));
+  if ((ec = file_.measure())) fail("cannot read its size: " + ec.message());
 
   // The first record holds 84 bytes; its marker tells the byte order and the marker width.
   Bytes head;
-  readBytes(0, std::min<std::uint64_t>(fileSize_, 12), head, "the first record");
+  readBytes(0, std::min<std::uint64_t>(file_.size(), 12), head, "the first record");
   bool found = false;
   for (const std::uint64_t width : {4u, 8u}) {
     for (const bool big : {false, true}) {
@@ -167,8 +143,8 @@ DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()) {
       }
     }
   }
-  if (!found && fileSize_ < 12)
-    fail("the file ends at byte " + std::to_string(fileSize_) +
+  if (!found && file_.size() < 12)
+    fail("the file ends at byte " + std::to_string(file_.size()) +
          ", inside the first record (a DCD file starts with a record of 84 bytes)");
   if (!found)
     fail("not a DCD file: expected a first record of 84 bytes starting with \"CORD\" at byte 0 "
@@ -234,7 +210,7 @@ DcdSource::DcdSource(const fs::path& path) : FrameSource(path.string()) {
 
   // The frame count comes from the file size: writers that stop early leave NSET too large
   // (adk_dims.dcd says 500 and holds 98), and a crash leaves a partial last frame.
-  const std::uint64_t body = fileSize_ - headerBytes_;
+  const std::uint64_t body = file_.size() - headerBytes_;
   std::uint64_t rest = body;
   std::uint64_t expected = firstFrameBytes_;
   if (body >= firstFrameBytes_) {
@@ -263,7 +239,7 @@ void DcdSource::checkFourthDimension() {
   const std::uint64_t cellBytes = hasCell_ ? kCellRecordBytes + 2 * markerBytes_ : 0;
   const std::uint64_t recordBytes = 4 * atomCount_ + 2 * markerBytes_;
   const std::uint64_t frame3 = cellBytes + 3 * recordBytes, frame4 = cellBytes + 4 * recordBytes;
-  const std::uint64_t body = fileSize_ - headerBytes_;
+  const std::uint64_t body = file_.size() - headerBytes_;
   const std::string wrongFlag =
       "the header's 4D flag (icntrl[11] = 1, CHARMM 4D dynamics) says each frame holds 4 "
       "coordinate records, but ";
@@ -273,7 +249,7 @@ void DcdSource::checkFourthDimension() {
   // x of frame 0, and of frame 1 under each layout (the payload after its leading marker).
   const std::uint64_t x0 = headerBytes_ + cellBytes + markerBytes_;
   const std::uint64_t x1three = x0 + frame3, x1four = x0 + frame4;
-  if (x1four + 4 * atomCount_ + markerBytes_ > fileSize_) {
+  if (x1four + 4 * atomCount_ + markerBytes_ > file_.size()) {
     // One frame or less under the 4D layout: only the size can speak.
     if (body % frame4 != 0 && body % frame3 == 0)
       fail(wrongFlag + "the file holds " + std::to_string(body / frame3) +
@@ -312,14 +288,10 @@ void DcdSource::checkFourthDimension() {
 
 void DcdSource::readBytes(std::uint64_t offset, std::uint64_t n, Bytes& out,
                           const std::string& what) {
-  if (offset > fileSize_ || n > fileSize_ - offset)
-    fail("the file ends at byte " + std::to_string(fileSize_) + ", inside " + what + " (" +
+  if (!file_.holds(offset, n))
+    fail("the file ends at byte " + std::to_string(file_.size()) + ", inside " + what + " (" +
          bytesText(n) + " expected from byte " + std::to_string(offset) + ")");
-  out.resize(static_cast<std::size_t>(n));
-  file_.clear();
-  file_.seekg(static_cast<std::streamoff>(offset));
-  file_.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(n));
-  if (!file_ || static_cast<std::uint64_t>(file_.gcount()) != n)
+  if (!file_.read(offset, n, out))
     fail("read error at byte " + std::to_string(offset) + " in " + what +
          " (did the file change while open?)");
 }
@@ -329,9 +301,9 @@ void DcdSource::readRecord(std::uint64_t& offset, Bytes& out, const std::string&
   readBytes(offset, markerBytes_, m, what);
   const std::int64_t length = marker(m.data());
   const std::uint64_t payloadAt = offset + markerBytes_;
-  if (length < 0 || static_cast<std::uint64_t>(length) > fileSize_ - payloadAt)
+  if (length < 0 || static_cast<std::uint64_t>(length) > file_.size() - payloadAt)
     fail(what + " at byte " + std::to_string(offset) + " has a record marker of " +
-         std::to_string(length) + ", but only " + bytesText(fileSize_ - payloadAt) +
+         std::to_string(length) + ", but only " + bytesText(file_.size() - payloadAt) +
          " follow it");
   const auto n = static_cast<std::uint64_t>(length);
   readBytes(payloadAt, n, out, what);
@@ -345,9 +317,7 @@ void DcdSource::readRecord(std::uint64_t& offset, Bytes& out, const std::string&
 }
 
 void DcdSource::read(std::size_t index, Frame& frame) {
-  if (index >= frameCount_)
-    fail("frame " + std::to_string(index) + " does not exist: the file holds " +
-         (frameCount_ == 1 ? std::string("only frame 0") : "frames 0 to " + std::to_string(frameCount_ - 1)));
+  file_.checkFrameIndex(index, frameCount_);
   if (index > 0 && !freeAtoms_.empty() && firstPositions_.empty()) {
     // Later frames store only the free atoms; the fixed ones keep their frame-0 positions.
     Frame first;

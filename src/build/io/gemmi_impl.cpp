@@ -19,8 +19,10 @@
 #include <utility>
 #include <vector>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
 #include "build/io/molecule.hpp"
+#include "build/io/pdb_records.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/text_fields.hpp"
 
@@ -40,10 +42,10 @@ std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
 namespace {
 
 using text::inQuotes;
+using text::isAlpha;
 using text::isSpace;
 using text::trim;
 using text::upper;
-bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
 // A whole-field decimal number. gemmi's own readers parse what they can and ignore the rest
 // ("abc" reads as 0, "1.2.3" as 1.2, "nan" as NaN), so every number SurfTrace uses is
@@ -68,25 +70,6 @@ std::string modelCountText(std::size_t n) {
 
 // ---------------------------------------------------------------------------------------------
 // PDB
-
-// Record names compared as gemmi's is_record_type does: the first four characters, without
-// regard to case, a space equal to the end of the line.
-bool recordIs(std::string_view line, const char (&name)[5]) {
-  for (int i = 0; i < 4; ++i) {
-    const char c = i < static_cast<int>(line.size()) ? line[static_cast<std::size_t>(i)] : ' ';
-    const char a = c == '\0' ? ' ' : upper(c);
-    if (a != name[i]) return false;
-  }
-  return true;
-}
-
-// gemmi stops at END, not at ENDMDL: its is_record_type3 accepts as fourth character the end
-// of the line or any byte whose bits 0xD0 are clear (space, tab, CR, and '!' to '/').
-bool isEndRecord(std::string_view line) {
-  if (line.size() < 3 || upper(line[0]) != 'E' || upper(line[1]) != 'N' || upper(line[2]) != 'D')
-    return false;
-  return line.size() == 3 || (static_cast<unsigned char>(line[3]) & 0xD0) == 0;
-}
 
 struct PdbAtomLine {
   std::size_t start = 0;   // offset of the line in the text
@@ -292,7 +275,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.size() > 120) line = line.substr(0, 120);  // gemmi reads no further
 
-    if (recordIs(line, "ATOM") || recordIs(line, "HETA")) {
+    if (pdb::isAtomRecord(line)) {
       if (line.size() < 54)
         throw InputError(path, lineNumber,
                          "ATOM/HETATM record ends at column " + std::to_string(line.size()) +
@@ -319,7 +302,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
       for (std::size_t column = 78; column < std::min<std::size_t>(line.size(), 80); ++column)
         text[pos + column] = ' ';
       records.push_back(record);
-    } else if (isEndRecord(line)) {
+    } else if (pdb::isEndRecord(line)) {
       break;
     }
     pos = end + 1;

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <climits>
@@ -24,9 +23,12 @@
 #include <unordered_map>
 #include <utility>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
-#include "build/io/text_fields.hpp"
+#include "build/io/file_formats.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"
 
 namespace surftrace::build {
@@ -41,48 +43,12 @@ Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, in
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
+using namespace text;
 
 namespace fs = std::filesystem;
 
-
-
-
-std::string lowerCase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-
 std::optional<double> parseNumber(std::string_view text) { return parseWhole<double>(text); }
 std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text); }
-
-// Splits a text into lines (without "\r\n"), counting from 1.
-class LineReader {
- public:
-  explicit LineReader(const std::string& text) : text_(text) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    std::size_t end = text_.find('\n', pos_);
-    if (end == std::string::npos) end = text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  int number() const { return number_; }
-
- private:
-  const std::string& text_;
-  std::size_t pos_ = 0;
-  int number_ = 0;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Bytes
@@ -185,22 +151,10 @@ void checkText(const std::string& text, const std::string& name, bool wasGzipped
 }
 
 MoleculeFormat formatFromPath(const fs::path& path, const std::string& name) {
-  std::string file = lowerCase(path.filename().string());
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
-  const std::size_t dot = file.rfind('.');
-  const std::string ext = dot == std::string::npos ? std::string() : file.substr(dot + 1);
-  if (ext == "pdb" || ext == "ent" || ext == "brk") return MoleculeFormat::Pdb;
-  // Biological assemblies: .pdb1, .pdb2, ...
-  if (ext.size() > 3 && ext.compare(0, 3, "pdb") == 0 &&
-      std::all_of(ext.begin() + 3, ext.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return MoleculeFormat::Pdb;
-  if (ext == "cif" || ext == "mmcif" || ext == "mcif") return MoleculeFormat::Mmcif;
-  if (ext == "pqr") return MoleculeFormat::Pqr;
-  if (ext == "xyzr" || ext == "xyzrn") return MoleculeFormat::Xyzr;
-  if (ext == "xyz") return MoleculeFormat::Xyz;
-  if (ext == "gro") return MoleculeFormat::Gro;
-  if (ext == "psf") return MoleculeFormat::Psf;
-  if (ext == "dcd" || ext == "xtc")
+  const std::string ext = formatExtension(path);
+  const ExtensionFormats formats = formatsOfExtension(ext);
+  if (formats.molecule) return *formats.molecule;
+  if (formats.trajectory)
     throw InputError(name, 0,
                      "is a trajectory (." + ext +
                          "), which holds coordinates but no atoms: give it after its topology, "
@@ -259,19 +213,6 @@ struct PqrFields {
   bool pdbColumns = false;
 };
 
-// Residue number with an optional insertion code ("52A").
-bool parseResidueNumber(std::string_view text, int& number, char& icode) {
-  icode = ' ';
-  if (!text.empty() && std::isalpha(static_cast<unsigned char>(text.back())) && text.size() > 1) {
-    icode = text.back();
-    text.remove_suffix(1);
-  }
-  const std::optional<int> value = parseInt(text);
-  if (!value) return false;
-  number = *value;
-  return true;
-}
-
 // The whitespace reading; returns "" on success or why it failed.
 std::string pqrWhitespace(const std::vector<std::string_view>& f, PqrFields& out) {
   const std::size_t n = f.size();
@@ -298,7 +239,7 @@ std::string pqrWhitespace(const std::vector<std::string_view>& f, PqrFields& out
     // PDB2PQR --whitespace still writes the chain and a four-digit residue number together
     // ("A1001").
     const std::string_view glued = f[3 + at];
-    if (n == 9 && glued.size() > 1 && std::isalpha(static_cast<unsigned char>(glued[0])) &&
+    if (n == 9 && glued.size() > 1 && isAlpha(glued[0]) &&
         parseResidueNumber(glued.substr(1), number, icode)) {
       chain = glued.substr(0, 1);
     } else {
@@ -365,7 +306,7 @@ Molecule parsePqr(const std::string& text, const std::string& name, const ReadOp
   int models = 0;  // MODEL records so far; atoms before the first belong to model 1
   std::size_t atomsSeen = 0;
   std::size_t zeroRadius = 0;
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   while (reader.next(line)) {
     const int lineNumber = reader.number();
@@ -452,7 +393,7 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
     throw InputError(
         name, 0,
         "model " + std::to_string(options.model) + " was asked for, but an XYZR file has 1 model");
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   int serial = 0;
   while (reader.next(line)) {
@@ -505,7 +446,7 @@ Molecule parseXyz(const std::string& text, const std::string& name, int model) {
   molecule.source = name;
   molecule.format = MoleculeFormat::Xyz;
   molecule.modelUsed = model;
-  LineReader reader(text);
+  LineCursor reader(text);
   std::string_view line;
   int frames = 0;
   while (reader.next(line)) {
@@ -985,8 +926,7 @@ void countElementSources(Molecule& molecule) {
 
 std::string text::textOfBytes(std::string bytes, const std::string& name) {
   const bool gzipped = hasGzipMagic(bytes);
-  const std::string file = lowerCase(fs::path(name).filename().string());
-  if (!gzipped && file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0)
+  if (!gzipped && hasGzipExtension(name))
     throw InputError(
         name, 0,
         bytes.empty()

@@ -83,8 +83,8 @@ constexpr ElementRadius kAlvarez[] = {
 
 using text::upper;
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
-bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
+using text::isAlpha;
+using text::isDigit;
 using text::isSpace;
 using text::trim;
 

@@ -1,5 +1,6 @@
 // Small pieces of text parsing that every text reader (molecule.cpp, topology_formats.cpp,
-// text_trajectory.cpp) shares: whitespace, fields, whole numbers, quoting for messages.
+// text_trajectory.cpp, gemmi_impl.cpp, radii.cpp) shares: character classes, fields, whole
+// numbers, residue numbers, quoting for messages.
 #pragma once
 
 #include <charconv>
@@ -12,6 +13,8 @@
 namespace surftrace::build::text {
 
 inline bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+inline bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+inline bool isDigit(char c) { return c >= '0' && c <= '9'; }
 inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 'a' + 'A') : c; }
 
 inline std::string_view trim(std::string_view s) {
@@ -60,6 +63,19 @@ std::optional<T> parseWhole(std::string_view text) {
   const auto [ptr, ec] = std::from_chars(first, last, value);
   if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
   return value;
+}
+
+// A residue number with an optional insertion code ("52A"), as PQR and PSF files write it.
+inline bool parseResidueNumber(std::string_view text, int& number, char& icode) {
+  icode = ' ';
+  if (text.size() > 1 && isAlpha(text.back())) {
+    icode = text.back();
+    text.remove_suffix(1);
+  }
+  const std::optional<int> value = parseWhole<int>(text);
+  if (!value) return false;
+  number = *value;
+  return true;
 }
 
 // A text input's bytes as text (molecule.cpp): gunzipped when they start with the gzip magic

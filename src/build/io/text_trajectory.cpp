@@ -5,17 +5,19 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <new>
 #include <optional>
 #include <string_view>
 #include <utility>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
+#include "build/io/file_formats.hpp"
+#include "build/io/line_cursor.hpp"
+#include "build/io/pdb_records.hpp"
 #include "build/io/text_fields.hpp"
 #include "build/io/topology_formats.hpp"
 
@@ -29,57 +31,14 @@ std::vector<std::vector<glm::dvec3>> readMmcifModelsWithGemmi(
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
+using namespace text;
 
 namespace fs = std::filesystem;
 using Cell = std::array<double, 6>;
-
-
-
-
-
-
-// Frames are numbered from 0 in messages, as in --frames and the output file names.
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
-
-// Lines of a text from a byte offset on, without "\r\n", counting from the line given.
-class LineCursor {
- public:
-  LineCursor(const std::string& text, std::size_t offset, int firstLine)
-      : text_(text), pos_(offset), number_(firstLine - 1) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    line_ = pos_;
-    const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-    const std::size_t end =
-        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  std::size_t skip(std::size_t count) {
-    std::size_t skipped = 0;
-    std::string_view line;
-    while (skipped < count && next(line)) ++skipped;
-    return skipped;
-  }
-  std::size_t offset() const { return std::min(pos_, text_.size()); }  // of the next line
-  std::size_t lineOffset() const { return line_; }                     // of the line last read
-  int number() const { return number_; }                               // of the line last read
-
- private:
-  const std::string& text_;
-  std::size_t pos_;
-  std::size_t line_ = 0;
-  int number_;
-};
+using pdb::isAtomRecord;
+using pdb::isEndRecord;
+using pdb::recordIs;
+using detail::frameName;
 
 // ---------------------------------------------------------------------------------------------
 // Frame index
@@ -92,29 +51,12 @@ struct Span {
   std::optional<Cell> cell;  // PDB: CRYST1
 };
 
-// Walks the frames of a file, ending the index at the first frame that cannot be complete.
-// A problem in the first frame is an error (there is nothing to read); after that it is a note.
-class IndexWalk {
- public:
-  IndexWalk(const std::string& path, std::vector<Span>& spans, std::string& note)
-      : path_(path), spans_(spans), note_(note) {}
-  void stop(int line, const std::string& why) {
-    if (spans_.empty()) throw InputError(path_, line, why);
-    note_ = path_ + ":" + std::to_string(line) + ": " + why + "; " +
-            (spans_.size() == 1 ? std::string("only frame 0 is read")
-                                : "only frames 0-" + std::to_string(spans_.size() - 1) + " are read");
-  }
-
- private:
-  const std::string& path_;
-  std::vector<Span>& spans_;
-  std::string& note_;
-};
-
 // XYZ: a count line, a comment line, then that many atom lines; blank lines between frames.
 std::vector<Span> indexXyz(const std::string& text, const std::string& path, std::string& note) {
   std::vector<Span> spans;
-  IndexWalk walk(path, spans, note);
+  const auto stop = [&](int line, const std::string& why) {
+    detail::endFrameIndex(path, line, why, spans.size(), note);
+  };
   LineCursor cursor(text, 0, 1);
   std::string_view line;
   for (;;) {
@@ -128,15 +70,15 @@ std::vector<Span> indexXyz(const std::string& text, const std::string& path, std
     const std::string frame = frameName(spans.size());
     const std::optional<long long> count = parseWhole<long long>(line);
     if (!count || *count < 0) {
-      walk.stop(span.line, "expected the atom count of " + frame + ", got " + inQuotes(trim(line)));
+      stop(span.line, "expected the atom count of " + frame + ", got " + inQuotes(trim(line)));
       break;
     }
     span.atoms = static_cast<std::size_t>(*count);
     const std::size_t present = cursor.skip(span.atoms + 1);
     if (present < span.atoms + 1) {
-      walk.stop(span.line, "the atom count of " + frame + " is " + std::to_string(span.atoms) +
-                               ", but the file ends " + std::to_string(present) +
-                               " lines later, before its comment line and atoms are complete");
+      stop(span.line, "the atom count of " + frame + " is " + std::to_string(span.atoms) +
+                          ", but the file ends " + std::to_string(present) +
+                          " lines later, before its comment line and atoms are complete");
       break;
     }
     span.end = cursor.offset();
@@ -144,25 +86,6 @@ std::vector<Span> indexXyz(const std::string& text, const std::string& path, std
   }
   if (spans.empty()) throw InputError(path, 0, "no XYZ frame (the file is blank)");
   return spans;
-}
-
-bool recordIs(std::string_view line, std::string_view name) {
-  if (line.size() < name.size()) return false;
-  for (std::size_t i = 0; i < name.size(); ++i)
-    if (upper(line[i]) != name[i]) return false;
-  return true;
-}
-
-// END, but not ENDMDL: as gemmi (which readMolecule uses) reads it, "END" then the end of the
-// line or a byte whose bits 0xD0 are clear (space, tab, CR, '!' to '/').
-bool isEndRecord(std::string_view line) {
-  if (!recordIs(line, "END")) return false;
-  return line.size() == 3 || (static_cast<unsigned char>(line[3]) & 0xD0) == 0;
-}
-
-// ATOM and HETATM records as gemmi tells them: the first four characters, any case.
-bool isAtomRecord(std::string_view line) {
-  return recordIs(line, "ATOM") || recordIs(line, "HETA");
 }
 
 // CRYST1 a b c alpha beta gamma in columns 7-54; none for the 1 Å cube that stands for "no
@@ -242,16 +165,12 @@ std::vector<Span> indexPdb(const std::string& text, const std::string& path, std
 }
 
 TrajectoryFormat formatOf(const fs::path& path, const std::string& name) {
-  std::string file = path.filename().string();
-  for (char& c : file) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
-  const std::string ext = fs::path(file).extension().string();
-  if (ext == ".gro") return TrajectoryFormat::Gro;
-  if (ext == ".xyz") return TrajectoryFormat::Xyz;
-  if (ext == ".pdb" || ext == ".ent") return TrajectoryFormat::Pdb;
-  if (ext == ".cif" || ext == ".mmcif") return TrajectoryFormat::Mmcif;
+  const std::string ext = formatExtension(path);
+  const std::optional<TrajectoryFormat> format = formatsOfExtension(ext).trajectory;
+  if (format && *format != TrajectoryFormat::Dcd && *format != TrajectoryFormat::Xtc) return *format;
   throw InputError(name, 0,
-                   "cannot tell the text trajectory format from the extension " + inQuotes(ext) +
+                   "cannot tell the text trajectory format from the extension " +
+                       inQuotes(ext.empty() ? "" : "." + ext) +
                        "; expected .gro, .xyz, .pdb, .ent, .cif or .mmcif, optionally with .gz");
 }
 

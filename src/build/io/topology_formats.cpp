@@ -14,71 +14,15 @@
 #include <utility>
 
 #include "build/io/error.hpp"
-#include "build/io/text_fields.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace::build::detail {
 
 namespace {
 
-using text::inQuotes;
-using text::isSpace;
-using text::parseWhole;
-using text::splitFields;
-using text::trim;
-using text::upper;
-
-bool isDigit(char c) { return c >= '0' && c <= '9'; }
-bool isAlpha(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
-
-
-
-
-
-// Lines of a text from a byte offset on, without "\r\n", counting from the line given.
-class LineCursor {
- public:
-  LineCursor(const std::string& text, std::size_t offset, int firstLine)
-      : text_(text), pos_(offset), number_(firstLine - 1) {}
-  bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-    const std::size_t end =
-        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
-    line = std::string_view(text_.data() + pos_, end - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end + 1;
-    ++number_;
-    return true;
-  }
-  // Skips `count` lines; returns how many there were.
-  std::size_t skip(std::size_t count) {
-    std::size_t skipped = 0;
-    while (skipped < count && pos_ < text_.size()) {
-      const void* nl = std::memchr(text_.data() + pos_, '\n', text_.size() - pos_);
-      pos_ = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) + 1
-                : text_.size();
-      ++number_;
-      ++skipped;
-    }
-    return skipped;
-  }
-  bool onlySpaceLeft() const {
-    for (std::size_t i = pos_; i < text_.size(); ++i)
-      if (!isSpace(text_[i])) return false;
-    return true;
-  }
-  std::size_t offset() const { return pos_; }
-  int number() const { return number_; }  // of the line last read or skipped
-
- private:
-  const std::string& text_;
-  std::size_t pos_;
-  int number_;
-};
-
-// Frames are numbered from 0 in messages, as in --frames and the output file names.
-std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
+using namespace text;
 
 // ---------------------------------------------------------------------------------------------
 // GRO
@@ -201,19 +145,6 @@ std::string elementOfMass(double mass) {
   return {};
 }
 
-// A residue number with an optional insertion code ("52A"), as CHARMM writes it.
-bool parseResidueNumber(std::string_view text, int& number, char& icode) {
-  icode = ' ';
-  if (text.size() > 1 && isAlpha(text.back())) {
-    icode = text.back();
-    text.remove_suffix(1);
-  }
-  const std::optional<int> value = parseWhole<int>(text);
-  if (!value) return false;
-  number = *value;
-  return true;
-}
-
 // One !NATOM line's fields: id segid resid resname name type charge mass [...]. Returns why
 // they do not read, or "" with `atom` filled (element by mass, else by name).
 std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
@@ -253,6 +184,19 @@ std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// Frame indexes
+
+std::string frameName(std::size_t index) { return "frame " + std::to_string(index); }
+
+void endFrameIndex(const std::string& path, int line, const std::string& why,
+                   std::size_t indexed, std::string& note) {
+  if (indexed == 0) throw InputError(path, line, why);
+  note = path + ":" + std::to_string(line) + ": " + why + "; " +
+         (indexed == 1 ? std::string("only frame 0 is read")
+                       : "only frames 0-" + std::to_string(indexed - 1) + " are read");
+}
+
+// ---------------------------------------------------------------------------------------------
 // GRO
 
 std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::string& path,
@@ -261,13 +205,8 @@ std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::str
   std::vector<GroFrameSpan> spans;
   LineCursor cursor(text, 0, 1);
   std::string_view line;
-  // The first frame's problems are errors (there is nothing to read); a later frame's end
-  // the index, and the note says why.
   const auto stop = [&](int lineNumber, const std::string& why) {
-    if (spans.empty()) throw InputError(path, lineNumber, why);
-    note = path + ":" + std::to_string(lineNumber) + ": " + why + "; " +
-           (spans.size() == 1 ? std::string("only frame 0 is read")
-                              : "only frames 0-" + std::to_string(spans.size() - 1) + " are read");
+    endFrameIndex(path, lineNumber, why, spans.size(), note);
   };
   while (!cursor.onlySpaceLeft()) {
     GroFrameSpan span;

@@ -1,6 +1,6 @@
 // Topologies from MD packages: GROMACS GRO (atoms with coordinates, frame after frame) and
-// CHARMM/NAMD/X-PLOR PSF (atoms without coordinates), plus the GRO frame layout that the
-// GRO trajectory reader (text_trajectory.cpp) shares.
+// CHARMM/NAMD/X-PLOR PSF (atoms without coordinates), plus what the text trajectory reader
+// (text_trajectory.cpp) shares: the GRO frame layout, and how a frame index names and ends.
 #pragma once
 
 #include <cstddef>
@@ -25,6 +25,15 @@ Molecule parseGro(const std::string& text, const std::string& path);
 // is within 0.1 u of the atom's mass (else the one its name implies), the charge is kept.
 // A PSF has no coordinates: every centre is NaN, for the caller to fill from a trajectory.
 Molecule parsePsf(const std::string& text, const std::string& path);
+
+// Frames are numbered from 0 in messages, as in --frames and the output file names.
+std::string frameName(std::size_t index);
+
+// How a frame index (GRO here; XYZ and PDB in text_trajectory.cpp) ends at the first frame
+// that cannot be complete, `indexed` complete frames in: with none, an InputError at `line`
+// (there is nothing to read); else `note` says where and why, and which frames are read.
+void endFrameIndex(const std::string& path, int line, const std::string& why,
+                   std::size_t indexed, std::string& note);
 
 // Where one GRO frame lies in the text.
 struct GroFrameSpan {

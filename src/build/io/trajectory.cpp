@@ -4,33 +4,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include "build/core/assert.hpp"
 #include "build/io/error.hpp"
+#include "build/io/file_formats.hpp"
 
 namespace surftrace::build {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string extensionOf(const fs::path& path) {
-  std::string file = path.filename().string();
-  std::transform(file.begin(), file.end(), file.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) file.resize(file.size() - 3);
-  const std::size_t dot = file.rfind('.');
-  return dot == std::string::npos ? std::string() : file.substr(dot + 1);
-}
-
-}  // namespace
-
 TrajectoryFormat trajectoryFormatFromPath(const fs::path& path) {
-  const std::string ext = extensionOf(path);
-  if (ext == "dcd") return TrajectoryFormat::Dcd;
-  if (ext == "xtc") return TrajectoryFormat::Xtc;
-  if (ext == "gro") return TrajectoryFormat::Gro;
-  if (ext == "xyz") return TrajectoryFormat::Xyz;
-  if (ext == "pdb" || ext == "ent") return TrajectoryFormat::Pdb;
-  if (ext == "cif" || ext == "mmcif") return TrajectoryFormat::Mmcif;
+  const std::string ext = formatExtension(path);
+  if (const std::optional<TrajectoryFormat> format = formatsOfExtension(ext).trajectory) return *format;
   throw InputError(path.string(), 0,
                    "cannot tell the trajectory format from the name (extension '" + (ext.empty() ? "" : "." + ext) +
                        "'); expected .dcd, .xtc, .gro, .xyz, .pdb or .cif (the text formats may be gzipped)");

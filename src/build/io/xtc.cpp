@@ -29,14 +29,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <glm/geometric.hpp>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
+#include "build/io/binary_reader.hpp"
 #include "build/io/trajectory.hpp"
 
 namespace surftrace::build {
@@ -77,20 +77,18 @@ constexpr std::int64_t kLastSmallIdx = static_cast<std::int64_t>(kMagicInts.size
 // Above this the three sizes are too large to pack as one mixed-radix number.
 constexpr std::uint64_t kMaxPackedSize = 0xffffff;
 
-std::uint32_t bigEndian32(const unsigned char* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
-         std::uint32_t{p[3]};
-}
-std::int32_t xdrInt(const unsigned char* p) { return static_cast<std::int32_t>(bigEndian32(p)); }
-float xdrFloat(const unsigned char* p) { return std::bit_cast<float>(bigEndian32(p)); }
+using binary::bytesText;
+
+// XDR: big-endian 32-bit ints and IEEE floats.
+constexpr binary::ByteOrder kXdr{.big = true};
+std::int32_t xdrInt(const unsigned char* p) { return kXdr.i32(p); }
+float xdrFloat(const unsigned char* p) { return kXdr.f32(p); }
 
 std::string floatText(float x) {
   std::array<char, 32> text{};
   const auto end = std::to_chars(text.data(), text.data() + text.size(), x).ptr;
   return std::string(text.data(), end);
 }
-
-std::string bytesText(std::uint64_t n) { return std::to_string(n) + (n == 1 ? " byte" : " bytes"); }
 
 // Number of bits of n (0 for 0): what sizeofint and sizeofints compute.
 unsigned bitLength(std::uint64_t n) { return static_cast<unsigned>(std::bit_width(n)); }
@@ -365,9 +363,8 @@ class XtcSource : public FrameSource {
  private:
   [[noreturn]] void fail(std::size_t frame, std::uint64_t offset,
                          const std::string& message) const {
-    throw InputError(path(), 0,
-                     "frame " + std::to_string(frame) + " (byte " + std::to_string(offset) +
-                         "): " + message);
+    file_.fail("frame " + std::to_string(frame) + " (byte " + std::to_string(offset) + "): " +
+               message);
   }
   // Reads n bytes at `offset` into buffer_ (followed by kLookAhead zero bytes).
   void readBytes(std::size_t frame, std::uint64_t offset, std::uint64_t n);
@@ -378,34 +375,26 @@ class XtcSource : public FrameSource {
   std::optional<std::uint64_t> frameBytes(std::size_t frame, std::uint64_t offset,
                                           std::uint64_t available);
 
-  std::ifstream file_;
-  std::uint64_t fileSize_ = 0;
+  binary::Reader file_;
   std::size_t atoms_ = 0;
   std::vector<std::uint64_t> offsets_;  // frame k spans [offsets_[k], offsets_[k + 1])
   std::vector<unsigned char> buffer_;
 };
 
-XtcSource::XtcSource(const std::filesystem::path& path) : FrameSource(path.string()) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(this->path(), 0, "cannot read the file: " + ec.message());
-  fileSize_ = size;
-  file_.open(path, std::ios::binary);
-  if (!file_) throw InputError(this->path(), 0, "cannot open the file");
-  if (fileSize_ == 0) throw InputError(this->path(), 0, "empty file: no XTC frame");
+XtcSource::XtcSource(const std::filesystem::path& path) : FrameSource(path.string()), file_(path) {
+  if (const std::error_code ec = file_.measure())
+    file_.fail("cannot read the file: " + ec.message());
+  if (!file_.open()) file_.fail("cannot open the file");
+  if (file_.size() == 0) file_.fail("empty file: no XTC frame");
   scan();
 }
 
 void XtcSource::readBytes(std::size_t frame, std::uint64_t offset, std::uint64_t n) {
-  if (offset > fileSize_ || n > fileSize_ - offset)
+  if (!file_.holds(offset, n))
     fail(frame, offset,
-         "the file ends at byte " + std::to_string(fileSize_) + ", " + bytesText(n) +
+         "the file ends at byte " + std::to_string(file_.size()) + ", " + bytesText(n) +
              " expected (did the file change while open?)");
-  buffer_.assign(static_cast<std::size_t>(n) + kLookAhead, 0);
-  file_.clear();
-  file_.seekg(static_cast<std::streamoff>(offset));
-  file_.read(reinterpret_cast<char*>(buffer_.data()), static_cast<std::streamsize>(n));
-  if (!file_ || static_cast<std::uint64_t>(file_.gcount()) != n)
+  if (!file_.read(offset, n, buffer_, kLookAhead))
     fail(frame, offset, "read error (did the file change while open?)");
 }
 
@@ -450,19 +439,17 @@ std::optional<std::uint64_t> XtcSource::frameBytes(std::size_t frame, std::uint6
 
 void XtcSource::scan() {
   offsets_.assign(1, 0);
-  while (offsets_.back() < fileSize_) {
+  while (offsets_.back() < file_.size()) {
     const std::size_t frame = offsets_.size() - 1;
     const std::uint64_t offset = offsets_.back();
-    const std::uint64_t available = std::min(kBlockAt, fileSize_ - offset);
+    const std::uint64_t available = std::min(kBlockAt, file_.size() - offset);
     readBytes(frame, offset, available);
     if (frame == 0 && available >= 8)
       atoms_ = static_cast<std::size_t>(std::max(std::int32_t{0}, xdrInt(buffer_.data() + 4)));
     const std::optional<std::uint64_t> bytes = frameBytes(frame, offset, available);
-    if (!bytes || *bytes > fileSize_ - offset) {
-      const std::string what =
-          bytes
-              ? "the file ends " + bytesText(fileSize_ - offset) + " into its " + bytesText(*bytes)
-              : "the file ends " + bytesText(fileSize_ - offset) + " into its header";
+    if (!bytes || *bytes > file_.size() - offset) {
+      const std::string what = "the file ends " + bytesText(file_.size() - offset) + " into its " +
+                               (bytes ? bytesText(*bytes) : std::string("header"));
       if (frame == 0) fail(frame, offset, "truncated: " + what);
       notes_.push_back("frame " + std::to_string(frame) + " (byte " + std::to_string(offset) +
                        ") is truncated (" + what + ") and left out");
@@ -475,11 +462,7 @@ void XtcSource::scan() {
 }
 
 void XtcSource::read(std::size_t index, Frame& frame) {
-  if (index >= frameCount())
-    throw InputError(path(), 0,
-                     "frame " + std::to_string(index) + " does not exist: the file holds " +
-                         (frameCount() == 1 ? std::string("only frame 0")
-                                            : "frames 0 to " + std::to_string(frameCount() - 1)));
+  file_.checkFrameIndex(index, frameCount());
   const std::uint64_t offset = offsets_[index];
   const std::uint64_t size = offsets_[index + 1] - offset;
   readBytes(index, offset, size);

@@ -20,8 +20,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "build/core/vector_math.hpp"
 #include "build/neighbour_grid.hpp"
-#include "build/ses/sas_geometry.hpp"
 #include "build/spherical_region.hpp"
 
 namespace surftrace::build {

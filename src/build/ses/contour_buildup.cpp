@@ -51,7 +51,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
 #include "build/moved_atoms.hpp"
 #include "build/neighbour_grid.hpp"
 #include "build/ses/sas_geometry.hpp"

@@ -15,7 +15,7 @@
 
 #include <gmpxx.h>
 
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
 
 namespace surftrace::build {
 namespace {

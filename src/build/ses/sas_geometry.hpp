@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "build/core/vector_math.hpp"
 #include "build/ses/exact_predicates.hpp"
 
 namespace surftrace::build {
@@ -26,15 +27,6 @@ struct SasCircle {
   double radius;      // ρ_xy, the torus big radius
   double distance;    // |c_y − c_x|
 };
-
-// A unit vector perpendicular to n, chosen by n alone (so it is canonical).
-inline glm::dvec3 perpendicularTo(const glm::dvec3& n) {
-  const glm::dvec3 a = glm::abs(n);
-  const glm::dvec3 helper = (a.x <= a.y && a.x <= a.z) ? glm::dvec3(1, 0, 0)
-                            : (a.y <= a.z)               ? glm::dvec3(0, 1, 0)
-                                                         : glm::dvec3(0, 0, 1);
-  return glm::normalize(glm::cross(n, helper));
-}
 
 // The unit roundoff of double precision.
 inline constexpr double kUnitRoundoff = 0x1p-53;

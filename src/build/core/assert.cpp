@@ -1,5 +1,5 @@
 // Reporting of broken internal invariants.
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
 
 #include <cstdio>
 #include <cstdlib>
