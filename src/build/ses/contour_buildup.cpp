@@ -89,9 +89,9 @@ bool isBuriedByContainment(std::uint32_t i, std::span<const std::uint32_t> row, 
 // difference of the radii can contain it, a small search (a superset, then the exact test).
 bool SesBuilder::State::buriedByContainment(std::uint32_t i, std::vector<std::uint32_t>& near) const {
   near.clear();
-  grid.atomsNear(centers[i], 1e-6 - radii[i], near);
+  atoms.grid.atomsNear(atoms.centers[i], 1e-6 - atoms.radii[i], near);
   std::erase(near, i);
-  return isBuriedByContainment(i, near, centers, R);
+  return isBuriedByContainment(i, near, atoms.centers, atoms.extendedRadii);
 }
 
 // The grid lists atoms i, j as neighbours when d < r_i + r_j + 2 rp in double; every pair
@@ -100,26 +100,26 @@ bool SesBuilder::State::buriedByContainment(std::uint32_t i, std::vector<std::ui
 // at most 2^-53 relative) many times over, and adds no pair of any real molecule.
 void SesBuilder::State::buildGrid() {
   double rMax = 0.0;
-  for (const double r : radii) rMax = std::max(rMax, r);
+  for (const double r : atoms.radii) rMax = std::max(rMax, r);
   const double rp = params.probeRadius;
-  grid.build(centers, radii, rp + 0x1p-40 * (rp + rMax));
+  atoms.grid.build(atoms.centers, atoms.radii, rp + 0x1p-40 * (rp + rMax));
 }
 
 // The vertex pass for `owners` (ascending) into freshVertices (owner counts in freshVertices.concaveCount,
 // freshVertices.freeCount, one per owner).
 void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
-  const Atoms a = atoms();
+  const Atoms a = atomView();
   runChunks(tls, owners.size(), vertexPieces, [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
             [&](std::size_t k, Scratch& s, VertexBuf& buf) {
               const std::uint32_t x = owners[k];
-              if (buried[x]) {
+              if (atoms.buried[x]) {
                 buf.concaveCount.push_back(0);
                 buf.freeCount.push_back(0);
                 capState[x] = CapState::Covered;
                 return;
               }
               s.row.clear();
-              grid.neighbours(x, s.row);
+              atoms.grid.neighbours(x, s.row);
               vertexPass(a, x, s.row, s, buf, capState[x]);
             });
   gatherPieces(vertexPieces, gatherOffsets, [&](auto&& field) {
@@ -130,12 +130,12 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
 }
 
 void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
-  const Atoms a = atoms();
+  const Atoms a = atomView();
   const Incidence inc = incidence();
   runChunks(tls, list_.size(), contourPieces, [](Scratch& s) -> ContourBuf& { return s.contourOut; },
             [&](std::size_t k, Scratch& s, ContourBuf& buf) {
               const std::uint32_t x = list_[k];
-              if (buried[x]) {
+              if (atoms.buried[x]) {
                 buf.convexCount.push_back(0);
                 buf.toriCount.push_back(0);
                 faceCount[x] = 0;
@@ -151,22 +151,22 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
 }
 
 void SesBuilder::State::fullBuild() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   const double rp = params.probeRadius;
   out.clearKeepingMemory();  // the arrays swapped out below then refill without allocating
   out.params.surface = SurfaceKind::Ses;
   out.params.probeRadius = rp;
   out.params.atomCount = static_cast<std::uint32_t>(n);
-  R.resize(n);
-  for (std::size_t i = 0; i < n; ++i) R[i] = radii[i] + rp;
-  buried.assign(n, 0);
+  atoms.extendedRadii.resize(n);
+  for (std::size_t i = 0; i < n; ++i) atoms.extendedRadii[i] = atoms.radii[i] + rp;
+  atoms.buried.assign(n, 0);
   capState.assign(n, CapState::None);
 
   buildGrid();
   // Burial by containment first: every pass after reads it for all neighbours.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
     auto& near = tls.local().row;
-    for (std::size_t i = range.begin(); i != range.end(); ++i) buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) atoms.buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
   });
 
   selection.resize(n);
@@ -215,13 +215,13 @@ void SesBuilder::State::fullBuild() {
 // the probes within 2 rp. Each is recomputed exactly as a full build would, and the fresh
 // segments are spliced between the old ones, so the arrays equal a full build's.
 void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   stats = SesUpdateStats{};
   stats.moved = moved.size();
   if (moved.empty()) return;
   // Past a fraction of the atoms the bookkeeping costs more than it saves.
   if (moved.size() * 8 > n) {
-    for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
+    for (std::size_t k = 0; k < moved.size(); ++k) atoms.centers[moved[k]] = newCenters[k];
     fullBuild();
     stats.owners = stats.contours = n;
     stats.probes = out.concave.size();
@@ -239,19 +239,19 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
 // Near: the moved atoms and their neighbours at the old positions (the grid still holds
 // them) and, after the move, at the new ones. Moves the atoms and rebuilds the grid.
 void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
-  marks.assign(centers.size(), 0);
+  marks.assign(atoms.centers.size(), 0);
   auto& rowBuf = tls.local().row;
   for (const std::uint32_t m : moved) {
     marks[m] |= kNear;
     rowBuf.clear();
-    grid.neighbours(m, rowBuf);
+    atoms.grid.neighbours(m, rowBuf);
     for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
   }
-  for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
+  for (std::size_t k = 0; k < moved.size(); ++k) atoms.centers[moved[k]] = newCenters[k];
   buildGrid();
   for (const std::uint32_t m : moved) {
     rowBuf.clear();
-    grid.neighbours(m, rowBuf);
+    atoms.grid.neighbours(m, rowBuf);
     for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
   }
 }
@@ -259,17 +259,17 @@ void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::
 // Burial can change only near the move; where it does, the neighbours' vertices change.
 // Selects the owners whose vertex pass runs again.
 void SesBuilder::State::selectOwners() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   auto& rowBuf = tls.local().row;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(marks[i] & kNear)) continue;
     marks[i] |= kOwner;
     const auto x = static_cast<std::uint32_t>(i);
     const char now = buriedByContainment(x, rowBuf) ? 1 : 0;
-    if (now != buried[i]) {
-      buried[i] = now;
+    if (now != atoms.buried[i]) {
+      atoms.buried[i] = now;
       rowBuf.clear();
-      grid.neighbours(x, rowBuf);
+      atoms.grid.neighbours(x, rowBuf);
       for (const std::uint32_t j : rowBuf) marks[j] |= kOwner;
     }
   }
@@ -331,13 +331,13 @@ void SesBuilder::State::updateVertices() {
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
   findExtremeAtom();
-  if (!centers.empty()) marks[extremeAtom] |= kContour;
+  if (!atoms.centers.empty()) marks[extremeAtom] |= kContour;
 }
 
 // Contours of the atoms touched. The others keep their faces; their incidence lists hold
 // the same vertices in the same order, only moved.
 void SesBuilder::State::updateContours() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   selection.clear();
   for (std::size_t i = 0; i < n; ++i)
     if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
@@ -366,7 +366,7 @@ void SesBuilder::State::updateContours() {
 // 2 rp of a removed or added probe; the others keep their lists (their neighbours kept
 // their relative order).
 void SesBuilder::State::updatePlanes() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
   probeRadii.assign(probes, params.probeRadius);
@@ -463,8 +463,8 @@ const PatchList& SesBuilder::build(std::span<const glm::dvec3> centers, std::spa
   if (centers.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument("too many atoms: " + std::to_string(centers.size()));
   s_->params = params;
-  s_->centers.assign(centers.begin(), centers.end());
-  s_->radii.assign(radii.begin(), radii.end());
+  s_->atoms.centers.assign(centers.begin(), centers.end());
+  s_->atoms.radii.assign(radii.begin(), radii.end());
   s_->fullBuild();
   s_->built = true;
   s_->stats = SesUpdateStats{};
@@ -477,7 +477,7 @@ const PatchList& SesBuilder::build(std::span<const glm::dvec3> centers, std::spa
 const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
   if (!s_->built) throw std::logic_error("SesBuilder::update before build");
   if (moved.size() != newCenters.size()) throw std::invalid_argument("moved and newCenters differ in length");
-  const std::size_t n = s_->centers.size();
+  const std::size_t n = s_->atoms.centers.size();
   for (std::size_t k = 0; k < moved.size(); ++k) {
     if (moved[k] >= n) throw std::invalid_argument("moved atom " + std::to_string(moved[k]) + " out of range");
     const glm::dvec3& c = newCenters[k];
@@ -494,7 +494,7 @@ const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::s
     const std::uint32_t i = moved[order[k]];
     if (k + 1 < order.size() && moved[order[k + 1]] == i) continue;  // a later entry wins
     const glm::dvec3& c = newCenters[order[k]];
-    if (std::memcmp(&c, &s_->centers[i], sizeof(glm::dvec3)) == 0) continue;
+    if (std::memcmp(&c, &s_->atoms.centers[i], sizeof(glm::dvec3)) == 0) continue;
     atoms.push_back(i);
     where.push_back(c);
   }
@@ -504,10 +504,10 @@ const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::s
 
 const PatchList& SesBuilder::update(std::span<const glm::dvec3> centers) {
   if (!s_->built) throw std::logic_error("SesBuilder::update before build");
-  if (centers.size() != s_->centers.size()) throw std::invalid_argument("frame has a different atom count");
+  if (centers.size() != s_->atoms.centers.size()) throw std::invalid_argument("frame has a different atom count");
   std::vector<std::uint32_t> moved;
   std::vector<glm::dvec3> where;
-  movedAtoms(s_->centers, centers, moved, where);
+  movedAtoms(s_->atoms.centers, centers, moved, where);
   return update(moved, where);
 }
 

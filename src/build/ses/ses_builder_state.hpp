@@ -24,12 +24,20 @@ namespace surftrace::build {
 // fullBuild, partialUpdate and its steps), ses_planes.cpp (planesOf) and ses_components.cpp
 // (buildIncidence, findExtremeAtom, labelComponents).
 struct SesBuilder::State {
-  SesParams params;
-  std::vector<glm::dvec3> centers;
-  std::vector<double> radii, R;
-  std::vector<char> buried;
+  SesParams params;  // build()'s, fixed until the next build()
+
+  // The molecule as every pass sees it (through atomView()). Written by build() (centres,
+  // radii), fullBuild (extended radii, burial, grid) and partialUpdate's markNearMove
+  // (centres of moved atoms, grid) and selectOwners (burial near the move). Read by every
+  // pass.
+  struct AtomData {
+    std::vector<glm::dvec3> centers;
+    std::vector<double> radii;          // van der Waals radii
+    std::vector<double> extendedRadii;  // radii + probe radius: the SAS spheres (R in the passes)
+    std::vector<char> buried;           // extended sphere inside another's: no part in the surface
+    NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
+  } atoms;
   std::vector<detail::CapState> capState;
-  NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   NeighbourGrid probeGrid;
   std::vector<double> probeRadii;
   tbb::enumerable_thread_specific<detail::Scratch> tls;
@@ -108,7 +116,9 @@ struct SesBuilder::State {
     std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexFace;
   } componentScratch;
 
-  detail::Atoms atoms() const { return {centers, radii, R, buried, params.probeRadius}; }
+  detail::Atoms atomView() const {
+    return {atoms.centers, atoms.radii, atoms.extendedRadii, atoms.buried, params.probeRadius};
+  }
   detail::Incidence incidence() {
     return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertexPlus, vertexEdges, vertexGroup, incVertexBegin,
             incVertex,         incFreeBegin,      incFree,           capState,          incVertexFace, incFreeFace,

@@ -18,7 +18,7 @@ using namespace detail;
 // Per atom, the concave patches and free circles it belongs to (a counting sort, so each
 // list is in patch order).
 void SesBuilder::State::buildIncidence() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   const auto& cv = out.concave;
   const std::size_t v = cv.size();
   incVertexBegin.assign(n + 2, 0);
@@ -61,9 +61,9 @@ void SesBuilder::State::buildIncidence() {
 void SesBuilder::State::findExtremeAtom() {
   double best = -std::numeric_limits<double>::infinity();
   extremeAtom = 0;
-  for (std::size_t i = 0; i < centers.size(); ++i) {
-    if (buried[i]) continue;
-    const double reach = centers[i].x + R[i];
+  for (std::size_t i = 0; i < atoms.centers.size(); ++i) {
+    if (atoms.buried[i]) continue;
+    const double reach = atoms.centers[i].x + atoms.extendedRadii[i];
     if (reach > best) best = reach, extremeAtom = static_cast<std::uint32_t>(i);
   }
   extremeFace = 0;
@@ -78,7 +78,7 @@ void SesBuilder::State::findExtremeAtom() {
 // patch; it takes the lower number, and computeAreas gives each other component the part
 // its tori bound.
 void SesBuilder::State::labelComponents() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   auto& cv = out.concave;
   std::vector<std::uint32_t>& faceBegin = componentScratch.faceBegin;
   prefix(std::span<const std::uint32_t>(faceCount.data(), n), faceBegin);
