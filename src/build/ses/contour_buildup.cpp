@@ -115,12 +115,12 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
               if (atoms.buried[x]) {
                 buf.concaveCount.push_back(0);
                 buf.freeCount.push_back(0);
-                capState[x] = CapState::Covered;
+                vertices.capState[x] = CapState::Covered;
                 return;
               }
               s.row.clear();
               atoms.grid.neighbours(x, s.row);
-              vertexPass(a, x, s.row, s, buf, capState[x]);
+              vertexPass(a, x, s.row, s, buf, vertices.capState[x]);
             });
   gatherPieces(vertexPieces, gatherOffsets, [&](auto&& field) {
     forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshVertices.*member), g}); });
@@ -160,7 +160,7 @@ void SesBuilder::State::fullBuild() {
   atoms.extendedRadii.resize(n);
   for (std::size_t i = 0; i < n; ++i) atoms.extendedRadii[i] = atoms.radii[i] + rp;
   atoms.buried.assign(n, 0);
-  capState.assign(n, CapState::None);
+  vertices.capState.assign(n, CapState::None);
 
   buildGrid();
   // Burial by containment first: every pass after reads it for all neighbours.
@@ -175,8 +175,8 @@ void SesBuilder::State::fullBuild() {
   // Vertex pass over every atom: the fresh arrays are the patch list's.
   vertexPassOf(selection);
   forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshVertices.*member); });
-  prefix(freshVertices.concaveCount, concaveBegin);
-  prefix(freshVertices.freeCount, freeBegin);
+  prefix(freshVertices.concaveCount, vertices.concaveBegin);
+  prefix(freshVertices.freeCount, vertices.freeCircleBegin);
 
   buildIncidence();
   incVertexFace.assign(incVertex.size(), 0);
@@ -287,7 +287,7 @@ void SesBuilder::State::updateVertices() {
   prefix(freshVertices.concaveCount, freshBegin[0]);
   prefix(freshVertices.freeCount, freshBegin[1]);
   auto& cv = out.concave;
-  const std::vector<std::uint32_t>* const oldBegin[2] = {&concaveBegin, &freeBegin};
+  const std::vector<std::uint32_t>* const oldBegin[2] = {&vertices.concaveBegin, &vertices.freeCircleBegin};
   changedOwners.clear();
   for (std::size_t t = 0; t < selection.size(); ++t) {
     const std::uint32_t x = selection[t];
@@ -301,8 +301,10 @@ void SesBuilder::State::updateVertices() {
                                            std::span<const T>(freshVertices.*member).subspan(f0, f1 - f0));
     });
     if (unchanged) continue;
-    const std::size_t o0 = concaveBegin[x], o1 = concaveBegin[x + 1], f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
-    const std::size_t g0 = freeBegin[x], g1 = freeBegin[x + 1], h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
+    const std::size_t o0 = vertices.concaveBegin[x], o1 = vertices.concaveBegin[x + 1];
+    const std::size_t f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
+    const std::size_t g0 = vertices.freeCircleBegin[x], g1 = vertices.freeCircleBegin[x + 1];
+    const std::size_t h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
     changedOwners.push_back(x);
     // (The triangles of a merged vertex need not have their owner as atom I.)
     for (std::size_t v = o0; v < o1; ++v)
@@ -310,7 +312,7 @@ void SesBuilder::State::updateVertices() {
     for (std::size_t v = f0; v < f1; ++v)
       marks[freshVertices.atomI[v]] |= kContour, marks[freshVertices.atomJ[v]] |= kContour,
           marks[freshVertices.atomK[v]] |= kContour;
-    for (std::size_t f = g0; f < g1; ++f) marks[freeOther[f]] |= kContour;
+    for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kContour;
     for (std::size_t f = h0; f < h1; ++f) marks[freshVertices.freeOther[f]] |= kContour;
   }
 
@@ -318,12 +320,14 @@ void SesBuilder::State::updateVertices() {
   auto& removed = update.removedProbes;
   removed.clear();
   for (const std::uint32_t x : changedOwners)
-    removed.insert(removed.end(), cv.probe.begin() + concaveBegin[x], cv.probe.begin() + concaveBegin[x + 1]);
-  update.oldConcaveBegin = concaveBegin;
+    removed.insert(removed.end(), cv.probe.begin() + vertices.concaveBegin[x],
+                   cv.probe.begin() + vertices.concaveBegin[x + 1]);
+  update.oldConcaveBegin = vertices.concaveBegin;
   update.oldClipBegin = cv.clipBegin;
   update.oldClipCount = cv.clipCount;
 
-  spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); }, {&concaveBegin, &freeBegin});
+  spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
+              {&vertices.concaveBegin, &vertices.freeCircleBegin});
   update.oldIncVertexBegin.swap(incVertexBegin);
   update.oldIncVertexFace.swap(incVertexFace);
   update.oldIncFreeBegin.swap(incFreeBegin);
@@ -374,7 +378,7 @@ void SesBuilder::State::updatePlanes() {
   auto& dirty = update.dirtyProbes;
   dirty.assign(probes, 0);
   for (const std::uint32_t x : changedOwners)
-    for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) dirty[v] = 1;
+    for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) dirty[v] = 1;
   auto& rowBuf = tls.local().row;
   auto markNear = [&](const glm::dvec3& p) {
     rowBuf.clear();
@@ -383,7 +387,7 @@ void SesBuilder::State::updatePlanes() {
   };
   for (const glm::dvec3& p : update.removedProbes) markNear(p);
   for (const std::uint32_t x : changedOwners)
-    for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
+    for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
   selection.clear();
   for (std::size_t v = 0; v < probes; ++v)
     if (dirty[v]) selection.push_back(static_cast<std::uint32_t>(v));
@@ -394,9 +398,9 @@ void SesBuilder::State::updatePlanes() {
   auto& oldProbeIndex = update.oldProbeIndex;
   oldProbeIndex.assign(probes, ~0u);
   for (std::size_t x = 0; x < n; ++x) {
-    const std::uint32_t len = concaveBegin[x + 1] - concaveBegin[x];
+    const std::uint32_t len = vertices.concaveBegin[x + 1] - vertices.concaveBegin[x];
     if (len == 0 || len != oldConcaveBegin[x + 1] - oldConcaveBegin[x]) continue;
-    for (std::uint32_t k = 0; k < len; ++k) oldProbeIndex[concaveBegin[x] + k] = oldConcaveBegin[x] + k;
+    for (std::uint32_t k = 0; k < len; ++k) oldProbeIndex[vertices.concaveBegin[x] + k] = oldConcaveBegin[x] + k;
   }
   auto& clipCount = update.newClipCount;
   auto& clipBegin = update.newClipBegin;

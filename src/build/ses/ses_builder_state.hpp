@@ -37,19 +37,25 @@ struct SesBuilder::State {
     std::vector<char> buried;           // extended sphere inside another's: no part in the surface
     NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   } atoms;
-  std::vector<detail::CapState> capState;
   NeighbourGrid probeGrid;
   std::vector<double> probeRadii;
   tbb::enumerable_thread_specific<detail::Scratch> tls;
 
 
-  // Vertex pass: the concave arrays of `out` in owner segments, and beside them.
-  std::vector<std::uint32_t> concaveBegin;  // per owner, n + 1
-  std::vector<std::uint8_t> vertexPlus;     // per concave patch: probe is p+ of its triple
-  std::vector<std::uint8_t> vertexEdges;    // per concave patch: boundary edges (merged vertices)
-  std::vector<std::uint32_t> vertexGroup;   // per concave patch: distance back to its merged vertex's first
-  std::vector<std::uint32_t> freeBegin;     // per owner, n + 1
-  std::vector<std::uint32_t> freeOther;     // free circles (owner, other > owner)
+  // Vertex pass (vertexPassOf; fullBuild swaps its output in, updateVertices splices it):
+  // each owner's concave patches (its SAS vertices, owner = lowest atom of the triple) go to
+  // out.concave in owner segments; these arrays lie beside them, and beside the owners.
+  // Read by buildIncidence, the contour pass (through incidence()), planesOf (out.concave)
+  // and labelComponents.
+  struct VertexPassArrays {
+    std::vector<std::uint32_t> concaveBegin;       // per owner, n + 1: its segment of out.concave
+    std::vector<std::uint8_t> probeIsPlus;         // per concave patch: the probe is p+ of its triple
+    std::vector<std::uint8_t> boundaryEdges;       // per concave patch: IJ 1, JK 2, KI 4 (7 unless merged)
+    std::vector<std::uint32_t> backToMergedFirst;  // per concave patch: distance back to its merged vertex's first
+    std::vector<std::uint32_t> freeCircleBegin;    // per owner, n + 1: its segment of freeCircleOther
+    std::vector<std::uint32_t> freeCircleOther;    // per free circle (owner, other): other > owner
+    std::vector<detail::CapState> capState;        // per atom: how the neighbours' caps cover its sphere
+  } vertices;
   // Contour pass: the convex and tori arrays of `out` in atom segments.
   std::vector<std::uint32_t> convexBegin, toriBegin;
   // Who touches what: per atom, its concave patches and the other atoms of its free circles.
@@ -120,8 +126,8 @@ struct SesBuilder::State {
     return {atoms.centers, atoms.radii, atoms.extendedRadii, atoms.buried, params.probeRadius};
   }
   detail::Incidence incidence() {
-    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertexPlus, vertexEdges, vertexGroup, incVertexBegin,
-            incVertex,         incFreeBegin,      incFree,           capState,          incVertexFace, incFreeFace,
+    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertices.probeIsPlus, vertices.boundaryEdges, vertices.backToMergedFirst, incVertexBegin,
+            incVertex,         incFreeBegin,      incFree,           vertices.capState,          incVertexFace, incFreeFace,
             faceCount,         extremeAtom,       &extremeFace};
   }
   void findExtremeAtom();
@@ -145,10 +151,10 @@ struct SesBuilder::State {
     visit(&B::atomI, cv.atomI, 0);
     visit(&B::atomJ, cv.atomJ, 0);
     visit(&B::atomK, cv.atomK, 0);
-    visit(&B::plus, vertexPlus, 0);
-    visit(&B::edges, vertexEdges, 0);
-    visit(&B::group, vertexGroup, 0);
-    visit(&B::freeOther, freeOther, 1);
+    visit(&B::plus, vertices.probeIsPlus, 0);
+    visit(&B::edges, vertices.boundaryEdges, 0);
+    visit(&B::group, vertices.backToMergedFirst, 0);
+    visit(&B::freeOther, vertices.freeCircleOther, 1);
   }
   template <class Visit> void forEachContourArray(Visit&& visit) {
     using B = detail::ContourBuf;

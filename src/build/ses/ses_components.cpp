@@ -39,16 +39,16 @@ void SesBuilder::State::buildIncidence() {
   incVertexBegin.pop_back();
   incFreeBegin.assign(n + 2, 0);
   for (std::size_t x = 0; x < n; ++x) {
-    for (std::uint32_t f = freeBegin[x]; f < freeBegin[x + 1]; ++f) {
+    for (std::uint32_t f = vertices.freeCircleBegin[x]; f < vertices.freeCircleBegin[x + 1]; ++f) {
       ++incFreeBegin[x + 2];
-      ++incFreeBegin[freeOther[f] + 2];
+      ++incFreeBegin[vertices.freeCircleOther[f] + 2];
     }
   }
   for (std::size_t i = 0; i < n; ++i) incFreeBegin[i + 2] += incFreeBegin[i + 1];
   incFree.resize(incFreeBegin[n + 1]);
   for (std::size_t x = 0; x < n; ++x) {
-    for (std::uint32_t f = freeBegin[x]; f < freeBegin[x + 1]; ++f) {
-      const std::uint32_t o = freeOther[f];
+    for (std::uint32_t f = vertices.freeCircleBegin[x]; f < vertices.freeCircleBegin[x + 1]; ++f) {
+      const std::uint32_t o = vertices.freeCircleOther[f];
       incFree[incFreeBegin[x + 1]++] = o;
       incFree[incFreeBegin[o + 1]++] = static_cast<std::uint32_t>(x);
     }
@@ -115,14 +115,14 @@ void SesBuilder::State::labelComponents() {
   }
   // The triangles of a merged vertex are one patch.
   for (std::size_t v = 0; v < cv.size(); ++v) {
-    if (vertexGroup[v] == 0) continue;
-    std::uint32_t& first = vertexFace[v - vertexGroup[v]];
+    if (vertices.backToMergedFirst[v] == 0) continue;
+    std::uint32_t& first = vertexFace[v - vertices.backToMergedFirst[v]];
     if (vertexFace[v] == ~0u) continue;
     if (first == ~0u) first = vertexFace[v];
     else unite(first, vertexFace[v]);
   }
   for (std::size_t v = 0; v < cv.size(); ++v)
-    if (vertexGroup[v] != 0) vertexFace[v] = vertexFace[v - vertexGroup[v]];
+    if (vertices.backToMergedFirst[v] != 0) vertexFace[v] = vertexFace[v - vertices.backToMergedFirst[v]];
   // Self-intersections (ORACLES A.5): where probe w's sphere cuts v's triangle (the
   // condition under which planesOf gives v w's plane), the surface crosses from v's patch
   // to w's along their intersection circle, so they are one surface even where no vertex
@@ -167,12 +167,13 @@ void SesBuilder::State::labelComponents() {
   for (std::size_t v = 0; v < cv.size(); ++v) {
     if (vertexFace[v] != ~0u) {
       cv.component[v] = labelOf(vertexFace[v]);
-    } else if (vertexGroup[v] != 0) {
-      cv.component[v] = cv.component[v - vertexGroup[v]];
+    } else if (vertices.backToMergedFirst[v] != 0) {
+      cv.component[v] = cv.component[v - vertices.backToMergedFirst[v]];
     } else {
       // A merged vertex with no arc at all (a probe trapped where it touches all its atoms,
       // the centre of a cube) is a component of its own; any other vertex without a face, 0.
-      const bool merged = vertexEdges[v] != 7 || (v + 1 < cv.size() && vertexGroup[v + 1] == 1);
+      const bool merged =
+          vertices.boundaryEdges[v] != 7 || (v + 1 < cv.size() && vertices.backToMergedFirst[v + 1] == 1);
       cv.component[v] = merged ? components++ : 0;
     }
   }
