@@ -131,7 +131,7 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
 
 void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
   const Atoms a = atomView();
-  const Incidence inc = incidence();
+  const Incidence inc = contourPassInput();
   runChunks(tls, list_.size(), contourPieces, [](Scratch& s) -> ContourBuf& { return s.contourOut; },
             [&](std::size_t k, Scratch& s, ContourBuf& buf) {
               const std::uint32_t x = list_[k];
@@ -179,8 +179,8 @@ void SesBuilder::State::fullBuild() {
   prefix(freshVertices.freeCount, vertices.freeCircleBegin);
 
   buildIncidence();
-  incVertexFace.assign(incVertex.size(), 0);
-  incFreeFace.assign(incFree.size(), 0);
+  incVertexFace.assign(incidence.concave.size(), 0);
+  incFreeFace.assign(incidence.freeCircleOther.size(), 0);
   faceCount.assign(n, 0);
   findExtremeAtom();
 
@@ -328,9 +328,9 @@ void SesBuilder::State::updateVertices() {
 
   spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
               {&vertices.concaveBegin, &vertices.freeCircleBegin});
-  update.oldIncVertexBegin.swap(incVertexBegin);
+  update.oldIncVertexBegin.swap(incidence.concaveBegin);
   update.oldIncVertexFace.swap(incVertexFace);
-  update.oldIncFreeBegin.swap(incFreeBegin);
+  update.oldIncFreeBegin.swap(incidence.freeCircleBegin);
   update.oldIncFreeFace.swap(incFreeFace);
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
@@ -346,18 +346,18 @@ void SesBuilder::State::updateContours() {
   for (std::size_t i = 0; i < n; ++i)
     if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
   stats.contours = selection.size();
-  incVertexFace.resize(incVertex.size());
-  incFreeFace.resize(incFree.size());
+  incVertexFace.resize(incidence.concave.size());
+  incFreeFace.resize(incidence.freeCircleOther.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (marks[i] & kContour) continue;
       const auto& ob = update.oldIncVertexBegin;
       const auto& fb = update.oldIncFreeBegin;
-      SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incVertexBegin[i + 1] - incVertexBegin[i]);
-      SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incFreeBegin[i + 1] - incFreeBegin[i]);
+      SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incidence.concaveBegin[i + 1] - incidence.concaveBegin[i]);
+      SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incidence.freeCircleBegin[i + 1] - incidence.freeCircleBegin[i]);
       std::copy(update.oldIncVertexFace.begin() + ob[i], update.oldIncVertexFace.begin() + ob[i + 1],
-                incVertexFace.begin() + incVertexBegin[i]);
-      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incFreeBegin[i]);
+                incVertexFace.begin() + incidence.concaveBegin[i]);
+      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incidence.freeCircleBegin[i]);
     }
   });
   contourPassOf(selection);

@@ -45,7 +45,7 @@ struct SesBuilder::State {
   // Vertex pass (vertexPassOf; fullBuild swaps its output in, updateVertices splices it):
   // each owner's concave patches (its SAS vertices, owner = lowest atom of the triple) go to
   // out.concave in owner segments; these arrays lie beside them, and beside the owners.
-  // Read by buildIncidence, the contour pass (through incidence()), planesOf (out.concave)
+  // Read by buildIncidence, the contour pass (through contourPassInput()), planesOf (out.concave)
   // and labelComponents.
   struct VertexPassArrays {
     std::vector<std::uint32_t> concaveBegin;       // per owner, n + 1: its segment of out.concave
@@ -58,8 +58,15 @@ struct SesBuilder::State {
   } vertices;
   // Contour pass: the convex and tori arrays of `out` in atom segments.
   std::vector<std::uint32_t> convexBegin, toriBegin;
-  // Who touches what: per atom, its concave patches and the other atoms of its free circles.
-  std::vector<std::uint32_t> incVertexBegin, incVertex, incFreeBegin, incFree;
+  // Who touches what (buildIncidence, after each vertex pass): per atom, the concave patches
+  // it is an atom of and the other atoms of its free circles, each list in patch order.
+  // Read by the contour pass (through contourPassInput()) and labelComponents.
+  struct AtomIncidence {
+    std::vector<std::uint32_t> concaveBegin;     // per atom, n + 1: its segment of `concave`
+    std::vector<std::uint32_t> concave;          // indices into out.concave
+    std::vector<std::uint32_t> freeCircleBegin;  // per atom, n + 1: its segment of `freeCircleOther`
+    std::vector<std::uint32_t> freeCircleOther;  // the other atom of each of its free circles
+  } incidence;
   // Faces of each atom's exposed region (contourPass), for the components: per atom the
   // count, per incidence the face it bounds, per torus its face on atom i; and the face of
   // the atom reaching furthest in +x (on the outer surface).
@@ -125,10 +132,26 @@ struct SesBuilder::State {
   detail::Atoms atomView() const {
     return {atoms.centers, atoms.radii, atoms.extendedRadii, atoms.buried, params.probeRadius};
   }
-  detail::Incidence incidence() {
-    return {out.concave.probe, out.concave.atomI, out.concave.atomJ, out.concave.atomK, vertices.probeIsPlus, vertices.boundaryEdges, vertices.backToMergedFirst, incVertexBegin,
-            incVertex,         incFreeBegin,      incFree,           vertices.capState,          incVertexFace, incFreeFace,
-            faceCount,         extremeAtom,       &extremeFace};
+  // What the contour pass reads, and the face arrays it writes in place.
+  detail::Incidence contourPassInput() {
+    const auto& cv = out.concave;
+    return {cv.probe,
+            cv.atomI,
+            cv.atomJ,
+            cv.atomK,
+            vertices.probeIsPlus,
+            vertices.boundaryEdges,
+            vertices.backToMergedFirst,
+            incidence.concaveBegin,
+            incidence.concave,
+            incidence.freeCircleBegin,
+            incidence.freeCircleOther,
+            vertices.capState,
+            incVertexFace,
+            incFreeFace,
+            faceCount,
+            extremeAtom,
+            &extremeFace};
   }
   void findExtremeAtom();
   // Whether atom i's extended sphere lies inside another's: only atoms closer than the

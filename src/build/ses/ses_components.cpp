@@ -21,39 +21,39 @@ void SesBuilder::State::buildIncidence() {
   const std::size_t n = atoms.centers.size();
   const auto& cv = out.concave;
   const std::size_t v = cv.size();
-  incVertexBegin.assign(n + 2, 0);
+  incidence.concaveBegin.assign(n + 2, 0);
   for (std::size_t k = 0; k < v; ++k) {
-    ++incVertexBegin[cv.atomI[k] + 2];
-    ++incVertexBegin[cv.atomJ[k] + 2];
-    ++incVertexBegin[cv.atomK[k] + 2];
+    ++incidence.concaveBegin[cv.atomI[k] + 2];
+    ++incidence.concaveBegin[cv.atomJ[k] + 2];
+    ++incidence.concaveBegin[cv.atomK[k] + 2];
   }
-  for (std::size_t i = 0; i < n; ++i) incVertexBegin[i + 2] += incVertexBegin[i + 1];
-  incVertex.resize(incVertexBegin[n + 1]);
-  // incVertexBegin[i + 1] is atom i's cursor; afterwards it is atom i's end = i + 1's start.
+  for (std::size_t i = 0; i < n; ++i) incidence.concaveBegin[i + 2] += incidence.concaveBegin[i + 1];
+  incidence.concave.resize(incidence.concaveBegin[n + 1]);
+  // incidence.concaveBegin[i + 1] is atom i's cursor; afterwards it is atom i's end = i + 1's start.
   for (std::size_t k = 0; k < v; ++k) {
     const auto id = static_cast<std::uint32_t>(k);
-    incVertex[incVertexBegin[cv.atomI[k] + 1]++] = id;
-    incVertex[incVertexBegin[cv.atomJ[k] + 1]++] = id;
-    incVertex[incVertexBegin[cv.atomK[k] + 1]++] = id;
+    incidence.concave[incidence.concaveBegin[cv.atomI[k] + 1]++] = id;
+    incidence.concave[incidence.concaveBegin[cv.atomJ[k] + 1]++] = id;
+    incidence.concave[incidence.concaveBegin[cv.atomK[k] + 1]++] = id;
   }
-  incVertexBegin.pop_back();
-  incFreeBegin.assign(n + 2, 0);
+  incidence.concaveBegin.pop_back();
+  incidence.freeCircleBegin.assign(n + 2, 0);
   for (std::size_t x = 0; x < n; ++x) {
     for (std::uint32_t f = vertices.freeCircleBegin[x]; f < vertices.freeCircleBegin[x + 1]; ++f) {
-      ++incFreeBegin[x + 2];
-      ++incFreeBegin[vertices.freeCircleOther[f] + 2];
+      ++incidence.freeCircleBegin[x + 2];
+      ++incidence.freeCircleBegin[vertices.freeCircleOther[f] + 2];
     }
   }
-  for (std::size_t i = 0; i < n; ++i) incFreeBegin[i + 2] += incFreeBegin[i + 1];
-  incFree.resize(incFreeBegin[n + 1]);
+  for (std::size_t i = 0; i < n; ++i) incidence.freeCircleBegin[i + 2] += incidence.freeCircleBegin[i + 1];
+  incidence.freeCircleOther.resize(incidence.freeCircleBegin[n + 1]);
   for (std::size_t x = 0; x < n; ++x) {
     for (std::uint32_t f = vertices.freeCircleBegin[x]; f < vertices.freeCircleBegin[x + 1]; ++f) {
       const std::uint32_t o = vertices.freeCircleOther[f];
-      incFree[incFreeBegin[x + 1]++] = o;
-      incFree[incFreeBegin[o + 1]++] = static_cast<std::uint32_t>(x);
+      incidence.freeCircleOther[incidence.freeCircleBegin[x + 1]++] = o;
+      incidence.freeCircleOther[incidence.freeCircleBegin[o + 1]++] = static_cast<std::uint32_t>(x);
     }
   }
-  incFreeBegin.pop_back();
+  incidence.freeCircleBegin.pop_back();
 }
 
 // The atom whose extended sphere reaches furthest in +x: the SAS point there is exposed,
@@ -99,18 +99,18 @@ void SesBuilder::State::labelComponents() {
   vertexFace.assign(cv.size(), ~0u);
   for (std::size_t x = 0; x < n; ++x) {
     if (faceCount[x] == 0) continue;
-    for (std::uint32_t k = incVertexBegin[x]; k < incVertexBegin[x + 1]; ++k) {
+    for (std::uint32_t k = incidence.concaveBegin[x]; k < incidence.concaveBegin[x + 1]; ++k) {
       if (incVertexFace[k] == ~0u) continue;  // a merged vertex with no arc of x
       const std::uint32_t f = faceBegin[x] + incVertexFace[k];
-      std::uint32_t& v = vertexFace[incVertex[k]];
+      std::uint32_t& v = vertexFace[incidence.concave[k]];
       if (v == ~0u) v = f;
       else unite(v, f);
     }
-    for (std::uint32_t k = incFreeBegin[x]; k < incFreeBegin[x + 1]; ++k) {
-      const std::uint32_t o = incFree[k];
+    for (std::uint32_t k = incidence.freeCircleBegin[x]; k < incidence.freeCircleBegin[x + 1]; ++k) {
+      const std::uint32_t o = incidence.freeCircleOther[k];
       if (o < x || faceCount[o] == 0) continue;
-      for (std::uint32_t m = incFreeBegin[o]; m < incFreeBegin[o + 1]; ++m)
-        if (incFree[m] == x) unite(faceBegin[x] + incFreeFace[k], faceBegin[o] + incFreeFace[m]);
+      for (std::uint32_t m = incidence.freeCircleBegin[o]; m < incidence.freeCircleBegin[o + 1]; ++m)
+        if (incidence.freeCircleOther[m] == x) unite(faceBegin[x] + incFreeFace[k], faceBegin[o] + incFreeFace[m]);
     }
   }
   // The triangles of a merged vertex are one patch.
