@@ -138,7 +138,7 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
               if (atoms.buried[x]) {
                 buf.convexCount.push_back(0);
                 buf.toriCount.push_back(0);
-                faceCount[x] = 0;
+                faces.count[x] = 0;
                 return;
               }
               contourPass(a, inc, x, s, buf);
@@ -179,15 +179,15 @@ void SesBuilder::State::fullBuild() {
   prefix(freshVertices.freeCount, vertices.freeCircleBegin);
 
   buildIncidence();
-  incVertexFace.assign(incidence.concave.size(), 0);
-  incFreeFace.assign(incidence.freeCircleOther.size(), 0);
-  faceCount.assign(n, 0);
+  faces.concaveFace.assign(incidence.concave.size(), 0);
+  faces.freeCircleFace.assign(incidence.freeCircleOther.size(), 0);
+  faces.count.assign(n, 0);
   findExtremeAtom();
 
   contourPassOf(selection);
   forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshContours.*member); });
-  prefix(freshContours.convexCount, convexBegin);
-  prefix(freshContours.toriCount, toriBegin);
+  prefix(freshContours.convexCount, contours.convexBegin);
+  prefix(freshContours.toriCount, contours.toriBegin);
 
   // Clipping planes of every probe.
   auto& cv = out.concave;
@@ -329,13 +329,13 @@ void SesBuilder::State::updateVertices() {
   spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
               {&vertices.concaveBegin, &vertices.freeCircleBegin});
   update.oldIncVertexBegin.swap(incidence.concaveBegin);
-  update.oldIncVertexFace.swap(incVertexFace);
+  update.oldIncVertexFace.swap(faces.concaveFace);
   update.oldIncFreeBegin.swap(incidence.freeCircleBegin);
-  update.oldIncFreeFace.swap(incFreeFace);
+  update.oldIncFreeFace.swap(faces.freeCircleFace);
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
   findExtremeAtom();
-  if (!atoms.centers.empty()) marks[extremeAtom] |= kContour;
+  if (!atoms.centers.empty()) marks[faces.extremeAtom] |= kContour;
 }
 
 // Contours of the atoms touched. The others keep their faces; their incidence lists hold
@@ -346,8 +346,8 @@ void SesBuilder::State::updateContours() {
   for (std::size_t i = 0; i < n; ++i)
     if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
   stats.contours = selection.size();
-  incVertexFace.resize(incidence.concave.size());
-  incFreeFace.resize(incidence.freeCircleOther.size());
+  faces.concaveFace.resize(incidence.concave.size());
+  faces.freeCircleFace.resize(incidence.freeCircleOther.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       if (marks[i] & kContour) continue;
@@ -356,14 +356,16 @@ void SesBuilder::State::updateContours() {
       SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incidence.concaveBegin[i + 1] - incidence.concaveBegin[i]);
       SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incidence.freeCircleBegin[i + 1] - incidence.freeCircleBegin[i]);
       std::copy(update.oldIncVertexFace.begin() + ob[i], update.oldIncVertexFace.begin() + ob[i + 1],
-                incVertexFace.begin() + incidence.concaveBegin[i]);
-      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incidence.freeCircleBegin[i]);
+                faces.concaveFace.begin() + incidence.concaveBegin[i]);
+      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1],
+                faces.freeCircleFace.begin() + incidence.freeCircleBegin[i]);
     }
   });
   contourPassOf(selection);
   prefix(freshContours.convexCount, freshBegin[0]);
   prefix(freshContours.toriCount, freshBegin[1]);
-  spliceFresh(freshContours, [&](auto&& visit) { forEachContourArray(visit); }, {&convexBegin, &toriBegin});
+  spliceFresh(freshContours, [&](auto&& visit) { forEachContourArray(visit); },
+              {&contours.convexBegin, &contours.toriBegin});
 }
 
 // Clipping planes: those of the changed owners' new probes, and of every probe within

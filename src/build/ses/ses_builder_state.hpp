@@ -56,8 +56,6 @@ struct SesBuilder::State {
     std::vector<std::uint32_t> freeCircleOther;    // per free circle (owner, other): other > owner
     std::vector<detail::CapState> capState;        // per atom: how the neighbours' caps cover its sphere
   } vertices;
-  // Contour pass: the convex and tori arrays of `out` in atom segments.
-  std::vector<std::uint32_t> convexBegin, toriBegin;
   // Who touches what (buildIncidence, after each vertex pass): per atom, the concave patches
   // it is an atom of and the other atoms of its free circles, each list in patch order.
   // Read by the contour pass (through contourPassInput()) and labelComponents.
@@ -67,11 +65,27 @@ struct SesBuilder::State {
     std::vector<std::uint32_t> freeCircleBegin;  // per atom, n + 1: its segment of `freeCircleOther`
     std::vector<std::uint32_t> freeCircleOther;  // the other atom of each of its free circles
   } incidence;
-  // Faces of each atom's exposed region (contourPass), for the components: per atom the
-  // count, per incidence the face it bounds, per torus its face on atom i; and the face of
-  // the atom reaching furthest in +x (on the outer surface).
-  std::vector<std::uint32_t> faceCount, incVertexFace, incFreeFace, torusFace;
-  std::uint32_t extremeAtom = 0, extremeFace = 0;
+
+  // Contour pass (contourPassOf; fullBuild swaps its output in, updateContours splices it):
+  // each atom's convex patch and the tori of its circles (the atom the lower one) go to
+  // out.convex and out.tori in atom segments; these arrays lie beside them. Read by
+  // labelComponents (torusFace) and partialUpdate (the segments).
+  struct ContourPassArrays {
+    std::vector<std::uint32_t> convexBegin;  // per atom, n + 1: its segment of out.convex (0 or 1 patch)
+    std::vector<std::uint32_t> toriBegin;    // per atom, n + 1: its segment of out.tori
+    std::vector<std::uint32_t> torusFace;    // per torus: the face of its atom I that it bounds
+  } contours;
+
+  // Faces: the connected pieces of each atom's exposed region. The contour pass writes each
+  // atom's own entries in place (through contourPassInput()); findExtremeAtom picks the
+  // extreme atom before it. Read by labelComponents, which joins faces into components.
+  struct AtomFaces {
+    std::vector<std::uint32_t> count;           // per atom: its faces
+    std::vector<std::uint32_t> concaveFace;     // per entry of incidence.concave: the face it bounds (~0u: none)
+    std::vector<std::uint32_t> freeCircleFace;  // per entry of incidence.freeCircleOther: the face it bounds
+    std::uint32_t extremeAtom = 0;  // the atom whose extended sphere reaches furthest in +x
+    std::uint32_t extremeFace = 0;  // its face facing +x: on the outer surface
+  } faces;
 
   PatchList out;
   SesUpdateStats stats;
@@ -147,11 +161,11 @@ struct SesBuilder::State {
             incidence.freeCircleBegin,
             incidence.freeCircleOther,
             vertices.capState,
-            incVertexFace,
-            incFreeFace,
-            faceCount,
-            extremeAtom,
-            &extremeFace};
+            faces.concaveFace,
+            faces.freeCircleFace,
+            faces.count,
+            faces.extremeAtom,
+            &faces.extremeFace};
   }
   void findExtremeAtom();
   // Whether atom i's extended sphere lies inside another's: only atoms closer than the
@@ -197,7 +211,7 @@ struct SesBuilder::State {
     visit(&B::phiExtent, tr.phiExtent, 1);
     visit(&B::torusI, tr.atomI, 1);
     visit(&B::torusJ, tr.atomJ, 1);
-    visit(&B::torusFace, torusFace, 1);
+    visit(&B::torusFace, contours.torusFace, 1);
   }
   // Replaces, in every array of forEachArray, the segments of the atoms in `list` by those of
   // `fresh` (whose segment starts are freshBegin); begin holds the old starts of the two

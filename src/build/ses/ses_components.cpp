@@ -60,13 +60,13 @@ void SesBuilder::State::buildIncidence() {
 // so the SES patch of that atom facing +x is on the outer surface.
 void SesBuilder::State::findExtremeAtom() {
   double best = -std::numeric_limits<double>::infinity();
-  extremeAtom = 0;
+  faces.extremeAtom = 0;
   for (std::size_t i = 0; i < atoms.centers.size(); ++i) {
     if (atoms.buried[i]) continue;
     const double reach = atoms.centers[i].x + atoms.extendedRadii[i];
-    if (reach > best) best = reach, extremeAtom = static_cast<std::uint32_t>(i);
+    if (reach > best) best = reach, faces.extremeAtom = static_cast<std::uint32_t>(i);
   }
-  extremeFace = 0;
+  faces.extremeFace = 0;
 }
 
 // SES components: the faces of all atoms (nodes), joined where they share a vertex (its
@@ -81,11 +81,11 @@ void SesBuilder::State::labelComponents() {
   const std::size_t n = atoms.centers.size();
   auto& cv = out.concave;
   std::vector<std::uint32_t>& faceBegin = componentScratch.faceBegin;
-  prefix(std::span<const std::uint32_t>(faceCount.data(), n), faceBegin);
-  const std::size_t faces = n == 0 ? 0 : faceBegin[n];
+  prefix(std::span<const std::uint32_t>(faces.count.data(), n), faceBegin);
+  const std::size_t faceTotal = n == 0 ? 0 : faceBegin[n];
   std::vector<std::uint32_t>& parent = componentScratch.faceParent;
-  parent.resize(faces);
-  for (std::size_t f = 0; f < faces; ++f) parent[f] = static_cast<std::uint32_t>(f);
+  parent.resize(faceTotal);
+  for (std::size_t f = 0; f < faceTotal; ++f) parent[f] = static_cast<std::uint32_t>(f);
   auto find = [&](std::uint32_t f) {
     while (parent[f] != f) f = parent[f] = parent[parent[f]];
     return f;
@@ -98,19 +98,20 @@ void SesBuilder::State::labelComponents() {
   std::vector<std::uint32_t>& vertexFace = componentScratch.vertexFace;
   vertexFace.assign(cv.size(), ~0u);
   for (std::size_t x = 0; x < n; ++x) {
-    if (faceCount[x] == 0) continue;
+    if (faces.count[x] == 0) continue;
     for (std::uint32_t k = incidence.concaveBegin[x]; k < incidence.concaveBegin[x + 1]; ++k) {
-      if (incVertexFace[k] == ~0u) continue;  // a merged vertex with no arc of x
-      const std::uint32_t f = faceBegin[x] + incVertexFace[k];
+      if (faces.concaveFace[k] == ~0u) continue;  // a merged vertex with no arc of x
+      const std::uint32_t f = faceBegin[x] + faces.concaveFace[k];
       std::uint32_t& v = vertexFace[incidence.concave[k]];
       if (v == ~0u) v = f;
       else unite(v, f);
     }
     for (std::uint32_t k = incidence.freeCircleBegin[x]; k < incidence.freeCircleBegin[x + 1]; ++k) {
       const std::uint32_t o = incidence.freeCircleOther[k];
-      if (o < x || faceCount[o] == 0) continue;
+      if (o < x || faces.count[o] == 0) continue;
       for (std::uint32_t m = incidence.freeCircleBegin[o]; m < incidence.freeCircleBegin[o + 1]; ++m)
-        if (incidence.freeCircleOther[m] == x) unite(faceBegin[x] + incFreeFace[k], faceBegin[o] + incFreeFace[m]);
+        if (incidence.freeCircleOther[m] == x)
+          unite(faceBegin[x] + faces.freeCircleFace[k], faceBegin[o] + faces.freeCircleFace[m]);
     }
   }
   // The triangles of a merged vertex are one patch.
@@ -145,15 +146,15 @@ void SesBuilder::State::labelComponents() {
     }
   }
   std::vector<std::uint32_t>& label = componentScratch.faceLabel;
-  label.assign(faces, ~0u);
+  label.assign(faceTotal, ~0u);
   std::uint32_t components = 0;
   auto labelOf = [&](std::uint32_t f) {
     std::uint32_t& l = label[find(f)];
     if (l == ~0u) l = components++;
     return l;
   };
-  if (n > 0 && extremeAtom < n && faceCount[extremeAtom] > 0)
-    labelOf(faceBegin[extremeAtom] + std::min(extremeFace, faceCount[extremeAtom] - 1));
+  if (n > 0 && faces.extremeAtom < n && faces.count[faces.extremeAtom] > 0)
+    labelOf(faceBegin[faces.extremeAtom] + std::min(faces.extremeFace, faces.count[faces.extremeAtom] - 1));
   out.convex.component.resize(out.convex.size());
   for (std::size_t k = 0; k < out.convex.size(); ++k) {
     const std::uint32_t x = out.convex.atom[k];
@@ -162,7 +163,8 @@ void SesBuilder::State::labelComponents() {
     out.convex.component[k] = lowest == ~0u ? 0 : lowest;
   }
   out.tori.component.resize(out.tori.size());
-  for (std::size_t t = 0; t < out.tori.size(); ++t) out.tori.component[t] = labelOf(faceBegin[out.tori.atomI[t]] + torusFace[t]);
+  for (std::size_t t = 0; t < out.tori.size(); ++t)
+    out.tori.component[t] = labelOf(faceBegin[out.tori.atomI[t]] + contours.torusFace[t]);
   cv.component.resize(cv.size());
   for (std::size_t v = 0; v < cv.size(); ++v) {
     if (vertexFace[v] != ~0u) {
