@@ -192,8 +192,8 @@ void SesBuilder::State::fullBuild() {
   // Clipping planes of every probe.
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
-  probeRadii.assign(probes, rp);
-  probeGrid.build(cv.probe, probeRadii, 0.0);
+  probeNeighbours.radii.assign(probes, rp);
+  probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
   selection.resize(probes);
   for (std::size_t i = 0; i < probes; ++i) selection[i] = static_cast<std::uint32_t>(i);
   planesOf(selection);
@@ -375,8 +375,8 @@ void SesBuilder::State::updatePlanes() {
   const std::size_t n = atoms.centers.size();
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
-  probeRadii.assign(probes, params.probeRadius);
-  probeGrid.build(cv.probe, probeRadii, 0.0);
+  probeNeighbours.radii.assign(probes, params.probeRadius);
+  probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
   auto& dirty = update.dirtyProbes;
   dirty.assign(probes, 0);
   for (const std::uint32_t x : changedOwners)
@@ -384,7 +384,7 @@ void SesBuilder::State::updatePlanes() {
   auto& rowBuf = tls.local().row;
   auto markNear = [&](const glm::dvec3& p) {
     rowBuf.clear();
-    probeGrid.atomsNear(p, params.probeRadius, rowBuf);
+    probeNeighbours.grid.atomsNear(p, params.probeRadius, rowBuf);
     for (const std::uint32_t v : rowBuf) dirty[v] = 1;
   };
   for (const glm::dvec3& p : update.removedProbes) markNear(p);

@@ -37,8 +37,6 @@ struct SesBuilder::State {
     std::vector<char> buried;           // extended sphere inside another's: no part in the surface
     NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   } atoms;
-  NeighbourGrid probeGrid;
-  std::vector<double> probeRadii;
   tbb::enumerable_thread_specific<detail::Scratch> tls;
 
 
@@ -86,6 +84,15 @@ struct SesBuilder::State {
     std::uint32_t extremeAtom = 0;  // the atom whose extended sphere reaches furthest in +x
     std::uint32_t extremeFace = 0;  // its face facing +x: on the outer surface
   } faces;
+
+  // The probes' own neighbour grid, rebuilt over out.concave.probe whenever the probes
+  // change (fullBuild, updatePlanes); its neighbour relation is exactly |p − q| < 2 rp.
+  // Read by planesOf (the clipping planes), updatePlanes (the probes near a changed one)
+  // and labelComponents (probes whose spheres cut each other's patch).
+  struct ProbeNeighbours {
+    std::vector<double> radii;  // rp for every probe: the grid's input
+    NeighbourGrid grid;
+  } probeNeighbours;
 
   PatchList out;
   SesUpdateStats stats;

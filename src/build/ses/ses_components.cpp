@@ -135,7 +135,7 @@ void SesBuilder::State::labelComponents() {
   for (std::size_t v = 0; v < cv.size(); ++v) {
     if (vertexFace[v] == ~0u) continue;
     row.clear();
-    probeGrid.neighbours(static_cast<std::uint32_t>(v), row);
+    probeNeighbours.grid.neighbours(static_cast<std::uint32_t>(v), row);
     const TriangleCone cone({cv.dirI[v], cv.dirJ[v], cv.dirK[v]});
     for (const std::uint32_t w : row) {
       if (vertexFace[w] == ~0u) continue;

@@ -14,7 +14,7 @@ using namespace detail;
 
 // Self-intersections (ORACLES A.5): every pair of probe positions closer than 2 rp cuts
 // both probe spheres along their bisector plane. The probe positions sit in a neighbour
-// grid of their own (probeGrid: radius rp each, no probe), whose neighbour relation is
+// grid of their own (probeNeighbours: radius rp each, no probe), whose neighbour relation is
 // exactly |p − q| < 2 rp. No cap on the number of planes per patch; a plane is stored with
 // a concave patch unless it provably clips nothing of it (the cap it removes from the
 // probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
@@ -27,7 +27,7 @@ void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
             [&](std::size_t k, Scratch& s, PlaneBuf& buf) {
               const std::uint32_t a = probes[k];
               s.row.clear();
-              probeGrid.neighbours(a, s.row);
+              probeNeighbours.grid.neighbours(a, s.row);
               const glm::dvec3 pa = cv.probe[a];
               const TriangleCone cone({cv.dirI[a], cv.dirJ[a], cv.dirK[a]});
               std::uint32_t count = 0;
