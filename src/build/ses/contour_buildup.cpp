@@ -109,7 +109,8 @@ void SesBuilder::State::buildGrid() {
 // freshVertices.freeCount, one per owner).
 void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
   const Atoms a = atomView();
-  runChunks(tls, owners.size(), vertexPieces, [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
+  runChunks(pass.threadScratch, owners.size(), pass.vertexPieces,
+            [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
             [&](std::size_t k, Scratch& s, VertexBuf& buf) {
               const std::uint32_t x = owners[k];
               if (atoms.buried[x]) {
@@ -122,17 +123,19 @@ void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
               atoms.grid.neighbours(x, s.row);
               vertexPass(a, x, s.row, s, buf, vertices.capState[x]);
             });
-  gatherPieces(vertexPieces, gatherOffsets, [&](auto&& field) {
-    forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshVertices.*member), g}); });
-    field(Field{&VertexBuf::concaveCount, &freshVertices.concaveCount, 2});
-    field(Field{&VertexBuf::freeCount, &freshVertices.freeCount, 2});
+  gatherPieces(pass.vertexPieces, pass.gatherOffsets, [&](auto&& field) {
+    forEachVertexArray(
+        [&](auto member, auto&, std::size_t g) { field(Field{member, &(pass.freshVertices.*member), g}); });
+    field(Field{&VertexBuf::concaveCount, &pass.freshVertices.concaveCount, 2});
+    field(Field{&VertexBuf::freeCount, &pass.freshVertices.freeCount, 2});
   });
 }
 
 void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
   const Atoms a = atomView();
   const Incidence inc = contourPassInput();
-  runChunks(tls, list_.size(), contourPieces, [](Scratch& s) -> ContourBuf& { return s.contourOut; },
+  runChunks(pass.threadScratch, list_.size(), pass.contourPieces,
+            [](Scratch& s) -> ContourBuf& { return s.contourOut; },
             [&](std::size_t k, Scratch& s, ContourBuf& buf) {
               const std::uint32_t x = list_[k];
               if (atoms.buried[x]) {
@@ -143,10 +146,11 @@ void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
               }
               contourPass(a, inc, x, s, buf);
             });
-  gatherPieces(contourPieces, gatherOffsets, [&](auto&& field) {
-    forEachContourArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshContours.*member), g}); });
-    field(Field{&ContourBuf::convexCount, &freshContours.convexCount, 2});
-    field(Field{&ContourBuf::toriCount, &freshContours.toriCount, 2});
+  gatherPieces(pass.contourPieces, pass.gatherOffsets, [&](auto&& field) {
+    forEachContourArray(
+        [&](auto member, auto&, std::size_t g) { field(Field{member, &(pass.freshContours.*member), g}); });
+    field(Field{&ContourBuf::convexCount, &pass.freshContours.convexCount, 2});
+    field(Field{&ContourBuf::toriCount, &pass.freshContours.toriCount, 2});
   });
 }
 
@@ -165,18 +169,18 @@ void SesBuilder::State::fullBuild() {
   buildGrid();
   // Burial by containment first: every pass after reads it for all neighbours.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
-    auto& near = tls.local().row;
+    auto& near = pass.threadScratch.local().row;
     for (std::size_t i = range.begin(); i != range.end(); ++i) atoms.buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
   });
 
-  selection.resize(n);
-  for (std::size_t i = 0; i < n; ++i) selection[i] = static_cast<std::uint32_t>(i);
+  pass.selection.resize(n);
+  for (std::size_t i = 0; i < n; ++i) pass.selection[i] = static_cast<std::uint32_t>(i);
 
   // Vertex pass over every atom: the fresh arrays are the patch list's.
-  vertexPassOf(selection);
-  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshVertices.*member); });
-  prefix(freshVertices.concaveCount, vertices.concaveBegin);
-  prefix(freshVertices.freeCount, vertices.freeCircleBegin);
+  vertexPassOf(pass.selection);
+  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshVertices.*member); });
+  prefix(pass.freshVertices.concaveCount, vertices.concaveBegin);
+  prefix(pass.freshVertices.freeCount, vertices.freeCircleBegin);
 
   buildIncidence();
   faces.concaveFace.assign(incidence.concave.size(), 0);
@@ -184,21 +188,21 @@ void SesBuilder::State::fullBuild() {
   faces.count.assign(n, 0);
   findExtremeAtom();
 
-  contourPassOf(selection);
-  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshContours.*member); });
-  prefix(freshContours.convexCount, contours.convexBegin);
-  prefix(freshContours.toriCount, contours.toriBegin);
+  contourPassOf(pass.selection);
+  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshContours.*member); });
+  prefix(pass.freshContours.convexCount, contours.convexBegin);
+  prefix(pass.freshContours.toriCount, contours.toriBegin);
 
   // Clipping planes of every probe.
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
   probeNeighbours.radii.assign(probes, rp);
   probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
-  selection.resize(probes);
-  for (std::size_t i = 0; i < probes; ++i) selection[i] = static_cast<std::uint32_t>(i);
-  planesOf(selection);
-  out.clipPlanes.swap(freshPlanes);
-  cv.clipCount.swap(freshPlaneCount);
+  pass.selection.resize(probes);
+  for (std::size_t i = 0; i < probes; ++i) pass.selection[i] = static_cast<std::uint32_t>(i);
+  planesOf(pass.selection);
+  out.clipPlanes.swap(pass.freshPlanes);
+  cv.clipCount.swap(pass.freshPlaneCount);
   cv.clipBegin.resize(probes);
   std::uint32_t at = 0;
   for (std::size_t k = 0; k < probes; ++k) {
@@ -240,7 +244,7 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
 // them) and, after the move, at the new ones. Moves the atoms and rebuilds the grid.
 void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
   marks.assign(atoms.centers.size(), 0);
-  auto& rowBuf = tls.local().row;
+  auto& rowBuf = pass.threadScratch.local().row;
   for (const std::uint32_t m : moved) {
     marks[m] |= kNear;
     rowBuf.clear();
@@ -260,7 +264,7 @@ void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::
 // Selects the owners whose vertex pass runs again.
 void SesBuilder::State::selectOwners() {
   const std::size_t n = atoms.centers.size();
-  auto& rowBuf = tls.local().row;
+  auto& rowBuf = pass.threadScratch.local().row;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(marks[i] & kNear)) continue;
     marks[i] |= kOwner;
@@ -273,24 +277,24 @@ void SesBuilder::State::selectOwners() {
       for (const std::uint32_t j : rowBuf) marks[j] |= kOwner;
     }
   }
-  selection.clear();
+  pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kOwner) selection.push_back(static_cast<std::uint32_t>(i));
-  stats.owners = selection.size();
+    if (marks[i] & kOwner) pass.selection.push_back(static_cast<std::uint32_t>(i));
+  stats.owners = pass.selection.size();
 }
 
 // Vertex pass of the owners selected; an owner whose output differs changes the contours
 // of every atom its old and new vertices and free circles touch, and the planes near them.
 // Splices the fresh segments in and rebuilds the incidence.
 void SesBuilder::State::updateVertices() {
-  vertexPassOf(selection);
-  prefix(freshVertices.concaveCount, freshBegin[0]);
-  prefix(freshVertices.freeCount, freshBegin[1]);
+  vertexPassOf(pass.selection);
+  prefix(pass.freshVertices.concaveCount, freshBegin[0]);
+  prefix(pass.freshVertices.freeCount, freshBegin[1]);
   auto& cv = out.concave;
   const std::vector<std::uint32_t>* const oldBegin[2] = {&vertices.concaveBegin, &vertices.freeCircleBegin};
   changedOwners.clear();
-  for (std::size_t t = 0; t < selection.size(); ++t) {
-    const std::uint32_t x = selection[t];
+  for (std::size_t t = 0; t < pass.selection.size(); ++t) {
+    const std::uint32_t x = pass.selection[t];
     marks[x] |= kContour;
     bool unchanged = true;
     forEachVertexArray([&](auto member, const auto& kept, std::size_t g) {
@@ -298,7 +302,7 @@ void SesBuilder::State::updateVertices() {
       const std::size_t o0 = (*oldBegin[g])[x], o1 = (*oldBegin[g])[x + 1];
       const std::size_t f0 = freshBegin[g][t], f1 = freshBegin[g][t + 1];
       unchanged = unchanged && sameBits<T>(std::span<const T>(kept).subspan(o0, o1 - o0),
-                                           std::span<const T>(freshVertices.*member).subspan(f0, f1 - f0));
+                                           std::span<const T>(pass.freshVertices.*member).subspan(f0, f1 - f0));
     });
     if (unchanged) continue;
     const std::size_t o0 = vertices.concaveBegin[x], o1 = vertices.concaveBegin[x + 1];
@@ -310,10 +314,10 @@ void SesBuilder::State::updateVertices() {
     for (std::size_t v = o0; v < o1; ++v)
       marks[cv.atomI[v]] |= kContour, marks[cv.atomJ[v]] |= kContour, marks[cv.atomK[v]] |= kContour;
     for (std::size_t v = f0; v < f1; ++v)
-      marks[freshVertices.atomI[v]] |= kContour, marks[freshVertices.atomJ[v]] |= kContour,
-          marks[freshVertices.atomK[v]] |= kContour;
+      marks[pass.freshVertices.atomI[v]] |= kContour, marks[pass.freshVertices.atomJ[v]] |= kContour,
+          marks[pass.freshVertices.atomK[v]] |= kContour;
     for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kContour;
-    for (std::size_t f = h0; f < h1; ++f) marks[freshVertices.freeOther[f]] |= kContour;
+    for (std::size_t f = h0; f < h1; ++f) marks[pass.freshVertices.freeOther[f]] |= kContour;
   }
 
   // Old probes of changed owners, before the splice: their planes' partners need updates.
@@ -326,7 +330,7 @@ void SesBuilder::State::updateVertices() {
   update.oldClipBegin = cv.clipBegin;
   update.oldClipCount = cv.clipCount;
 
-  spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
+  spliceFresh(pass.freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
               {&vertices.concaveBegin, &vertices.freeCircleBegin});
   update.oldIncVertexBegin.swap(incidence.concaveBegin);
   update.oldIncVertexFace.swap(faces.concaveFace);
@@ -342,10 +346,10 @@ void SesBuilder::State::updateVertices() {
 // the same vertices in the same order, only moved.
 void SesBuilder::State::updateContours() {
   const std::size_t n = atoms.centers.size();
-  selection.clear();
+  pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
-  stats.contours = selection.size();
+    if (marks[i] & kContour) pass.selection.push_back(static_cast<std::uint32_t>(i));
+  stats.contours = pass.selection.size();
   faces.concaveFace.resize(incidence.concave.size());
   faces.freeCircleFace.resize(incidence.freeCircleOther.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
@@ -361,10 +365,10 @@ void SesBuilder::State::updateContours() {
                 faces.freeCircleFace.begin() + incidence.freeCircleBegin[i]);
     }
   });
-  contourPassOf(selection);
-  prefix(freshContours.convexCount, freshBegin[0]);
-  prefix(freshContours.toriCount, freshBegin[1]);
-  spliceFresh(freshContours, [&](auto&& visit) { forEachContourArray(visit); },
+  contourPassOf(pass.selection);
+  prefix(pass.freshContours.convexCount, freshBegin[0]);
+  prefix(pass.freshContours.toriCount, freshBegin[1]);
+  spliceFresh(pass.freshContours, [&](auto&& visit) { forEachContourArray(visit); },
               {&contours.convexBegin, &contours.toriBegin});
 }
 
@@ -381,7 +385,7 @@ void SesBuilder::State::updatePlanes() {
   dirty.assign(probes, 0);
   for (const std::uint32_t x : changedOwners)
     for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) dirty[v] = 1;
-  auto& rowBuf = tls.local().row;
+  auto& rowBuf = pass.threadScratch.local().row;
   auto markNear = [&](const glm::dvec3& p) {
     rowBuf.clear();
     probeNeighbours.grid.atomsNear(p, params.probeRadius, rowBuf);
@@ -390,11 +394,11 @@ void SesBuilder::State::updatePlanes() {
   for (const glm::dvec3& p : update.removedProbes) markNear(p);
   for (const std::uint32_t x : changedOwners)
     for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
-  selection.clear();
+  pass.selection.clear();
   for (std::size_t v = 0; v < probes; ++v)
-    if (dirty[v]) selection.push_back(static_cast<std::uint32_t>(v));
-  stats.probes = selection.size();
-  planesOf(selection);
+    if (dirty[v]) pass.selection.push_back(static_cast<std::uint32_t>(v));
+  stats.probes = pass.selection.size();
+  planesOf(pass.selection);
   // Old index of each new probe of an unchanged owner: same place within the owner.
   const auto& oldConcaveBegin = update.oldConcaveBegin;
   auto& oldProbeIndex = update.oldProbeIndex;
@@ -413,7 +417,7 @@ void SesBuilder::State::updatePlanes() {
   for (std::size_t v = 0; v < probes; ++v) {
     clipBegin[v] = at;
     if (dirty[v]) {
-      clipCount[v] = freshPlaneCount[d++];
+      clipCount[v] = pass.freshPlaneCount[d++];
     } else {
       SURFTRACE_ASSERT(oldProbeIndex[v] != ~0u);
       clipCount[v] = update.oldClipCount[oldProbeIndex[v]];
@@ -425,9 +429,11 @@ void SesBuilder::State::updatePlanes() {
   const auto& oldClipBegin = update.oldClipBegin;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes, 256), [&](const auto& range) {
     // Dirty probes before this range, to find their fresh planes.
-    std::size_t dd = static_cast<std::size_t>(std::lower_bound(selection.begin(), selection.end(), range.begin()) - selection.begin());
+    const auto& sel = pass.selection;
+    std::size_t dd = static_cast<std::size_t>(std::lower_bound(sel.begin(), sel.end(), range.begin()) - sel.begin());
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const Plane* from = dirty[v] ? freshPlanes.data() + freshPlaneBegin[dd++] : out.clipPlanes.data() + oldClipBegin[oldProbeIndex[v]];
+      const Plane* from = dirty[v] ? pass.freshPlanes.data() + pass.freshPlaneBegin[dd++]
+                                   : out.clipPlanes.data() + oldClipBegin[oldProbeIndex[v]];
       std::copy(from, from + clipCount[v], planes.begin() + clipBegin[v]);
     }
   });

@@ -37,7 +37,6 @@ struct SesBuilder::State {
     std::vector<char> buried;           // extended sphere inside another's: no part in the surface
     NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   } atoms;
-  tbb::enumerable_thread_specific<detail::Scratch> tls;
 
 
   // Vertex pass (vertexPassOf; fullBuild swaps its output in, updateVertices splices it):
@@ -98,19 +97,25 @@ struct SesBuilder::State {
   SesUpdateStats stats;
   bool built = false;
 
-  // Pieces and fresh arrays of the passes (reused, so that a trajectory does not allocate
-  // per frame).
-  std::vector<detail::Piece<detail::VertexBuf>> vertexPieces;
-  std::vector<detail::Piece<detail::ContourBuf>> contourPieces;
-  std::vector<detail::Piece<detail::PlaneBuf>> planePieces;
-  std::array<std::vector<std::size_t>, 3> gatherOffsets;
-  detail::VertexBuf freshVertices;   // vertex-pass output of the atoms selected
-  detail::ContourBuf freshContours;  // contour-pass output of the atoms selected
-  // planesOf's output for the probes selected: per probe its count and start, the planes.
-  std::vector<std::uint32_t> freshPlaneCount, freshPlaneBegin;
-  std::vector<Plane> freshPlanes;
-  // The atoms (or probes) the next pass runs over, ascending.
-  std::vector<std::uint32_t> selection;
+  // The passes' working memory, reused so that a trajectory does not allocate per frame.
+  // vertexPassOf, contourPassOf and planesOf each run over `selection` in parallel chunks
+  // (runChunks), each chunk appending to its thread's buffer in threadScratch and noting
+  // where in a piece; gatherPieces concatenates the pieces, in order, into the fresh arrays.
+  // fullBuild swaps those into place; partialUpdate's steps compare and splice them.
+  struct PassBuffers {
+    tbb::enumerable_thread_specific<detail::Scratch> threadScratch;
+    std::vector<std::uint32_t> selection;  // the atoms (or probes) the next pass runs over, ascending
+    std::vector<detail::Piece<detail::VertexBuf>> vertexPieces;
+    std::vector<detail::Piece<detail::ContourBuf>> contourPieces;
+    std::vector<detail::Piece<detail::PlaneBuf>> planePieces;
+    std::array<std::vector<std::size_t>, 3> gatherOffsets;  // per field group: where each piece goes
+    detail::VertexBuf freshVertices;   // the vertex pass's output for the atoms selected
+    detail::ContourBuf freshContours;  // the contour pass's output for the atoms selected
+    // planesOf's output for the probes selected: per probe its count and start, the planes.
+    std::vector<std::uint32_t> freshPlaneCount, freshPlaneBegin;
+    std::vector<Plane> freshPlanes;
+  } pass;
+
   // A partial update's segment starts of its two segment groups (concave patches and free
   // circles; convex patches and tori): of the fresh output, and of the spliced arrays.
   std::array<std::vector<std::uint32_t>, 2> freshBegin, newBegin;
@@ -225,9 +230,9 @@ struct SesBuilder::State {
   // groups and gets the new ones.
   template <class Fresh, class ForEachArray>
   void spliceFresh(const Fresh& fresh, ForEachArray&& forEachArray, std::array<std::vector<std::uint32_t>*, 2> begin) {
-    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], selection, freshBegin[g], newBegin[g]);
-    const detail::Splice splice[2] = {{*begin[0], newBegin[0], selection, freshBegin[0]},
-                                      {*begin[1], newBegin[1], selection, freshBegin[1]}};
+    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], pass.selection, freshBegin[g], newBegin[g]);
+    const detail::Splice splice[2] = {{*begin[0], newBegin[0], pass.selection, freshBegin[0]},
+                                      {*begin[1], newBegin[1], pass.selection, freshBegin[1]}};
     forEachArray([&](auto member, auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
       splice[g](kept, fresh.*member, update.spliceBuffer<T>());

@@ -131,7 +131,7 @@ void SesBuilder::State::labelComponents() {
   // spindle tori). Joining when the cap merely may meet the triangle can only merge
   // components, never leave one open.
   const double twoRp = 2.0 * params.probeRadius;
-  auto& row = tls.local().row;
+  auto& row = pass.threadScratch.local().row;
   for (std::size_t v = 0; v < cv.size(); ++v) {
     if (vertexFace[v] == ~0u) continue;
     row.clear();

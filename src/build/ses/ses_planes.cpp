@@ -23,7 +23,8 @@ using namespace detail;
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
   const auto& cv = out.concave;
   const double twoRp = 2.0 * params.probeRadius;
-  runChunks(tls, probes.size(), planePieces, [](Scratch& s) -> PlaneBuf& { return s.planeOut; },
+  runChunks(pass.threadScratch, probes.size(), pass.planePieces,
+            [](Scratch& s) -> PlaneBuf& { return s.planeOut; },
             [&](std::size_t k, Scratch& s, PlaneBuf& buf) {
               const std::uint32_t a = probes[k];
               s.row.clear();
@@ -44,11 +45,11 @@ void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
               }
               buf.count.push_back(count);
             });
-  gatherPieces(planePieces, gatherOffsets, [&](auto&& field) {
-    field(Field{&PlaneBuf::plane, &freshPlanes, 0});
-    field(Field{&PlaneBuf::count, &freshPlaneCount, 2});
+  gatherPieces(pass.planePieces, pass.gatherOffsets, [&](auto&& field) {
+    field(Field{&PlaneBuf::plane, &pass.freshPlanes, 0});
+    field(Field{&PlaneBuf::count, &pass.freshPlaneCount, 2});
   });
-  prefix(freshPlaneCount, freshPlaneBegin);
+  prefix(pass.freshPlaneCount, pass.freshPlaneBegin);
 }
 
 }  // namespace surftrace::build
