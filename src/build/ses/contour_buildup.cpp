@@ -243,20 +243,20 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
 // Near: the moved atoms and their neighbours at the old positions (the grid still holds
 // them) and, after the move, at the new ones. Moves the atoms and rebuilds the grid.
 void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
-  marks.assign(atoms.centers.size(), 0);
+  update.marks.assign(atoms.centers.size(), 0);
   auto& rowBuf = pass.threadScratch.local().row;
   for (const std::uint32_t m : moved) {
-    marks[m] |= kNear;
+    update.marks[m] |= kNearMove;
     rowBuf.clear();
     atoms.grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
+    for (const std::uint32_t j : rowBuf) update.marks[j] |= kNearMove;
   }
   for (std::size_t k = 0; k < moved.size(); ++k) atoms.centers[moved[k]] = newCenters[k];
   buildGrid();
   for (const std::uint32_t m : moved) {
     rowBuf.clear();
     atoms.grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
+    for (const std::uint32_t j : rowBuf) update.marks[j] |= kNearMove;
   }
 }
 
@@ -266,20 +266,20 @@ void SesBuilder::State::selectOwners() {
   const std::size_t n = atoms.centers.size();
   auto& rowBuf = pass.threadScratch.local().row;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(marks[i] & kNear)) continue;
-    marks[i] |= kOwner;
+    if (!(update.marks[i] & kNearMove)) continue;
+    update.marks[i] |= kRedoVertices;
     const auto x = static_cast<std::uint32_t>(i);
     const char now = buriedByContainment(x, rowBuf) ? 1 : 0;
     if (now != atoms.buried[i]) {
       atoms.buried[i] = now;
       rowBuf.clear();
       atoms.grid.neighbours(x, rowBuf);
-      for (const std::uint32_t j : rowBuf) marks[j] |= kOwner;
+      for (const std::uint32_t j : rowBuf) update.marks[j] |= kRedoVertices;
     }
   }
   pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kOwner) pass.selection.push_back(static_cast<std::uint32_t>(i));
+    if (update.marks[i] & kRedoVertices) pass.selection.push_back(static_cast<std::uint32_t>(i));
   stats.owners = pass.selection.size();
 }
 
@@ -288,42 +288,43 @@ void SesBuilder::State::selectOwners() {
 // Splices the fresh segments in and rebuilds the incidence.
 void SesBuilder::State::updateVertices() {
   vertexPassOf(pass.selection);
-  prefix(pass.freshVertices.concaveCount, freshBegin[0]);
-  prefix(pass.freshVertices.freeCount, freshBegin[1]);
+  prefix(pass.freshVertices.concaveCount, update.freshBegin[0]);
+  prefix(pass.freshVertices.freeCount, update.freshBegin[1]);
   auto& cv = out.concave;
+  const VertexBuf& fresh = pass.freshVertices;
+  auto& marks = update.marks;
   const std::vector<std::uint32_t>* const oldBegin[2] = {&vertices.concaveBegin, &vertices.freeCircleBegin};
-  changedOwners.clear();
+  update.changedOwners.clear();
   for (std::size_t t = 0; t < pass.selection.size(); ++t) {
     const std::uint32_t x = pass.selection[t];
-    marks[x] |= kContour;
+    marks[x] |= kRedoContour;
     bool unchanged = true;
     forEachVertexArray([&](auto member, const auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
       const std::size_t o0 = (*oldBegin[g])[x], o1 = (*oldBegin[g])[x + 1];
-      const std::size_t f0 = freshBegin[g][t], f1 = freshBegin[g][t + 1];
+      const std::size_t f0 = update.freshBegin[g][t], f1 = update.freshBegin[g][t + 1];
       unchanged = unchanged && sameBits<T>(std::span<const T>(kept).subspan(o0, o1 - o0),
-                                           std::span<const T>(pass.freshVertices.*member).subspan(f0, f1 - f0));
+                                           std::span<const T>(fresh.*member).subspan(f0, f1 - f0));
     });
     if (unchanged) continue;
     const std::size_t o0 = vertices.concaveBegin[x], o1 = vertices.concaveBegin[x + 1];
-    const std::size_t f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
+    const std::size_t f0 = update.freshBegin[0][t], f1 = update.freshBegin[0][t + 1];
     const std::size_t g0 = vertices.freeCircleBegin[x], g1 = vertices.freeCircleBegin[x + 1];
-    const std::size_t h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
-    changedOwners.push_back(x);
+    const std::size_t h0 = update.freshBegin[1][t], h1 = update.freshBegin[1][t + 1];
+    update.changedOwners.push_back(x);
     // (The triangles of a merged vertex need not have their owner as atom I.)
     for (std::size_t v = o0; v < o1; ++v)
-      marks[cv.atomI[v]] |= kContour, marks[cv.atomJ[v]] |= kContour, marks[cv.atomK[v]] |= kContour;
+      marks[cv.atomI[v]] |= kRedoContour, marks[cv.atomJ[v]] |= kRedoContour, marks[cv.atomK[v]] |= kRedoContour;
     for (std::size_t v = f0; v < f1; ++v)
-      marks[pass.freshVertices.atomI[v]] |= kContour, marks[pass.freshVertices.atomJ[v]] |= kContour,
-          marks[pass.freshVertices.atomK[v]] |= kContour;
-    for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kContour;
-    for (std::size_t f = h0; f < h1; ++f) marks[pass.freshVertices.freeOther[f]] |= kContour;
+      marks[fresh.atomI[v]] |= kRedoContour, marks[fresh.atomJ[v]] |= kRedoContour, marks[fresh.atomK[v]] |= kRedoContour;
+    for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kRedoContour;
+    for (std::size_t f = h0; f < h1; ++f) marks[fresh.freeOther[f]] |= kRedoContour;
   }
 
   // Old probes of changed owners, before the splice: their planes' partners need updates.
   auto& removed = update.removedProbes;
   removed.clear();
-  for (const std::uint32_t x : changedOwners)
+  for (const std::uint32_t x : update.changedOwners)
     removed.insert(removed.end(), cv.probe.begin() + vertices.concaveBegin[x],
                    cv.probe.begin() + vertices.concaveBegin[x + 1]);
   update.oldConcaveBegin = vertices.concaveBegin;
@@ -332,14 +333,14 @@ void SesBuilder::State::updateVertices() {
 
   spliceFresh(pass.freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
               {&vertices.concaveBegin, &vertices.freeCircleBegin});
-  update.oldIncVertexBegin.swap(incidence.concaveBegin);
-  update.oldIncVertexFace.swap(faces.concaveFace);
-  update.oldIncFreeBegin.swap(incidence.freeCircleBegin);
-  update.oldIncFreeFace.swap(faces.freeCircleFace);
+  update.oldIncidenceConcaveBegin.swap(incidence.concaveBegin);
+  update.oldConcaveFace.swap(faces.concaveFace);
+  update.oldIncidenceFreeCircleBegin.swap(incidence.freeCircleBegin);
+  update.oldFreeCircleFace.swap(faces.freeCircleFace);
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
   findExtremeAtom();
-  if (!atoms.centers.empty()) marks[faces.extremeAtom] |= kContour;
+  if (!atoms.centers.empty()) marks[faces.extremeAtom] |= kRedoContour;
 }
 
 // Contours of the atoms touched. The others keep their faces; their incidence lists hold
@@ -348,26 +349,26 @@ void SesBuilder::State::updateContours() {
   const std::size_t n = atoms.centers.size();
   pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kContour) pass.selection.push_back(static_cast<std::uint32_t>(i));
+    if (update.marks[i] & kRedoContour) pass.selection.push_back(static_cast<std::uint32_t>(i));
   stats.contours = pass.selection.size();
   faces.concaveFace.resize(incidence.concave.size());
   faces.freeCircleFace.resize(incidence.freeCircleOther.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (marks[i] & kContour) continue;
-      const auto& ob = update.oldIncVertexBegin;
-      const auto& fb = update.oldIncFreeBegin;
+      if (update.marks[i] & kRedoContour) continue;
+      const auto& ob = update.oldIncidenceConcaveBegin;
+      const auto& fb = update.oldIncidenceFreeCircleBegin;
       SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incidence.concaveBegin[i + 1] - incidence.concaveBegin[i]);
       SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incidence.freeCircleBegin[i + 1] - incidence.freeCircleBegin[i]);
-      std::copy(update.oldIncVertexFace.begin() + ob[i], update.oldIncVertexFace.begin() + ob[i + 1],
+      std::copy(update.oldConcaveFace.begin() + ob[i], update.oldConcaveFace.begin() + ob[i + 1],
                 faces.concaveFace.begin() + incidence.concaveBegin[i]);
-      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1],
+      std::copy(update.oldFreeCircleFace.begin() + fb[i], update.oldFreeCircleFace.begin() + fb[i + 1],
                 faces.freeCircleFace.begin() + incidence.freeCircleBegin[i]);
     }
   });
   contourPassOf(pass.selection);
-  prefix(pass.freshContours.convexCount, freshBegin[0]);
-  prefix(pass.freshContours.toriCount, freshBegin[1]);
+  prefix(pass.freshContours.convexCount, update.freshBegin[0]);
+  prefix(pass.freshContours.toriCount, update.freshBegin[1]);
   spliceFresh(pass.freshContours, [&](auto&& visit) { forEachContourArray(visit); },
               {&contours.convexBegin, &contours.toriBegin});
 }
@@ -383,7 +384,7 @@ void SesBuilder::State::updatePlanes() {
   probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
   auto& dirty = update.dirtyProbes;
   dirty.assign(probes, 0);
-  for (const std::uint32_t x : changedOwners)
+  for (const std::uint32_t x : update.changedOwners)
     for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) dirty[v] = 1;
   auto& rowBuf = pass.threadScratch.local().row;
   auto markNear = [&](const glm::dvec3& p) {
@@ -392,7 +393,7 @@ void SesBuilder::State::updatePlanes() {
     for (const std::uint32_t v : rowBuf) dirty[v] = 1;
   };
   for (const glm::dvec3& p : update.removedProbes) markNear(p);
-  for (const std::uint32_t x : changedOwners)
+  for (const std::uint32_t x : update.changedOwners)
     for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
   pass.selection.clear();
   for (std::size_t v = 0; v < probes; ++v)

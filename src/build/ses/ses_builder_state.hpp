@@ -116,29 +116,32 @@ struct SesBuilder::State {
     std::vector<Plane> freshPlanes;
   } pass;
 
-  // A partial update's segment starts of its two segment groups (concave patches and free
-  // circles; convex patches and tori): of the fresh output, and of the spliced arrays.
-  std::array<std::vector<std::uint32_t>, 2> freshBegin, newBegin;
-
-  // What partialUpdate keeps between its steps.
-  static constexpr std::uint8_t kNear = 1, kOwner = 2, kContour = 4;
-  std::vector<std::uint8_t> marks;            // per atom: kNear | kOwner | kContour
-  std::vector<std::uint32_t> changedOwners;   // owners whose vertex-pass output changed
-  struct UpdateScratch {
+  // partialUpdate's bookkeeping between its steps (markNearMove, selectOwners,
+  // updateVertices, updateContours, updatePlanes, in that order) and the buffers its
+  // splices go through; nothing in it is read after the update.
+  static constexpr std::uint8_t kNearMove = 1, kRedoVertices = 2, kRedoContour = 4;  // marks
+  struct PartialUpdate {
+    std::vector<std::uint8_t> marks;           // per atom: kNearMove | kRedoVertices | kRedoContour
+    std::vector<std::uint32_t> changedOwners;  // owners whose vertex-pass output changed (updateVertices)
+    std::vector<glm::dvec3> removedProbes;     // the old probes of the changed owners (for updatePlanes)
+    // Segment starts of the two segment groups spliced (concave patches and free circles;
+    // convex patches and tori): of the fresh output, and of the spliced arrays.
+    std::array<std::vector<std::uint32_t>, 2> freshBegin, splicedBegin;
+    // The arrays as they were before updateVertices' splice: the vertex segments and the
+    // clipping planes (for updatePlanes), the incidence segments and their faces (for
+    // updateContours, which keeps the faces of the atoms it does not recompute).
+    std::vector<std::uint32_t> oldConcaveBegin, oldClipBegin, oldClipCount;
+    std::vector<std::uint32_t> oldIncidenceConcaveBegin, oldConcaveFace, oldIncidenceFreeCircleBegin, oldFreeCircleFace;
+    // The clipping planes rebuilt (updatePlanes): which probes get fresh ones, the old index
+    // of the others (~0u for the new probes), the new counts, starts and planes.
+    std::vector<std::uint8_t> dirtyProbes;
+    std::vector<std::uint32_t> oldProbeIndex, newClipCount, newClipBegin;
+    std::vector<Plane> newPlanes;
     // The buffers a splice of an array of T goes through (spliceBuffer).
     std::vector<glm::dvec3> spliceVec3;
     std::vector<double> spliceDouble;
     std::vector<std::uint32_t> spliceU32;
     std::vector<std::uint8_t> spliceU8;
-    std::vector<glm::dvec3> removedProbes;  // the old probes of the changed owners
-    // The arrays as they were before the splice.
-    std::vector<std::uint32_t> oldConcaveBegin, oldClipBegin, oldClipCount;
-    std::vector<std::uint32_t> oldIncVertexBegin, oldIncVertexFace, oldIncFreeBegin, oldIncFreeFace;
-    // The clipping planes rebuilt: which probes get fresh ones, the old index of the others
-    // (~0u for the new probes), the new counts, starts and planes.
-    std::vector<std::uint8_t> dirtyProbes;
-    std::vector<std::uint32_t> oldProbeIndex, newClipCount, newClipBegin;
-    std::vector<Plane> newPlanes;
 
     template <class T> std::vector<T>& spliceBuffer() {
       if constexpr (std::is_same_v<T, glm::dvec3>) return spliceVec3;
@@ -150,6 +153,7 @@ struct SesBuilder::State {
       }
     }
   } update;
+
   // labelComponents' union-find over the faces (ses_components.cpp).
   struct ComponentScratch {
     std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexFace;
@@ -225,19 +229,22 @@ struct SesBuilder::State {
     visit(&B::torusJ, tr.atomJ, 1);
     visit(&B::torusFace, contours.torusFace, 1);
   }
-  // Replaces, in every array of forEachArray, the segments of the atoms in `list` by those of
-  // `fresh` (whose segment starts are freshBegin); begin holds the old starts of the two
-  // groups and gets the new ones.
+  // Replaces, in every array of forEachArray, the segments of the atoms in pass.selection by
+  // those of `fresh` (whose segment starts are update.freshBegin); begin holds the old starts
+  // of the two groups and gets the new ones.
   template <class Fresh, class ForEachArray>
   void spliceFresh(const Fresh& fresh, ForEachArray&& forEachArray, std::array<std::vector<std::uint32_t>*, 2> begin) {
-    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], pass.selection, freshBegin[g], newBegin[g]);
-    const detail::Splice splice[2] = {{*begin[0], newBegin[0], pass.selection, freshBegin[0]},
-                                      {*begin[1], newBegin[1], pass.selection, freshBegin[1]}};
+    const auto& changed = pass.selection;
+    const auto& freshBegin = update.freshBegin;
+    auto& splicedBegin = update.splicedBegin;
+    for (std::size_t g = 0; g < 2; ++g) detail::newStarts(*begin[g], changed, freshBegin[g], splicedBegin[g]);
+    const detail::Splice splice[2] = {{*begin[0], splicedBegin[0], changed, freshBegin[0]},
+                                      {*begin[1], splicedBegin[1], changed, freshBegin[1]}};
     forEachArray([&](auto member, auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
       splice[g](kept, fresh.*member, update.spliceBuffer<T>());
     });
-    for (std::size_t g = 0; g < 2; ++g) begin[g]->swap(newBegin[g]);
+    for (std::size_t g = 0; g < 2; ++g) begin[g]->swap(splicedBegin[g]);
   }
 
   void fullBuild();
