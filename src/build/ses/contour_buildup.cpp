@@ -170,7 +170,8 @@ void SesBuilder::State::fullBuild() {
   // Burial by containment first: every pass after reads it for all neighbours.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
     auto& near = pass.threadScratch.local().row;
-    for (std::size_t i = range.begin(); i != range.end(); ++i) atoms.buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      atoms.buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
   });
 
   pass.selection.resize(n);
@@ -316,7 +317,8 @@ void SesBuilder::State::updateVertices() {
     for (std::size_t v = o0; v < o1; ++v)
       marks[cv.atomI[v]] |= kRedoContour, marks[cv.atomJ[v]] |= kRedoContour, marks[cv.atomK[v]] |= kRedoContour;
     for (std::size_t v = f0; v < f1; ++v)
-      marks[fresh.atomI[v]] |= kRedoContour, marks[fresh.atomJ[v]] |= kRedoContour, marks[fresh.atomK[v]] |= kRedoContour;
+      marks[fresh.atomI[v]] |= kRedoContour, marks[fresh.atomJ[v]] |= kRedoContour,
+          marks[fresh.atomK[v]] |= kRedoContour;
     for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kRedoContour;
     for (std::size_t f = h0; f < h1; ++f) marks[fresh.freeOther[f]] |= kRedoContour;
   }

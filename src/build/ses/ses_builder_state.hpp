@@ -22,7 +22,11 @@ namespace surftrace::build {
 
 // The passes over atoms and probes are in contour_buildup.cpp (vertexPassOf, contourPassOf,
 // fullBuild, partialUpdate and its steps), ses_planes.cpp (planesOf) and ses_components.cpp
-// (buildIncidence, findExtremeAtom, labelComponents).
+// (buildIncidence, findExtremeAtom, labelComponents). The state is grouped by the pass that
+// writes it, in the order they run: atoms, vertices, incidence, contours and faces,
+// probeNeighbours (the planes themselves and all patches are in out); then the working
+// memory of the passes (pass), of a partial update (update) and of the component
+// labelling (componentScratch).
 struct SesBuilder::State {
   SesParams params;  // build()'s, fixed until the next build()
 
@@ -38,12 +42,11 @@ struct SesBuilder::State {
     NeighbourGrid grid;  // atom pairs: a superset of those whose extended spheres cut (buildGrid)
   } atoms;
 
-
   // Vertex pass (vertexPassOf; fullBuild swaps its output in, updateVertices splices it):
   // each owner's concave patches (its SAS vertices, owner = lowest atom of the triple) go to
   // out.concave in owner segments; these arrays lie beside them, and beside the owners.
-  // Read by buildIncidence, the contour pass (through contourPassInput()), planesOf (out.concave)
-  // and labelComponents.
+  // Read by buildIncidence, the contour pass (through contourPassInput()), planesOf (the
+  // probes, in out.concave) and labelComponents.
   struct VertexPassArrays {
     std::vector<std::uint32_t> concaveBegin;       // per owner, n + 1: its segment of out.concave
     std::vector<std::uint8_t> probeIsPlus;         // per concave patch: the probe is p+ of its triple
@@ -53,6 +56,7 @@ struct SesBuilder::State {
     std::vector<std::uint32_t> freeCircleOther;    // per free circle (owner, other): other > owner
     std::vector<detail::CapState> capState;        // per atom: how the neighbours' caps cover its sphere
   } vertices;
+
   // Who touches what (buildIncidence, after each vertex pass): per atom, the concave patches
   // it is an atom of and the other atoms of its free circles, each list in patch order.
   // Read by the contour pass (through contourPassInput()) and labelComponents.
@@ -93,9 +97,9 @@ struct SesBuilder::State {
     NeighbourGrid grid;
   } probeNeighbours;
 
-  PatchList out;
-  SesUpdateStats stats;
-  bool built = false;
+  PatchList out;          // the patch list that build() and update() return
+  SesUpdateStats stats;   // what the last build() or update() recomputed
+  bool built = false;     // update() needs a build() first (takePatches() empties out)
 
   // The passes' working memory, reused so that a trajectory does not allocate per frame.
   // vertexPassOf, contourPassOf and planesOf each run over `selection` in parallel chunks
@@ -154,9 +158,13 @@ struct SesBuilder::State {
     }
   } update;
 
-  // labelComponents' union-find over the faces (ses_components.cpp).
+  // labelComponents' working memory: a union-find over the faces of all atoms, numbered
+  // atom after atom. Its result is every patch's component, in out.
   struct ComponentScratch {
-    std::vector<std::uint32_t> faceBegin, faceParent, faceLabel, vertexFace;
+    std::vector<std::uint32_t> faceBegin;         // per atom, n + 1: the number of its first face
+    std::vector<std::uint32_t> faceParent;        // per face: its parent in the union-find
+    std::vector<std::uint32_t> faceLabel;         // per root face: its component (~0u: none yet)
+    std::vector<std::uint32_t> concavePatchFace;  // per concave patch: a face it bounds (~0u: none)
   } componentScratch;
 
   detail::Atoms atomView() const {
@@ -256,7 +264,7 @@ struct SesBuilder::State {
   void updateContours();
   void updatePlanes();
   void vertexPassOf(std::span<const std::uint32_t> owners);
-  void contourPassOf(std::span<const std::uint32_t> atoms);
+  void contourPassOf(std::span<const std::uint32_t> atomList);
   void planesOf(std::span<const std::uint32_t> probes);
   void buildIncidence();
   void labelComponents();

@@ -95,7 +95,7 @@ void SesBuilder::State::labelComponents() {
     g = find(g);
     if (f != g) parent[std::max(f, g)] = std::min(f, g);
   };
-  std::vector<std::uint32_t>& vertexFace = componentScratch.vertexFace;
+  std::vector<std::uint32_t>& vertexFace = componentScratch.concavePatchFace;
   vertexFace.assign(cv.size(), ~0u);
   for (std::size_t x = 0; x < n; ++x) {
     if (faces.count[x] == 0) continue;
