@@ -105,8 +105,8 @@ void SesBuilder::State::buildGrid() {
   atoms.grid.build(atoms.centers, atoms.radii, rp + 0x1p-40 * (rp + rMax));
 }
 
-// The vertex pass for `owners` (ascending) into freshVertices (owner counts in freshVertices.concaveCount,
-// freshVertices.freeCount, one per owner).
+// The vertex pass for `owners` (ascending) into pass.freshVertices (owner counts in its
+// concaveCount and freeCount, one per owner).
 void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
   const Atoms a = atomView();
   runChunks(pass.threadScratch, owners.size(), pass.vertexPieces,

@@ -19,7 +19,8 @@ using namespace detail;
 // a concave patch unless it provably clips nothing of it (the cap it removes from the
 // probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
 // keeps 1 plane in 20: the rest only cost memory here and a test per hit in every renderer.
-// Fills freshPlanes and freshPlaneCount with the planes of the probes listed (ascending).
+// Fills pass.freshPlanes, freshPlaneCount and freshPlaneBegin with the planes of the probes
+// listed (ascending).
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
   const auto& cv = out.concave;
   const double twoRp = 2.0 * params.probeRadius;
