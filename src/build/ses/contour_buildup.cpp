@@ -89,9 +89,9 @@ bool isBuriedByContainment(std::uint32_t i, std::span<const std::uint32_t> row, 
 // difference of the radii can contain it, a small search (a superset, then the exact test).
 bool SesBuilder::State::buriedByContainment(std::uint32_t i, std::vector<std::uint32_t>& near) const {
   near.clear();
-  grid.atomsNear(centers[i], 1e-6 - radii[i], near);
+  atoms.grid.atomsNear(atoms.centers[i], 1e-6 - atoms.radii[i], near);
   std::erase(near, i);
-  return isBuriedByContainment(i, near, centers, R);
+  return isBuriedByContainment(i, near, atoms.centers, atoms.extendedRadii);
 }
 
 // The grid lists atoms i, j as neighbours when d < r_i + r_j + 2 rp in double; every pair
@@ -100,105 +100,110 @@ bool SesBuilder::State::buriedByContainment(std::uint32_t i, std::vector<std::ui
 // at most 2^-53 relative) many times over, and adds no pair of any real molecule.
 void SesBuilder::State::buildGrid() {
   double rMax = 0.0;
-  for (const double r : radii) rMax = std::max(rMax, r);
+  for (const double r : atoms.radii) rMax = std::max(rMax, r);
   const double rp = params.probeRadius;
-  grid.build(centers, radii, rp + 0x1p-40 * (rp + rMax));
+  atoms.grid.build(atoms.centers, atoms.radii, rp + 0x1p-40 * (rp + rMax));
 }
 
-// The vertex pass for `owners` (ascending) into freshVertices (owner counts in freshVertices.concaveCount,
-// freshVertices.freeCount, one per owner).
+// The vertex pass for `owners` (ascending) into pass.freshVertices (owner counts in its
+// concaveCount and freeCount, one per owner).
 void SesBuilder::State::vertexPassOf(std::span<const std::uint32_t> owners) {
-  const Atoms a = atoms();
-  runChunks(tls, owners.size(), vertexPieces, [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
+  const Atoms a = atomView();
+  runChunks(pass.threadScratch, owners.size(), pass.vertexPieces,
+            [](Scratch& s) -> VertexBuf& { return s.vertexOut; },
             [&](std::size_t k, Scratch& s, VertexBuf& buf) {
               const std::uint32_t x = owners[k];
-              if (buried[x]) {
+              if (atoms.buried[x]) {
                 buf.concaveCount.push_back(0);
                 buf.freeCount.push_back(0);
-                capState[x] = CapState::Covered;
+                vertices.capState[x] = CapState::Covered;
                 return;
               }
               s.row.clear();
-              grid.neighbours(x, s.row);
-              vertexPass(a, x, s.row, s, buf, capState[x]);
+              atoms.grid.neighbours(x, s.row);
+              vertexPass(a, x, s.row, s, buf, vertices.capState[x]);
             });
-  gatherPieces(vertexPieces, gatherOffsets, [&](auto&& field) {
-    forEachVertexArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshVertices.*member), g}); });
-    field(Field{&VertexBuf::concaveCount, &freshVertices.concaveCount, 2});
-    field(Field{&VertexBuf::freeCount, &freshVertices.freeCount, 2});
+  gatherPieces(pass.vertexPieces, pass.gatherOffsets, [&](auto&& field) {
+    forEachVertexArray(
+        [&](auto member, auto&, std::size_t g) { field(Field{member, &(pass.freshVertices.*member), g}); });
+    field(Field{&VertexBuf::concaveCount, &pass.freshVertices.concaveCount, 2});
+    field(Field{&VertexBuf::freeCount, &pass.freshVertices.freeCount, 2});
   });
 }
 
 void SesBuilder::State::contourPassOf(std::span<const std::uint32_t> list_) {
-  const Atoms a = atoms();
-  const Incidence inc = incidence();
-  runChunks(tls, list_.size(), contourPieces, [](Scratch& s) -> ContourBuf& { return s.contourOut; },
+  const Atoms a = atomView();
+  const Incidence inc = contourPassInput();
+  runChunks(pass.threadScratch, list_.size(), pass.contourPieces,
+            [](Scratch& s) -> ContourBuf& { return s.contourOut; },
             [&](std::size_t k, Scratch& s, ContourBuf& buf) {
               const std::uint32_t x = list_[k];
-              if (buried[x]) {
+              if (atoms.buried[x]) {
                 buf.convexCount.push_back(0);
                 buf.toriCount.push_back(0);
-                faceCount[x] = 0;
+                faces.count[x] = 0;
                 return;
               }
               contourPass(a, inc, x, s, buf);
             });
-  gatherPieces(contourPieces, gatherOffsets, [&](auto&& field) {
-    forEachContourArray([&](auto member, auto&, std::size_t g) { field(Field{member, &(freshContours.*member), g}); });
-    field(Field{&ContourBuf::convexCount, &freshContours.convexCount, 2});
-    field(Field{&ContourBuf::toriCount, &freshContours.toriCount, 2});
+  gatherPieces(pass.contourPieces, pass.gatherOffsets, [&](auto&& field) {
+    forEachContourArray(
+        [&](auto member, auto&, std::size_t g) { field(Field{member, &(pass.freshContours.*member), g}); });
+    field(Field{&ContourBuf::convexCount, &pass.freshContours.convexCount, 2});
+    field(Field{&ContourBuf::toriCount, &pass.freshContours.toriCount, 2});
   });
 }
 
 void SesBuilder::State::fullBuild() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   const double rp = params.probeRadius;
   out.clearKeepingMemory();  // the arrays swapped out below then refill without allocating
   out.params.surface = SurfaceKind::Ses;
   out.params.probeRadius = rp;
   out.params.atomCount = static_cast<std::uint32_t>(n);
-  R.resize(n);
-  for (std::size_t i = 0; i < n; ++i) R[i] = radii[i] + rp;
-  buried.assign(n, 0);
-  capState.assign(n, CapState::None);
+  atoms.extendedRadii.resize(n);
+  for (std::size_t i = 0; i < n; ++i) atoms.extendedRadii[i] = atoms.radii[i] + rp;
+  atoms.buried.assign(n, 0);
+  vertices.capState.assign(n, CapState::None);
 
   buildGrid();
   // Burial by containment first: every pass after reads it for all neighbours.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
-    auto& near = tls.local().row;
-    for (std::size_t i = range.begin(); i != range.end(); ++i) buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
+    auto& near = pass.threadScratch.local().row;
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      atoms.buried[i] = buriedByContainment(static_cast<std::uint32_t>(i), near);
   });
 
-  selection.resize(n);
-  for (std::size_t i = 0; i < n; ++i) selection[i] = static_cast<std::uint32_t>(i);
+  pass.selection.resize(n);
+  for (std::size_t i = 0; i < n; ++i) pass.selection[i] = static_cast<std::uint32_t>(i);
 
   // Vertex pass over every atom: the fresh arrays are the patch list's.
-  vertexPassOf(selection);
-  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshVertices.*member); });
-  prefix(freshVertices.concaveCount, concaveBegin);
-  prefix(freshVertices.freeCount, freeBegin);
+  vertexPassOf(pass.selection);
+  forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshVertices.*member); });
+  prefix(pass.freshVertices.concaveCount, vertices.concaveBegin);
+  prefix(pass.freshVertices.freeCount, vertices.freeCircleBegin);
 
   buildIncidence();
-  incVertexFace.assign(incVertex.size(), 0);
-  incFreeFace.assign(incFree.size(), 0);
-  faceCount.assign(n, 0);
+  faces.concaveFace.assign(incidence.concave.size(), 0);
+  faces.freeCircleFace.assign(incidence.freeCircleOther.size(), 0);
+  faces.count.assign(n, 0);
   findExtremeAtom();
 
-  contourPassOf(selection);
-  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(freshContours.*member); });
-  prefix(freshContours.convexCount, convexBegin);
-  prefix(freshContours.toriCount, toriBegin);
+  contourPassOf(pass.selection);
+  forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshContours.*member); });
+  prefix(pass.freshContours.convexCount, contours.convexBegin);
+  prefix(pass.freshContours.toriCount, contours.toriBegin);
 
   // Clipping planes of every probe.
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
-  probeRadii.assign(probes, rp);
-  probeGrid.build(cv.probe, probeRadii, 0.0);
-  selection.resize(probes);
-  for (std::size_t i = 0; i < probes; ++i) selection[i] = static_cast<std::uint32_t>(i);
-  planesOf(selection);
-  out.clipPlanes.swap(freshPlanes);
-  cv.clipCount.swap(freshPlaneCount);
+  probeNeighbours.radii.assign(probes, rp);
+  probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
+  pass.selection.resize(probes);
+  for (std::size_t i = 0; i < probes; ++i) pass.selection[i] = static_cast<std::uint32_t>(i);
+  planesOf(pass.selection);
+  out.clipPlanes.swap(pass.freshPlanes);
+  cv.clipCount.swap(pass.freshPlaneCount);
   cv.clipBegin.resize(probes);
   std::uint32_t at = 0;
   for (std::size_t k = 0; k < probes; ++k) {
@@ -215,13 +220,13 @@ void SesBuilder::State::fullBuild() {
 // the probes within 2 rp. Each is recomputed exactly as a full build would, and the fresh
 // segments are spliced between the old ones, so the arrays equal a full build's.
 void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   stats = SesUpdateStats{};
   stats.moved = moved.size();
   if (moved.empty()) return;
   // Past a fraction of the atoms the bookkeeping costs more than it saves.
   if (moved.size() * 8 > n) {
-    for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
+    for (std::size_t k = 0; k < moved.size(); ++k) atoms.centers[moved[k]] = newCenters[k];
     fullBuild();
     stats.owners = stats.contours = n;
     stats.probes = out.concave.size();
@@ -239,164 +244,172 @@ void SesBuilder::State::partialUpdate(std::span<const std::uint32_t> moved, std:
 // Near: the moved atoms and their neighbours at the old positions (the grid still holds
 // them) and, after the move, at the new ones. Moves the atoms and rebuilds the grid.
 void SesBuilder::State::markNearMove(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
-  marks.assign(centers.size(), 0);
-  auto& rowBuf = tls.local().row;
+  update.marks.assign(atoms.centers.size(), 0);
+  auto& rowBuf = pass.threadScratch.local().row;
   for (const std::uint32_t m : moved) {
-    marks[m] |= kNear;
+    update.marks[m] |= kNearMove;
     rowBuf.clear();
-    grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
+    atoms.grid.neighbours(m, rowBuf);
+    for (const std::uint32_t j : rowBuf) update.marks[j] |= kNearMove;
   }
-  for (std::size_t k = 0; k < moved.size(); ++k) centers[moved[k]] = newCenters[k];
+  for (std::size_t k = 0; k < moved.size(); ++k) atoms.centers[moved[k]] = newCenters[k];
   buildGrid();
   for (const std::uint32_t m : moved) {
     rowBuf.clear();
-    grid.neighbours(m, rowBuf);
-    for (const std::uint32_t j : rowBuf) marks[j] |= kNear;
+    atoms.grid.neighbours(m, rowBuf);
+    for (const std::uint32_t j : rowBuf) update.marks[j] |= kNearMove;
   }
 }
 
 // Burial can change only near the move; where it does, the neighbours' vertices change.
 // Selects the owners whose vertex pass runs again.
 void SesBuilder::State::selectOwners() {
-  const std::size_t n = centers.size();
-  auto& rowBuf = tls.local().row;
+  const std::size_t n = atoms.centers.size();
+  auto& rowBuf = pass.threadScratch.local().row;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(marks[i] & kNear)) continue;
-    marks[i] |= kOwner;
+    if (!(update.marks[i] & kNearMove)) continue;
+    update.marks[i] |= kRedoVertices;
     const auto x = static_cast<std::uint32_t>(i);
     const char now = buriedByContainment(x, rowBuf) ? 1 : 0;
-    if (now != buried[i]) {
-      buried[i] = now;
+    if (now != atoms.buried[i]) {
+      atoms.buried[i] = now;
       rowBuf.clear();
-      grid.neighbours(x, rowBuf);
-      for (const std::uint32_t j : rowBuf) marks[j] |= kOwner;
+      atoms.grid.neighbours(x, rowBuf);
+      for (const std::uint32_t j : rowBuf) update.marks[j] |= kRedoVertices;
     }
   }
-  selection.clear();
+  pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kOwner) selection.push_back(static_cast<std::uint32_t>(i));
-  stats.owners = selection.size();
+    if (update.marks[i] & kRedoVertices) pass.selection.push_back(static_cast<std::uint32_t>(i));
+  stats.owners = pass.selection.size();
 }
 
 // Vertex pass of the owners selected; an owner whose output differs changes the contours
 // of every atom its old and new vertices and free circles touch, and the planes near them.
 // Splices the fresh segments in and rebuilds the incidence.
 void SesBuilder::State::updateVertices() {
-  vertexPassOf(selection);
-  prefix(freshVertices.concaveCount, freshBegin[0]);
-  prefix(freshVertices.freeCount, freshBegin[1]);
+  vertexPassOf(pass.selection);
+  prefix(pass.freshVertices.concaveCount, update.freshBegin[0]);
+  prefix(pass.freshVertices.freeCount, update.freshBegin[1]);
   auto& cv = out.concave;
-  const std::vector<std::uint32_t>* const oldBegin[2] = {&concaveBegin, &freeBegin};
-  changedOwners.clear();
-  for (std::size_t t = 0; t < selection.size(); ++t) {
-    const std::uint32_t x = selection[t];
-    marks[x] |= kContour;
+  const VertexBuf& fresh = pass.freshVertices;
+  auto& marks = update.marks;
+  const std::vector<std::uint32_t>* const oldBegin[2] = {&vertices.concaveBegin, &vertices.freeCircleBegin};
+  update.changedOwners.clear();
+  for (std::size_t t = 0; t < pass.selection.size(); ++t) {
+    const std::uint32_t x = pass.selection[t];
+    marks[x] |= kRedoContour;
     bool unchanged = true;
     forEachVertexArray([&](auto member, const auto& kept, std::size_t g) {
       using T = typename std::remove_cvref_t<decltype(kept)>::value_type;
       const std::size_t o0 = (*oldBegin[g])[x], o1 = (*oldBegin[g])[x + 1];
-      const std::size_t f0 = freshBegin[g][t], f1 = freshBegin[g][t + 1];
+      const std::size_t f0 = update.freshBegin[g][t], f1 = update.freshBegin[g][t + 1];
       unchanged = unchanged && sameBits<T>(std::span<const T>(kept).subspan(o0, o1 - o0),
-                                           std::span<const T>(freshVertices.*member).subspan(f0, f1 - f0));
+                                           std::span<const T>(fresh.*member).subspan(f0, f1 - f0));
     });
     if (unchanged) continue;
-    const std::size_t o0 = concaveBegin[x], o1 = concaveBegin[x + 1], f0 = freshBegin[0][t], f1 = freshBegin[0][t + 1];
-    const std::size_t g0 = freeBegin[x], g1 = freeBegin[x + 1], h0 = freshBegin[1][t], h1 = freshBegin[1][t + 1];
-    changedOwners.push_back(x);
+    const std::size_t o0 = vertices.concaveBegin[x], o1 = vertices.concaveBegin[x + 1];
+    const std::size_t f0 = update.freshBegin[0][t], f1 = update.freshBegin[0][t + 1];
+    const std::size_t g0 = vertices.freeCircleBegin[x], g1 = vertices.freeCircleBegin[x + 1];
+    const std::size_t h0 = update.freshBegin[1][t], h1 = update.freshBegin[1][t + 1];
+    update.changedOwners.push_back(x);
     // (The triangles of a merged vertex need not have their owner as atom I.)
     for (std::size_t v = o0; v < o1; ++v)
-      marks[cv.atomI[v]] |= kContour, marks[cv.atomJ[v]] |= kContour, marks[cv.atomK[v]] |= kContour;
+      marks[cv.atomI[v]] |= kRedoContour, marks[cv.atomJ[v]] |= kRedoContour, marks[cv.atomK[v]] |= kRedoContour;
     for (std::size_t v = f0; v < f1; ++v)
-      marks[freshVertices.atomI[v]] |= kContour, marks[freshVertices.atomJ[v]] |= kContour,
-          marks[freshVertices.atomK[v]] |= kContour;
-    for (std::size_t f = g0; f < g1; ++f) marks[freeOther[f]] |= kContour;
-    for (std::size_t f = h0; f < h1; ++f) marks[freshVertices.freeOther[f]] |= kContour;
+      marks[fresh.atomI[v]] |= kRedoContour, marks[fresh.atomJ[v]] |= kRedoContour,
+          marks[fresh.atomK[v]] |= kRedoContour;
+    for (std::size_t f = g0; f < g1; ++f) marks[vertices.freeCircleOther[f]] |= kRedoContour;
+    for (std::size_t f = h0; f < h1; ++f) marks[fresh.freeOther[f]] |= kRedoContour;
   }
 
   // Old probes of changed owners, before the splice: their planes' partners need updates.
   auto& removed = update.removedProbes;
   removed.clear();
-  for (const std::uint32_t x : changedOwners)
-    removed.insert(removed.end(), cv.probe.begin() + concaveBegin[x], cv.probe.begin() + concaveBegin[x + 1]);
-  update.oldConcaveBegin = concaveBegin;
+  for (const std::uint32_t x : update.changedOwners)
+    removed.insert(removed.end(), cv.probe.begin() + vertices.concaveBegin[x],
+                   cv.probe.begin() + vertices.concaveBegin[x + 1]);
+  update.oldConcaveBegin = vertices.concaveBegin;
   update.oldClipBegin = cv.clipBegin;
   update.oldClipCount = cv.clipCount;
 
-  spliceFresh(freshVertices, [&](auto&& visit) { forEachVertexArray(visit); }, {&concaveBegin, &freeBegin});
-  update.oldIncVertexBegin.swap(incVertexBegin);
-  update.oldIncVertexFace.swap(incVertexFace);
-  update.oldIncFreeBegin.swap(incFreeBegin);
-  update.oldIncFreeFace.swap(incFreeFace);
+  spliceFresh(pass.freshVertices, [&](auto&& visit) { forEachVertexArray(visit); },
+              {&vertices.concaveBegin, &vertices.freeCircleBegin});
+  update.oldIncidenceConcaveBegin.swap(incidence.concaveBegin);
+  update.oldConcaveFace.swap(faces.concaveFace);
+  update.oldIncidenceFreeCircleBegin.swap(incidence.freeCircleBegin);
+  update.oldFreeCircleFace.swap(faces.freeCircleFace);
   buildIncidence();
   // The extreme atom's contour gives the outer face: recompute it too.
   findExtremeAtom();
-  if (!centers.empty()) marks[extremeAtom] |= kContour;
+  if (!atoms.centers.empty()) marks[faces.extremeAtom] |= kRedoContour;
 }
 
 // Contours of the atoms touched. The others keep their faces; their incidence lists hold
 // the same vertices in the same order, only moved.
 void SesBuilder::State::updateContours() {
-  const std::size_t n = centers.size();
-  selection.clear();
+  const std::size_t n = atoms.centers.size();
+  pass.selection.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (marks[i] & kContour) selection.push_back(static_cast<std::uint32_t>(i));
-  stats.contours = selection.size();
-  incVertexFace.resize(incVertex.size());
-  incFreeFace.resize(incFree.size());
+    if (update.marks[i] & kRedoContour) pass.selection.push_back(static_cast<std::uint32_t>(i));
+  stats.contours = pass.selection.size();
+  faces.concaveFace.resize(incidence.concave.size());
+  faces.freeCircleFace.resize(incidence.freeCircleOther.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (marks[i] & kContour) continue;
-      const auto& ob = update.oldIncVertexBegin;
-      const auto& fb = update.oldIncFreeBegin;
-      SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incVertexBegin[i + 1] - incVertexBegin[i]);
-      SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incFreeBegin[i + 1] - incFreeBegin[i]);
-      std::copy(update.oldIncVertexFace.begin() + ob[i], update.oldIncVertexFace.begin() + ob[i + 1],
-                incVertexFace.begin() + incVertexBegin[i]);
-      std::copy(update.oldIncFreeFace.begin() + fb[i], update.oldIncFreeFace.begin() + fb[i + 1], incFreeFace.begin() + incFreeBegin[i]);
+      if (update.marks[i] & kRedoContour) continue;
+      const auto& ob = update.oldIncidenceConcaveBegin;
+      const auto& fb = update.oldIncidenceFreeCircleBegin;
+      SURFTRACE_ASSERT(ob[i + 1] - ob[i] == incidence.concaveBegin[i + 1] - incidence.concaveBegin[i]);
+      SURFTRACE_ASSERT(fb[i + 1] - fb[i] == incidence.freeCircleBegin[i + 1] - incidence.freeCircleBegin[i]);
+      std::copy(update.oldConcaveFace.begin() + ob[i], update.oldConcaveFace.begin() + ob[i + 1],
+                faces.concaveFace.begin() + incidence.concaveBegin[i]);
+      std::copy(update.oldFreeCircleFace.begin() + fb[i], update.oldFreeCircleFace.begin() + fb[i + 1],
+                faces.freeCircleFace.begin() + incidence.freeCircleBegin[i]);
     }
   });
-  contourPassOf(selection);
-  prefix(freshContours.convexCount, freshBegin[0]);
-  prefix(freshContours.toriCount, freshBegin[1]);
-  spliceFresh(freshContours, [&](auto&& visit) { forEachContourArray(visit); }, {&convexBegin, &toriBegin});
+  contourPassOf(pass.selection);
+  prefix(pass.freshContours.convexCount, update.freshBegin[0]);
+  prefix(pass.freshContours.toriCount, update.freshBegin[1]);
+  spliceFresh(pass.freshContours, [&](auto&& visit) { forEachContourArray(visit); },
+              {&contours.convexBegin, &contours.toriBegin});
 }
 
 // Clipping planes: those of the changed owners' new probes, and of every probe within
 // 2 rp of a removed or added probe; the others keep their lists (their neighbours kept
 // their relative order).
 void SesBuilder::State::updatePlanes() {
-  const std::size_t n = centers.size();
+  const std::size_t n = atoms.centers.size();
   auto& cv = out.concave;
   const std::size_t probes = cv.size();
-  probeRadii.assign(probes, params.probeRadius);
-  probeGrid.build(cv.probe, probeRadii, 0.0);
+  probeNeighbours.radii.assign(probes, params.probeRadius);
+  probeNeighbours.grid.build(cv.probe, probeNeighbours.radii, 0.0);
   auto& dirty = update.dirtyProbes;
   dirty.assign(probes, 0);
-  for (const std::uint32_t x : changedOwners)
-    for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) dirty[v] = 1;
-  auto& rowBuf = tls.local().row;
+  for (const std::uint32_t x : update.changedOwners)
+    for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) dirty[v] = 1;
+  auto& rowBuf = pass.threadScratch.local().row;
   auto markNear = [&](const glm::dvec3& p) {
     rowBuf.clear();
-    probeGrid.atomsNear(p, params.probeRadius, rowBuf);
+    probeNeighbours.grid.atomsNear(p, params.probeRadius, rowBuf);
     for (const std::uint32_t v : rowBuf) dirty[v] = 1;
   };
   for (const glm::dvec3& p : update.removedProbes) markNear(p);
-  for (const std::uint32_t x : changedOwners)
-    for (std::uint32_t v = concaveBegin[x]; v < concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
-  selection.clear();
+  for (const std::uint32_t x : update.changedOwners)
+    for (std::uint32_t v = vertices.concaveBegin[x]; v < vertices.concaveBegin[x + 1]; ++v) markNear(cv.probe[v]);
+  pass.selection.clear();
   for (std::size_t v = 0; v < probes; ++v)
-    if (dirty[v]) selection.push_back(static_cast<std::uint32_t>(v));
-  stats.probes = selection.size();
-  planesOf(selection);
+    if (dirty[v]) pass.selection.push_back(static_cast<std::uint32_t>(v));
+  stats.probes = pass.selection.size();
+  planesOf(pass.selection);
   // Old index of each new probe of an unchanged owner: same place within the owner.
   const auto& oldConcaveBegin = update.oldConcaveBegin;
   auto& oldProbeIndex = update.oldProbeIndex;
   oldProbeIndex.assign(probes, ~0u);
   for (std::size_t x = 0; x < n; ++x) {
-    const std::uint32_t len = concaveBegin[x + 1] - concaveBegin[x];
+    const std::uint32_t len = vertices.concaveBegin[x + 1] - vertices.concaveBegin[x];
     if (len == 0 || len != oldConcaveBegin[x + 1] - oldConcaveBegin[x]) continue;
-    for (std::uint32_t k = 0; k < len; ++k) oldProbeIndex[concaveBegin[x] + k] = oldConcaveBegin[x] + k;
+    for (std::uint32_t k = 0; k < len; ++k) oldProbeIndex[vertices.concaveBegin[x] + k] = oldConcaveBegin[x] + k;
   }
   auto& clipCount = update.newClipCount;
   auto& clipBegin = update.newClipBegin;
@@ -407,7 +420,7 @@ void SesBuilder::State::updatePlanes() {
   for (std::size_t v = 0; v < probes; ++v) {
     clipBegin[v] = at;
     if (dirty[v]) {
-      clipCount[v] = freshPlaneCount[d++];
+      clipCount[v] = pass.freshPlaneCount[d++];
     } else {
       SURFTRACE_ASSERT(oldProbeIndex[v] != ~0u);
       clipCount[v] = update.oldClipCount[oldProbeIndex[v]];
@@ -419,9 +432,11 @@ void SesBuilder::State::updatePlanes() {
   const auto& oldClipBegin = update.oldClipBegin;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes, 256), [&](const auto& range) {
     // Dirty probes before this range, to find their fresh planes.
-    std::size_t dd = static_cast<std::size_t>(std::lower_bound(selection.begin(), selection.end(), range.begin()) - selection.begin());
+    const auto& sel = pass.selection;
+    std::size_t dd = static_cast<std::size_t>(std::lower_bound(sel.begin(), sel.end(), range.begin()) - sel.begin());
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const Plane* from = dirty[v] ? freshPlanes.data() + freshPlaneBegin[dd++] : out.clipPlanes.data() + oldClipBegin[oldProbeIndex[v]];
+      const Plane* from = dirty[v] ? pass.freshPlanes.data() + pass.freshPlaneBegin[dd++]
+                                   : out.clipPlanes.data() + oldClipBegin[oldProbeIndex[v]];
       std::copy(from, from + clipCount[v], planes.begin() + clipBegin[v]);
     }
   });
@@ -463,8 +478,8 @@ const PatchList& SesBuilder::build(std::span<const glm::dvec3> centers, std::spa
   if (centers.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument("too many atoms: " + std::to_string(centers.size()));
   s_->params = params;
-  s_->centers.assign(centers.begin(), centers.end());
-  s_->radii.assign(radii.begin(), radii.end());
+  s_->atoms.centers.assign(centers.begin(), centers.end());
+  s_->atoms.radii.assign(radii.begin(), radii.end());
   s_->fullBuild();
   s_->built = true;
   s_->stats = SesUpdateStats{};
@@ -477,7 +492,7 @@ const PatchList& SesBuilder::build(std::span<const glm::dvec3> centers, std::spa
 const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::span<const glm::dvec3> newCenters) {
   if (!s_->built) throw std::logic_error("SesBuilder::update before build");
   if (moved.size() != newCenters.size()) throw std::invalid_argument("moved and newCenters differ in length");
-  const std::size_t n = s_->centers.size();
+  const std::size_t n = s_->atoms.centers.size();
   for (std::size_t k = 0; k < moved.size(); ++k) {
     if (moved[k] >= n) throw std::invalid_argument("moved atom " + std::to_string(moved[k]) + " out of range");
     const glm::dvec3& c = newCenters[k];
@@ -494,7 +509,7 @@ const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::s
     const std::uint32_t i = moved[order[k]];
     if (k + 1 < order.size() && moved[order[k + 1]] == i) continue;  // a later entry wins
     const glm::dvec3& c = newCenters[order[k]];
-    if (std::memcmp(&c, &s_->centers[i], sizeof(glm::dvec3)) == 0) continue;
+    if (std::memcmp(&c, &s_->atoms.centers[i], sizeof(glm::dvec3)) == 0) continue;
     atoms.push_back(i);
     where.push_back(c);
   }
@@ -504,10 +519,10 @@ const PatchList& SesBuilder::update(std::span<const std::uint32_t> moved, std::s
 
 const PatchList& SesBuilder::update(std::span<const glm::dvec3> centers) {
   if (!s_->built) throw std::logic_error("SesBuilder::update before build");
-  if (centers.size() != s_->centers.size()) throw std::invalid_argument("frame has a different atom count");
+  if (centers.size() != s_->atoms.centers.size()) throw std::invalid_argument("frame has a different atom count");
   std::vector<std::uint32_t> moved;
   std::vector<glm::dvec3> where;
-  movedAtoms(s_->centers, centers, moved, where);
+  movedAtoms(s_->atoms.centers, centers, moved, where);
   return update(moved, where);
 }
 

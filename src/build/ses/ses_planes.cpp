@@ -14,20 +14,22 @@ using namespace detail;
 
 // Self-intersections (ORACLES A.5): every pair of probe positions closer than 2 rp cuts
 // both probe spheres along their bisector plane. The probe positions sit in a neighbour
-// grid of their own (probeGrid: radius rp each, no probe), whose neighbour relation is
+// grid of their own (probeNeighbours: radius rp each, no probe), whose neighbour relation is
 // exactly |p − q| < 2 rp. No cap on the number of planes per patch; a plane is stored with
 // a concave patch unless it provably clips nothing of it (the cap it removes from the
 // probe sphere misses the patch's spherical triangle, TriangleCone). On 1AON that
 // keeps 1 plane in 20: the rest only cost memory here and a test per hit in every renderer.
-// Fills freshPlanes and freshPlaneCount with the planes of the probes listed (ascending).
+// Fills pass.freshPlanes, freshPlaneCount and freshPlaneBegin with the planes of the probes
+// listed (ascending).
 void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
   const auto& cv = out.concave;
   const double twoRp = 2.0 * params.probeRadius;
-  runChunks(tls, probes.size(), planePieces, [](Scratch& s) -> PlaneBuf& { return s.planeOut; },
+  runChunks(pass.threadScratch, probes.size(), pass.planePieces,
+            [](Scratch& s) -> PlaneBuf& { return s.planeOut; },
             [&](std::size_t k, Scratch& s, PlaneBuf& buf) {
               const std::uint32_t a = probes[k];
               s.row.clear();
-              probeGrid.neighbours(a, s.row);
+              probeNeighbours.grid.neighbours(a, s.row);
               const glm::dvec3 pa = cv.probe[a];
               const TriangleCone cone({cv.dirI[a], cv.dirJ[a], cv.dirK[a]});
               std::uint32_t count = 0;
@@ -44,11 +46,11 @@ void SesBuilder::State::planesOf(std::span<const std::uint32_t> probes) {
               }
               buf.count.push_back(count);
             });
-  gatherPieces(planePieces, gatherOffsets, [&](auto&& field) {
-    field(Field{&PlaneBuf::plane, &freshPlanes, 0});
-    field(Field{&PlaneBuf::count, &freshPlaneCount, 2});
+  gatherPieces(pass.planePieces, pass.gatherOffsets, [&](auto&& field) {
+    field(Field{&PlaneBuf::plane, &pass.freshPlanes, 0});
+    field(Field{&PlaneBuf::count, &pass.freshPlaneCount, 2});
   });
-  prefix(freshPlaneCount, freshPlaneBegin);
+  prefix(pass.freshPlaneCount, pass.freshPlaneBegin);
 }
 
 }  // namespace surftrace::build
