@@ -9,7 +9,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
 
 #include "build/io/trajectory.hpp"
 #include "build/mss/mss_area.hpp"
@@ -22,10 +21,6 @@
 
 namespace surftrace::tools {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 struct AreaOptions : SurfaceInputOptions {
   std::string format = "table";
@@ -116,10 +111,6 @@ std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, 
 // Areas over time: one row per frame of a trajectory (FILE is its topology), from one
 // SurfaceBuilder that keeps its memory frame after frame.
 void runAreaOverTime(const AreaOptions& o) {
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  static_cast<std::size_t>(o.threads));
   const build::SurfaceRequest request = o.surface.request();
   build::Trajectory trajectory(o.path, o.trajectory, o.read);
   for (const std::string& note : trajectory.source().notes())
@@ -163,6 +154,7 @@ void runAreaOverTime(const AreaOptions& o) {
 void printSesAreas(const AreaOptions& o, const Built& b);
 
 void runArea(const AreaOptions& o) {
+  const auto limit = limitThreads(o.threads);
   if (!o.trajectory.empty()) {
     if (isPatchListInput(o.path))
       throw std::invalid_argument(o.path + " is a patch list; areas over a trajectory need its topology as FILE");

@@ -19,6 +19,7 @@ void runBuild(const BuildOptions& o) {
     throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
                                 "take it as it is");
   build::prepareOutputPath(o.output, "-o");
+  const auto limit = limitThreads(o.threads);
   const Built b = readAndBuild(o);
   build::writePatchList(o.output, b.patches);
   const auto& p = b.patches;

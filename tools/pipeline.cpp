@@ -17,6 +17,12 @@
 
 namespace surftrace::tools {
 
+std::unique_ptr<tbb::global_control> limitThreads(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               static_cast<std::size_t>(threads));
+}
+
 build::SurfaceRequest SurfaceOptions::request() const {
   return build::SurfaceRequest{build::parseSurfaceKind(surface), probe, shrink, dropCavities};
 }

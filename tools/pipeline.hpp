@@ -8,6 +8,7 @@
 // visual effect, a metadata field) reaches both commands.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 #include <glm/vec3.hpp>
 
 #include "build/io/molecule.hpp"
@@ -25,6 +27,15 @@
 #include "view/render_options.hpp"
 
 namespace surftrace::tools {
+
+// Seconds of wall time since `start`, for the timings commands print.
+inline double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// --threads N: TBB runs at most N worker threads while the returned object lives (N = 0: no
+// limit, all cores).
+std::unique_ptr<tbb::global_control> limitThreads(int threads);
 
 // --surface, --probe, --shrink, --drop-cavities: what surface to build.
 struct SurfaceOptions {

@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include <tbb/global_control.h>
 
 #include "build/io/molecule.hpp"
 #include "build/io/output_file.hpp"
@@ -35,10 +34,6 @@ struct RenderCommandOptions {
   bool quiet = false;
   std::string commandLine;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Every option is checked before the slow work starts, the output paths too.
 void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
@@ -152,10 +147,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
 void runRender(const RenderCommandOptions& o) {
   const bool fromPatchList = isPatchListInput(o.path);
   checkRenderOptions(o, fromPatchList);
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  static_cast<std::size_t>(o.threads));
+  const auto limit = limitThreads(o.threads);
   ImageSetup setup = resolveImageOptions(o.image);
   build::Molecule molecule;
   double readSeconds = 0.0, buildSeconds = 0.0;

@@ -6,21 +6,12 @@
 #include <memory>
 #include <stdexcept>
 
-#include <tbb/global_control.h>
 
 #include "build/surface.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 
 namespace surftrace::tools {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
-
 void addSurfaceInputOptions(CLI::App& cmd, SurfaceInputOptions& o) {
   cmd.add_option("FILE", o.path,
                  "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed); `area` also takes a patch list from "
@@ -33,10 +24,6 @@ void addSurfaceInputOptions(CLI::App& cmd, SurfaceInputOptions& o) {
 }
 
 Built readAndBuild(const SurfaceInputOptions& o) {
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  static_cast<std::size_t>(o.threads));
   auto start = std::chrono::steady_clock::now();
   Built b;
   if (isPatchListInput(o.path)) {

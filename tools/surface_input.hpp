@@ -29,7 +29,7 @@ struct Built {
 };
 // The structure read and its surface built; a patch list FILE (told by its magic) is taken as
 // it is, with the radii of its convex patches' atoms (its areas are those of the structure it
-// was built from, with the probe it was built with).
+// was built from, with the probe it was built with). The caller limits the threads (--threads).
 Built readAndBuild(const SurfaceInputOptions& options);
 
 }  // namespace surftrace::tools

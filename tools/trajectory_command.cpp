@@ -25,7 +25,6 @@
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_pipeline.h>
 
@@ -491,10 +490,7 @@ void runTrajectory(const TrajectoryOptions& o) {
   const Shard shard = shardFromEnvironment(o.shard);
   const Outputs out = checkOutputs(o, shard);
   ImageSetup setup = resolveImageOptions(o.image);
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0)
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  static_cast<std::size_t>(o.threads));
+  const auto limit = limitThreads(o.threads);
   const auto start = std::chrono::steady_clock::now();
   build::Trajectory trajectory(o.topology, o.trajectory, o.read);
   for (const std::string& note : trajectory.source().notes())
