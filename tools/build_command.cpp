@@ -33,6 +33,7 @@ struct SurfaceOptions {
   double shrink = 0.5;
   int threads = 0;
   bool dropCavities = false;
+  double mergeWithin = build::kMinMergeDistance;
   CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
 };
 
@@ -54,6 +55,13 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o) {
       ->check(wholeIn(0, 4096));
   cmd.add_flag("--drop-cavities", o.dropCavities,
                "Keep only the outer SES components (positive volume): drop the inner surfaces of buried cavities a probe fits in");
+  cmd.add_option("--merge-within", o.mergeWithin,
+                 "Merge every atom whose ball lies within this distance in Å (|centre shift| + |radius change|) of a "
+                 "kept atom's into it, noted: the surface of the input with those atoms moved by at most that much. "
+                 "Near-coincident clusters (more than " + std::to_string(build::kMaxClusterAtoms) + " atoms within " +
+                 detail::shortNumber(build::kClusterRadius) + " Å) are refused until merged")
+      ->check(numberIn(build::kMinMergeDistance, HUGE_VAL))
+      ->default_val(build::kMinMergeDistance);
   addMoleculeOptions(cmd, o.read);
 }
 
@@ -68,7 +76,7 @@ struct Built {
 };
 
 build::SurfaceRequest surfaceRequest(const SurfaceOptions& o) {
-  return {build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities};
+  return {build::parseSurfaceKind(o.surface), o.probe, o.shrink, o.dropCavities, o.mergeWithin};
 }
 
 Built readAndBuild(const SurfaceOptions& o) {
@@ -104,8 +112,10 @@ Built readAndBuild(const SurfaceOptions& o) {
   printReadNotes(b.molecule);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
-  b.patches = build::buildSurface(b.molecule, surfaceRequest(o));
+  std::vector<std::string> notes;
+  b.patches = build::buildSurface(b.molecule, surfaceRequest(o), &notes);
   b.buildSeconds = secondsSince(start);
+  for (const std::string& note : notes) std::fprintf(stderr, "surftrace: note: %s: %s\n", o.path.c_str(), note.c_str());
   return b;
 }
 
@@ -164,7 +174,7 @@ void printPerAtomCsv(const build::Molecule& m,
 void runMssArea(const AreaOptions& o, const Built& b) {
   const auto& m = b.molecule;
   const auto start = std::chrono::steady_clock::now();
-  const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(m.centers, m.radii)
+  const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(b.patches)
                                             : build::computeMssAreas(b.patches, m.centers);
   const double areaSeconds = secondsSince(start);
   static const char* kinds[4] = {"convex", "edge", "face", "concave"};
@@ -235,7 +245,7 @@ void runAreaOverTime(const AreaOptions& o) {
     const build::PatchList list = n == 0 ? builder.build(m) : builder.update(m);
     std::vector<double> values;
     if (mss) {
-      const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(m.centers, m.radii)
+      const build::MssAreas a = o.shrink >= 1.0 ? build::unionOfBallsAreas(list)
                                                 : build::computeMssAreas(list, m.centers);
       values = {a.total(), a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
     } else {
