@@ -120,7 +120,7 @@ double ballDistance(const glm::dvec3& ci, double ri, const glm::dvec3& cj, doubl
 void findCluster(std::span<const glm::dvec3> c, std::span<const double> r, CullResult& out) {
   const std::vector<std::uint32_t>& kept = out.kept;
   if (kept.size() <= kMaxClusterAtoms) return;
-  CellLists cells(c, kClusterRadius);
+  CellLists cells(c, 2.0 * kClusterRadius);  // a query box spans at most 2 cells per axis
   for (const std::uint32_t i : kept) cells.add(i);
   const double reach2 = kClusterRadius * kClusterRadius;
   std::uint32_t found = kNone;
@@ -181,7 +181,9 @@ CullResult cullAtoms(std::span<const glm::dvec3> c, std::span<const double> r, c
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return R[a] > R[b]; });
 
-  CellLists cells(c, maxReach);
+  // Cells twice the reach: a query box then spans at most 2 cells per axis, 8 lookups instead
+  // of 27 (1AON: 20 ms instead of 45, beside an 800 ms build).
+  CellLists cells(c, 2.0 * maxReach);
   out.fate.assign(n, AtomFate::Kept);
   for (const std::uint32_t i : order) {
     const double reach = std::max(*rMax - R[i], tau) * (1.0 + 1e-9);
