@@ -48,7 +48,7 @@ void printPerAtomCsv(const build::Molecule& m,
 void runMssArea(const AreaOptions& o, const Built& b) {
   const auto& m = b.molecule;
   const auto start = std::chrono::steady_clock::now();
-  const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(m.centers, m.radii)
+  const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(b.patches)
                                             : build::computeMssAreas(b.patches, m.centers);
   const double areaSeconds = secondsSince(start);
   if (o.format == "json") {
@@ -100,7 +100,7 @@ void printAreaHeader(const AreaOptions& o, std::size_t atoms, std::size_t frames
 // One frame's row of areas over time, in the header's column order.
 std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, const build::Molecule& m) {
   if (o.surface.surface == "mss") {
-    const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(m.centers, m.radii)
+    const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(list)
                                                       : build::computeMssAreas(list, m.centers);
     return {a.total(), a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
   }

@@ -2,6 +2,7 @@
 #include "pipeline.hpp"
 
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -24,7 +25,7 @@ std::unique_ptr<tbb::global_control> limitThreads(int threads) {
 }
 
 build::SurfaceRequest SurfaceOptions::request() const {
-  return build::SurfaceRequest{build::parseSurfaceKind(surface), probe, shrink, dropCavities};
+  return build::SurfaceRequest{build::parseSurfaceKind(surface), probe, shrink, dropCavities, mergeWithin};
 }
 
 void addShrinkOption(CLI::App& cmd, double& shrink) {
@@ -68,6 +69,21 @@ void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& o, SurfaceChoice choice) {
   cmd.add_flag("--drop-cavities", o.dropCavities,
                "Keep only the outer SES components (positive volume): leave out the inner surfaces of buried "
                "cavities a probe fits in, which cannot be seen from outside");
+  cmd.add_option("--merge-within", o.mergeWithin,
+                 "Merge every atom whose ball lies within this distance in Å (|centre shift| + |radius change|) of a "
+                 "kept atom's into it, noted: the surface of the input with those atoms moved by at most that much. "
+                 "Near-coincident clusters (more than " + std::to_string(build::kMaxClusterAtoms) + " atoms within " +
+                 detail::shortNumber(build::kClusterRadius) + " Å) are refused until merged")
+      ->check(numberIn(build::kMinMergeDistance, HUGE_VAL))
+      ->default_val(build::kMinMergeDistance);
+}
+
+build::PatchList buildWithNotes(const build::Molecule& molecule, const build::SurfaceRequest& request) {
+  std::vector<std::string> notes;
+  build::PatchList list = build::buildSurface(molecule, request, &notes);
+  for (const std::string& note : notes)
+    std::fprintf(stderr, "surftrace: note: %s: %s\n", molecule.source.c_str(), note.c_str());
+  return list;
 }
 
 build::Molecule readInput(const std::string& path, const std::string& trajectory, std::size_t frame,

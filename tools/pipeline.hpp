@@ -43,6 +43,7 @@ struct SurfaceOptions {
   double probe = 1.4;
   double shrink = 0.5;
   bool dropCavities = false;
+  double mergeWithin = build::kMinMergeDistance;
   CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
 
   build::SurfaceRequest request() const;
@@ -54,6 +55,10 @@ enum class SurfaceChoice { Any, Built };
 void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& options, SurfaceChoice choice = SurfaceChoice::Any);
 // --shrink: the MSS shrink factor in [kMinShrinkFactor, 1], default 0.5, with a readable error.
 void addShrinkOption(CLI::App& cmd, double& shrink);
+
+// Stage "build" for one structure: buildSurface, with what it left out (atoms inside others,
+// merged ones) printed as notes on stderr.
+build::PatchList buildWithNotes(const build::Molecule& molecule, const build::SurfaceRequest& request);
 
 // Stage "read": the molecule of a structure file, or of one frame of a trajectory whose
 // topology is `path` (when `trajectory` is not empty). Prints the reader's notes.

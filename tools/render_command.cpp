@@ -84,7 +84,7 @@ build::PatchList readAndBuild(const RenderCommandOptions& o, bool fromPatchList,
     build::checkPatchListMatches(list, o.patches, molecule, o.surface.request());
     if (o.surface.dropCavities) list = build::outerComponent(list);
   } else {
-    list = build::buildSurface(molecule, o.surface.request());
+    list = buildWithNotes(molecule, o.surface.request());
   }
   buildSeconds = secondsSince(start);
   return list;

@@ -49,7 +49,7 @@ Built readAndBuild(const SurfaceInputOptions& o) {
   b.molecule = readInput(o.path, "", 0, o.read);
   b.readSeconds = secondsSince(start);
   start = std::chrono::steady_clock::now();
-  b.patches = build::buildSurface(b.molecule, o.surface.request());
+  b.patches = buildWithNotes(b.molecule, o.surface.request());
   b.buildSeconds = secondsSince(start);
   return b;
 }

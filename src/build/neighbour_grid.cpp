@@ -10,7 +10,7 @@
 
 #include <glm/common.hpp>
 
-#include "build/io/error.hpp"
+#include "build/core/assert.hpp"
 
 namespace surftrace::build {
 namespace {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "build/atom_culling.hpp"
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 
@@ -34,6 +35,9 @@ struct SurfaceRequest {
   // frustum and the orthographic window are convex, so balls of r_max about the centres frame
   // it (the balls r_i/√s it also lies in grow without bound as s -> 0).
   std::vector<double> reach(std::span<const double> radii) const;
+  // Atoms whose balls lie within this distance (Å, >= kMinMergeDistance) of a kept atom's are
+  // merged into it before the build (atom_culling.hpp).
+  double mergeWithin = kMinMergeDistance;
 };
 
 // "ses", "mss", "vdw", "sas"; std::invalid_argument naming the choices otherwise.
@@ -41,12 +45,26 @@ SurfaceKind parseSurfaceKind(const std::string& name);
 
 // The SES by contour-buildup, the MSS from feasible power cells (s = 1: the vdW spheres), or
 // the vdW or SAS spheres; params carry the molecule's radii set and input checksum.
-PatchList buildSurface(const Molecule& molecule, const SurfaceRequest& request);
+//
+// Built from the atoms cullAtoms keeps: for the SES, SAS and vdW surface an atom whose
+// (extended) ball lies inside another's adds nothing and is left out, exactly; for every
+// surface an atom whose ball lies within request.mergeWithin of a kept one is merged into it.
+// The list still speaks of the input's atoms: its atom indices are the input's, atomCount is
+// the input's count, and the atoms left out have no patches (per-atom areas 0). What was left
+// out is described in `notes` when given (one sentence each, naming lines of the input).
+// Throws std::invalid_argument, naming the atoms, their place and extent and the merge
+// distance that would resolve them, for a near-coincident cluster that remains (more than
+// kMaxClusterAtoms kept atoms within kClusterRadius), rather than build it for minutes, or
+// wrongly; and for a mergeWithin below kMinMergeDistance.
+PatchList buildSurface(const Molecule& molecule, const SurfaceRequest& request,
+                       std::vector<std::string>* notes = nullptr);
 
 // The same surface frame after frame (a trajectory): keeps SesBuilder's or MssBuilder's memory
 // and per-atom results, so that a frame in which few atoms moved is a partial update. Every
 // list it returns equals, array for array and bit for bit, buildSurface() of that frame's
-// molecule (the vdW and SAS spheres, which no builder keeps, are simply rebuilt).
+// molecule (the vdW and SAS spheres, which no builder keeps, are simply rebuilt). Atoms are
+// culled frame by frame as buildSurface culls them; a frame that keeps other atoms than the
+// last is a full build.
 class SurfaceBuilder {
  public:
   explicit SurfaceBuilder(const SurfaceRequest& request);

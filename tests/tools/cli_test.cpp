@@ -224,6 +224,44 @@ TEST(Cli, BuildWritesAReadablePatchList) {
   EXPECT_NE(p.params.inputCrc32, 0u);
 }
 
+// Near-coincident atoms (issue 18): copies within 1e-5 Å merge with a note naming them and
+// their per-atom areas are 0; a cluster that does not merge is refused in a line that says
+// where and which --merge-within resolves it, and that distance does.
+TEST(Cli, NearCoincidentAtomsMergeWithANoteOrAreRefused) {
+  const std::string dir = testing::TempDir();
+  const std::string copies = (std::filesystem::path(dir) / "copies.xyzr").string();
+  const std::string crowd = (std::filesystem::path(dir) / "crowd.xyzr").string();
+  {
+    std::ofstream a(copies), b(crowd);
+    a << "0 0 0 1.7\n3 0 0 1.7\n3.000000001 0 0 1.7\n0 0 1e-9 1.7\n";
+    for (int k = 0; k < 40; ++k)
+      b << 1e-4 * std::cos(k) << " " << 1e-4 * std::sin(k) << " " << 1e-6 * k << " 1.7\n";
+  }
+  const Result merged = run("area --format csv " + copies);
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  EXPECT_NE(merged.output.find("surftrace: note: " + copies + ": 2 atoms lie within 1e-05 Å of a kept atom's ball"),
+            std::string::npos)
+      << merged.output;
+  EXPECT_NE(merged.output.find("\n2,3,,,0,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
+  EXPECT_NE(merged.output.find("\n3,4,,,0,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
+
+  const Result refused = run("area " + crowd);
+  EXPECT_EQ(refused.status, 1) << refused.output;
+  EXPECT_NE(refused.output.find("surftrace: error: " + crowd + ": 40 atoms lie within 0.01 Å of line 1"),
+            std::string::npos)
+      << refused.output;
+  const std::size_t at = refused.output.find("--merge-within ");
+  ASSERT_NE(at, std::string::npos) << refused.output;
+  const std::string distance = refused.output.substr(at + 15, refused.output.find(' ', at + 15) - at - 15);
+  const Result resolved = run("area --merge-within " + distance + " " + crowd);
+  ASSERT_EQ(resolved.status, 0) << resolved.output;
+  EXPECT_NE(resolved.output.find("39 atoms lie within " + distance + " Å"), std::string::npos) << resolved.output;
+  const Result tooSmall = run("area --merge-within 1e-6 " + crowd);
+  EXPECT_EQ(tooSmall.status, 1);
+  EXPECT_NE(tooSmall.output.find("--merge-within: expected a number >= 1e-05, got '1e-6'"), std::string::npos)
+      << tooSmall.output;
+}
+
 }  // namespace
 
 // `render` writes a PNG and an EXR of the requested size whose metadata holds the camera,

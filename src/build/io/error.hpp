@@ -4,10 +4,6 @@
 #include <stdexcept>
 #include <string>
 
-// The assertion lives in build/core/assert.hpp. neighbour_grid.cpp, which is being changed in
-// parallel, still takes it from here: drop this include once it includes core/assert.hpp.
-#include "build/core/assert.hpp"
-
 namespace surftrace::build {
 
 // Bad input: a malformed or truncated file, a non-finite coordinate, an unknown element,

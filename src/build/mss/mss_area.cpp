@@ -398,4 +398,13 @@ MssAreas unionOfBallsAreas(std::span<const glm::dvec3> centers, std::span<const 
   return out;
 }
 
+MssAreas unionOfBallsAreas(const PatchList& vdwSpheres) {
+  const ConvexSpheres& balls = vdwSpheres.convex;
+  MssAreas out = unionOfBallsAreas(balls.center, balls.radius);
+  const std::vector<double> perBall = std::move(out.perAtom);
+  out.perAtom.assign(vdwSpheres.params.atomCount, 0.0);
+  for (std::size_t k = 0; k < balls.size(); ++k) out.perAtom[balls.atom[k]] += perBall[k];
+  return out;
+}
+
 }  // namespace surftrace::build

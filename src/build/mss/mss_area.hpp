@@ -62,5 +62,8 @@ MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> c
 // The skin at s = 1: the union of the van der Waals balls, exactly (Gauss–Bonnet on each
 // sphere minus the caps inside its neighbours). All of it counts as convex.
 MssAreas unionOfBallsAreas(std::span<const glm::dvec3> centers, std::span<const double> radii);
+// The same for the spheres of a vdW patch list (buildSurface at s = 1: the atoms left out,
+// inside another ball or merged, have none); per-atom areas for all params.atomCount atoms.
+MssAreas unionOfBallsAreas(const PatchList& vdwSpheres);
 
 }  // namespace surftrace::build
