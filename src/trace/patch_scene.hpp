@@ -30,6 +30,7 @@ struct SceneHit {
 // SceneKinds (trace/patch_kinds.hpp). The SES holds the three kinds; the vdW and SAS
 // surfaces (build::atomSpheres) hold spheres only.
 struct ScenePatches {
+  build::SurfaceParams params;  // what surface the patches make (which spheres clip which: layers.hpp)
   ScenePlanes planes;  // the patches' plane spans point in here
   SceneKindPatches kinds;
   view::PatchIdOrder ids;
@@ -94,6 +95,14 @@ class PatchScene {
   // double, and do not depend on how far the camera is from the coordinate origin.
   void intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const;
   SceneHit intersect1(const Ray& ray, double tMin, double tMax) const;
+  // Every crossing of up to 16 rays with the surface (transparency), nearest first: lane i's
+  // are layers[i·maxLayers, i·maxLayers + count[i]), at most the nearest maxLayers, seam
+  // duplicates merged and the whole spheres' hidden parts left out (trace/layers.hpp). One
+  // traversal per packet: the callbacks collect every root of every patch they are handed,
+  // and shorten the ray to the farthest kept crossing once maxLayers are kept.
+  void intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16], std::size_t maxLayers,
+                         std::span<SceneHit> layers, std::size_t (&count)[16]) const;
+  std::vector<SceneHit> intersectLayers1(const Ray& ray, std::size_t maxLayers) const;
   bool occluded(const Ray& ray, double tMin, double tMax) const;
 
  private:
