@@ -100,6 +100,9 @@ void checkEngineCanDraw(const EngineOptions& engine, const ImageOptions& image) 
   if (engine.engine == "gl" && (image.spp > 1 || image.shadows || image.ao > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
+  if (engine.engine == "gl" && image.opacity < 1.0)
+    throw std::invalid_argument("--engine gl draws opaque surfaces only (no depth peeling yet): drop --opacity or "
+                                "use --engine embree, which draws every layer exactly");
 }
 
 struct FrameRenderer::Impl {
@@ -157,6 +160,8 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.input = input;
   record.color = image.color;
   record.commandLine = commandLine;
+  record.opacity = image.opacity;
+  record.maxLayers = image.maxLayers;
   return record;
 }
 
