@@ -127,13 +127,17 @@ FrameRenderer::FrameRenderer(EngineOptions options) : impl_(std::make_unique<Imp
 FrameRenderer::~FrameRenderer() = default;
 
 view::FrameBuffers FrameRenderer::render(const build::PatchList& list, const view::RenderOptions& options,
-                                         std::span<const glm::vec3> atomColors, ProgressBar* bar) {
+                                         std::span<const glm::vec3> atomColors, ProgressBar* bar,
+                                         std::span<const glm::dvec3> centers, std::span<const double> radii) {
   Impl& m = *impl_;
   if (!m.device) {
     if (!m.context) m.context.emplace();
     return gl::renderGl(*m.context, list, options, atomColors, m.gl);
   }
-  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list), *m.device);
+  const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
+  const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii)
+                                            : trace::ScenePatches::fromPatchList(list),
+                                *m.device);
   m.sceneSeconds = scene.buildSeconds();
   view::RenderOptions withProgress = options;
   if (bar) withProgress.progress = [bar](double f) { bar->update(f); };

@@ -178,7 +178,7 @@ void runRender(const RenderCommandOptions& o) {
                                     : view::atomColors(molecule, setup.render.color, setup.uniformColor);
   FrameRenderer renderer(o.engine);
   ProgressBar bar(!o.quiet && o.engine.engine == "embree", "rendering");
-  const view::FrameBuffers frame = renderer.render(list, setup.render, colors, &bar);
+  const view::FrameBuffers frame = renderer.render(list, setup.render, colors, &bar, molecule.centers, molecule.radii);
   ImageRecord record = recordOfRender(o, list, fromPatchList);
   renderer.describe(record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);

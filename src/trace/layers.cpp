@@ -21,15 +21,30 @@ bool before(const SceneHit& a, const SceneHit& b) {
 }  // namespace
 
 SphereClip::SphereClip(const ScenePatches& patches) {
-  grow_ = patches.params.surface == build::SurfaceKind::Ses ? patches.params.probeRadius : 0.0;
-  const auto& spheres = patches.of<SphereKind>().patches;
-  const std::size_t n = spheres.size();
-  spheres_.reserve(n);
+  const build::SurfaceKind surface = patches.params.surface;
+  const double rp = patches.params.probeRadius;
+  grow_ = surface == build::SurfaceKind::Ses ? rp : 0.0;
+  const auto& row = patches.of<SphereKind>();
+  const std::size_t n = row.patches.size();
+  std::vector<std::uint32_t> blockerAtom;  // to skip a sphere's own atom
+  if (!patches.atoms.empty()) {
+    const double h = surface == build::SurfaceKind::Vdw ? 0.0 : rp;
+    for (std::uint32_t k = 0; k < patches.atoms.size(); ++k) {
+      blockers_.push_back(glm::dvec4(glm::dvec3(patches.atoms[k]), patches.atoms[k].w + h));
+      blockerAtom.push_back(k);
+    }
+  } else {
+    for (std::uint32_t k = 0; k < n; ++k) {
+      blockers_.push_back(glm::dvec4(row.patches[k].center, row.patches[k].radius + grow_));
+      blockerAtom.push_back(row.atoms[k]);
+    }
+  }
   double largest = 0.0;
-  for (const SpherePatch& s : spheres) {
+  for (const SpherePatch& s : row.patches) {
     spheres_.push_back(glm::dvec4(s.center, s.radius));
     largest = std::max(largest, s.radius + grow_);
   }
+  for (const glm::dvec4& b : blockers_) largest = std::max(largest, b.w);
   begin_.assign(n + 1, 0);
   if (n == 0) return;
   // A hash grid of cell 2·(largest grown radius): grown spheres that meet lie in adjacent cells.
@@ -41,10 +56,11 @@ SphereClip::SphereClip(const ScenePatches& patches) {
   };
   auto cellOf = [&](const glm::dvec3& c) { return glm::ivec3(glm::floor(c / cell)); };
   std::unordered_multimap<std::uint64_t, std::uint32_t> grid;
-  grid.reserve(n);
-  for (std::uint32_t i = 0; i < n; ++i) grid.emplace(key(cellOf(spheres[i].center)), i);
+  grid.reserve(blockers_.size());
+  for (std::uint32_t k = 0; k < blockers_.size(); ++k) grid.emplace(key(cellOf(glm::dvec3(blockers_[k]))), k);
   for (std::uint32_t i = 0; i < n; ++i) {
-    const glm::ivec3 k = cellOf(spheres[i].center);
+    const glm::dvec3 c = row.patches[i].center;
+    const glm::ivec3 k = cellOf(c);
     const std::size_t first = others_.size();
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -53,9 +69,9 @@ SphereClip::SphereClip(const ScenePatches& patches) {
           const auto [lo, hi] = grid.equal_range(key(kk));
           for (auto it = lo; it != hi; ++it) {
             const std::uint32_t j = it->second;
-            if (j == i || cellOf(spheres[j].center) != kk) continue;  // a hash collision
-            const double reach = spheres[i].radius + spheres[j].radius + 2.0 * grow_;
-            if (glm::length(spheres[j].center - spheres[i].center) < reach) others_.push_back(j);
+            const glm::dvec3 cj(blockers_[j]);
+            if (blockerAtom[j] == row.atoms[i] || cellOf(cj) != kk) continue;  // its own atom, a hash collision
+            if (glm::length(cj - c) < row.patches[i].radius + grow_ + blockers_[j].w) others_.push_back(j);
           }
         }
     std::sort(others_.begin() + static_cast<std::ptrdiff_t>(first), others_.end());  // deterministic order
@@ -69,9 +85,8 @@ bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {
   if (!(s.w > 0.0)) return true;
   const glm::dvec3 y = c + ((s.w + grow_) / s.w) * (x - c);
   for (std::uint32_t k = begin_[sphere]; k < begin_[sphere + 1]; ++k) {
-    const glm::dvec4 o = spheres_[others_[k]];
-    const double R = o.w + grow_;
-    if (glm::length(y - glm::dvec3(o)) < R * (1.0 - kBoundaryTolerance)) return false;
+    const glm::dvec4 o = blockers_[others_[k]];
+    if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - kBoundaryTolerance)) return false;
   }
   return true;
 }

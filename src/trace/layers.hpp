@@ -24,13 +24,14 @@ inline constexpr double kLayerMergeDistance = 1e-6;
 
 // The whole spheres of a scene draw their hidden part too (sphere_patch.hpp): fine for the
 // nearest hit, but a transparent surface would show it. A hit x on sphere i (centre c, radius
-// r) is on its convex patch iff the point y = c + (r + g)/r (x − c) lies outside every other
-// sphere grown by g (g = rp for the SES: y is then a point of the SAS, ORACLES A/D.1; g = 0
-// for the vdW and SAS balls: x is on the union's boundary). Skin spheres are clipped by their
-// mixed cells already.
+// ρ) is on its convex patch iff the point y = c + (ρ + g)/ρ (x − c) lies outside the grown
+// sphere (r_k + h) of every other atom k: for the SES g = h = rp (y is then a point of the SAS,
+// ORACLES D.1); for the vdW balls g = h = 0, for the SAS balls (ρ = r + rp) g = 0, h = rp (x is
+// on the union's boundary). Skin spheres are clipped by their mixed cells already.
 //
-// Only atoms with a patch are known to the scene: an atom the builder left out (buried, no
-// patch) that alone fills a void between its neighbours' grown spheres is missed. With
+// The atoms are ScenePatches::atoms. Without them (a scene made from a patch-list file alone)
+// the scene's own spheres stand in: complete for vdW and SAS, but the SES list has spheres of
+// exposed atoms only, so a part of a sphere that only buried atoms hide then shows. With
 // --drop-cavities the builder keeps a sphere that lines both the outer surface and a cavity
 // whole, so its cavity side shows through while the cavity's tori and concave triangles are gone.
 class SphereClip {
@@ -43,10 +44,11 @@ class SphereClip {
   bool onPatch(std::uint32_t sphere, const glm::dvec3& x) const;
 
  private:
-  double grow_ = 0.0;
-  std::vector<glm::dvec4> spheres_;     // centre, radius
-  std::vector<std::uint32_t> begin_;    // CSR over spheres_: the neighbours of sphere i
-  std::vector<std::uint32_t> others_;   // neighbours whose grown spheres meet sphere i's
+  double grow_ = 0.0;                   // g
+  std::vector<glm::dvec4> spheres_;     // the scene's spheres: centre, radius ρ
+  std::vector<glm::dvec4> blockers_;    // the atoms: centre, grown radius r_k + h
+  std::vector<std::uint32_t> begin_;    // CSR: blockers others_[begin_[i], begin_[i + 1]) may hide sphere i
+  std::vector<std::uint32_t> others_;
 };
 
 // The crossings of one ray, nearest first, no two within kLayerMergeDistance (the nearer of

@@ -175,9 +175,13 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 // ---------------------------------------------------------------------------------------
 // ScenePatches
 
-ScenePatches ScenePatches::fromPatchList(const build::PatchList& list) {
+ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span<const glm::dvec3> centers,
+                                         std::span<const double> radii) {
+  if (centers.size() != radii.size()) throw std::invalid_argument("scene: as many atom radii as centres are needed");
   ScenePatches s;
   s.params = list.params;
+  s.atoms.reserve(centers.size());
+  for (std::size_t i = 0; i < centers.size(); ++i) s.atoms.push_back(glm::dvec4(centers[i], radii[i]));
   s.planes.clip = list.clipPlanes;
   s.planes.cell = list.cellPlanes;
   s.ids = view::PatchIdOrder(list);

@@ -31,6 +31,9 @@ struct SceneHit {
 // surfaces (build::atomSpheres) hold spheres only.
 struct ScenePatches {
   build::SurfaceParams params;  // what surface the patches make (which spheres clip which: layers.hpp)
+  // Every atom (centre, vdW radius) when the caller gives them: the SES list holds spheres of
+  // exposed atoms only, but buried atoms hide parts of them too (trace/layers.hpp).
+  std::vector<glm::dvec4> atoms;
   ScenePlanes planes;  // the patches' plane spans point in here
   SceneKindPatches kinds;
   view::PatchIdOrder ids;
@@ -42,7 +45,9 @@ struct ScenePatches {
   ScenePatches(const ScenePatches&) = delete;
   ScenePatches& operator=(const ScenePatches&) = delete;
 
-  static ScenePatches fromPatchList(const build::PatchList& patches);
+  // `centers` and `radii` (all the atoms, or none) only matter to transparency.
+  static ScenePatches fromPatchList(const build::PatchList& patches, std::span<const glm::dvec3> centers = {},
+                                    std::span<const double> radii = {});
 
   template <class Kind> const KindPatches<Kind>& of() const { return std::get<KindPatches<Kind>>(kinds); }
   // f(const KindPatches<Kind>&) for every row, in SceneKinds order.
