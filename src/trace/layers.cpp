@@ -74,7 +74,11 @@ SphereClip::SphereClip(const ScenePatches& patches) {
             if (glm::length(cj - c) < row.patches[i].radius + grow_ + blockers_[j].w) others_.push_back(j);
           }
         }
-    std::sort(others_.begin() + static_cast<std::ptrdiff_t>(first), others_.end());  // deterministic order
+    // Nearest first: the blocker that hides a point is most often a close one, and onPatch
+    // stops at the first. Ties by index keep the order deterministic.
+    const auto gap = [&](std::uint32_t j) { return glm::length(glm::dvec3(blockers_[j]) - c) - blockers_[j].w; };
+    std::sort(others_.begin() + static_cast<std::ptrdiff_t>(first), others_.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return std::pair(gap(a), a) < std::pair(gap(b), b); });
     begin_[i + 1] = static_cast<std::uint32_t>(others_.size());
   }
 }
