@@ -108,6 +108,16 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--ao-distance", o.aoDistance, "Ambient-occlusion ray length in Å")
       ->check(positive())
       ->default_val(8.0);
+  cmd.add_option("--opacity", o.opacity,
+                 "Surface opacity in (0, 1]: below 1 every layer the ray crosses (up to --max-layers, nearest first) "
+                 "is blended front to back over the background (engine embree)")
+      ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, true, false); },
+                             "NUMBER in (0, 1]", "opacity"))
+      ->default_val(1.0);
+  cmd.add_option("--max-layers", o.maxLayers,
+                 "With --opacity below 1: the most layers composited per ray, the nearest ones (the rest are dropped)")
+      ->check(wholeIn(1, 1024))
+      ->default_val(16);
   cmd.add_option("--camera", o.camera,
                  "Use this camera (JSON, instead of framing): one written by --camera-out, or another program's with "
                  "only width, height, view_matrix and projection_matrix (OpenGL conventions, column-major; any "
@@ -135,6 +145,8 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   ro.shadows = o.shadows;
   ro.aoSamples = o.ao;
   ro.aoDistance = o.aoDistance;
+  ro.opacity = o.opacity;
+  ro.maxLayers = o.maxLayers;
   setup.viewDirection = view::namedViewDirection(o.view);
   if (!(o.fov > 0.0 && o.fov < 180.0))
     throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
@@ -266,6 +278,10 @@ view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& came
   if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
   meta["surftrace:color"] = r.color;
   meta["surftrace:command"] = r.commandLine;
+  if (r.opacity < 1.0) {
+    meta["surftrace:opacity"] = std::to_string(r.opacity);
+    meta["surftrace:max_layers"] = std::to_string(r.maxLayers);
+  }
   for (const auto& [key, value] : r.engineSettings) meta[key] = value;
   meta["Software"] = kSoftware;
   return meta;

@@ -34,6 +34,8 @@ struct ImageOptions {
   bool shadows = false;
   int ao = 0;
   double aoDistance = 8.0;
+  double opacity = 1.0;  // --opacity: below 1 the surface is transparent (every layer composited)
+  int maxLayers = 16;    // --max-layers: the nearest layers a transparent ray composites
   std::string camera;     // --camera FILE: the camera instead of framing
   std::string cameraOut;  // --camera-out FILE
   // The options that --camera replaces (named in the error when given with it).
@@ -98,6 +100,8 @@ struct ImageRecord {
   std::optional<double> timePs;
   std::string color;
   std::string commandLine;
+  double opacity = 1.0;  // recorded (with maxLayers) only when below 1
+  int maxLayers = 16;
 };
 view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
 

@@ -122,6 +122,9 @@ void checkEngineCanDraw(const EngineOptions& engine, const ImageOptions& image) 
   if (engine.engine == "gl" && (image.spp > 1 || image.shadows || image.ao > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
+  if (engine.engine == "gl" && image.opacity < 1.0)
+    throw std::invalid_argument("--engine gl draws opaque surfaces only (no depth peeling yet): drop --opacity or "
+                                "use --engine embree, which draws every layer exactly");
 }
 
 struct FrameRenderer::Impl {
@@ -146,13 +149,17 @@ FrameRenderer::FrameRenderer(EngineOptions options) : impl_(std::make_unique<Imp
 FrameRenderer::~FrameRenderer() = default;
 
 view::FrameBuffers FrameRenderer::render(const build::PatchList& list, const view::RenderOptions& options,
-                                         std::span<const glm::vec3> atomColors, ProgressBar* bar) {
+                                         std::span<const glm::vec3> atomColors, ProgressBar* bar,
+                                         std::span<const glm::dvec3> centers, std::span<const double> radii) {
   Impl& m = *impl_;
   if (!m.device) {
     if (!m.context) m.context.emplace();
     return gl::renderGl(*m.context, list, options, atomColors, m.gl);
   }
-  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list), *m.device);
+  const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
+  const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii)
+                                            : trace::ScenePatches::fromPatchList(list),
+                                *m.device);
   m.sceneSeconds = scene.buildSeconds();
   view::RenderOptions withProgress = options;
   if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
@@ -179,6 +186,8 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.input = input;
   record.color = image.color;
   record.commandLine = commandLine;
+  record.opacity = image.opacity;
+  record.maxLayers = image.maxLayers;
   return record;
 }
 

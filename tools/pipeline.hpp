@@ -85,9 +85,11 @@ class FrameRenderer {
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
-  // `bar`, when given, shows the progress of one frame.
+  // `bar`, when given, shows the progress of one frame. The atoms (`centers`, `radii`: all or
+  // none) let a transparent frame hide the parts of the SES spheres that buried atoms cover.
   view::FrameBuffers render(const build::PatchList& list, const view::RenderOptions& options,
-                            std::span<const glm::vec3> atomColors, ProgressBar* bar = nullptr);
+                            std::span<const glm::vec3> atomColors, ProgressBar* bar = nullptr,
+                            std::span<const glm::dvec3> centers = {}, std::span<const double> radii = {});
   // The engine, its context and its own settings, into the image's record.
   void describe(ImageRecord& record) const;
   // Seconds the last frame spent building its acceleration structure (Embree; 0 for GL).

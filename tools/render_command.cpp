@@ -1,4 +1,5 @@
 // `surftrace render`: exact ray tracing of a molecular surface to PNG and EXR.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -123,6 +124,17 @@ ImageRecord recordOfRender(const RenderCommandOptions& o, const build::PatchList
   return record;
 }
 
+// How many layers the covered pixels' centre rays crossed: what --max-layers should be.
+void printLayerSummary(std::vector<std::uint32_t> layers, int maxLayers) {
+  std::erase(layers, 0u);
+  if (layers.empty()) return;
+  std::sort(layers.begin(), layers.end());
+  const auto at = [&](double q) { return layers[static_cast<std::size_t>(q * static_cast<double>(layers.size() - 1))]; };
+  const auto capped = std::count(layers.begin(), layers.end(), static_cast<std::uint32_t>(maxLayers));
+  std::printf("layers per covered pixel: median %u, 99th percentile %u, max %u; %td pixels reached --max-layers %d\n",
+              at(0.5), at(0.99), layers.back(), capped, maxLayers);
+}
+
 void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& list, const view::FrameBuffers& frame,
                         double readSeconds, double buildSeconds, double sceneSeconds) {
   std::size_t covered = 0;
@@ -140,6 +152,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
               frame.height, o.image.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
               100.0 * static_cast<double>(covered) / static_cast<double>(frame.pixels()));
+  if (!frame.layers.empty()) printLayerSummary(frame.layers, o.image.maxLayers);
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
   if (!o.exr.empty()) std::printf("wrote %s\n", o.exr.c_str());
 }
@@ -157,7 +170,7 @@ void runRender(const RenderCommandOptions& o) {
                                     : view::atomColors(molecule, setup.render.color, setup.uniformColor);
   FrameRenderer renderer(o.engine);
   ProgressBar bar(!o.quiet && o.engine.engine == "embree", "rendering");
-  const view::FrameBuffers frame = renderer.render(list, setup.render, colors, &bar);
+  const view::FrameBuffers frame = renderer.render(list, setup.render, colors, &bar, molecule.centers, molecule.radii);
   ImageRecord record = recordOfRender(o, list, fromPatchList);
   renderer.describe(record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);

@@ -197,6 +197,7 @@ struct Work {
   double readMs = 0.0, buildMs = 0.0, renderMs = 0.0, writeMs = 0.0;
   std::size_t moved = 0, recomputed = 0, patches = 0;
   build::PatchList list;
+  std::vector<glm::dvec3> centers;  // the frame's atoms, for a transparent frame (FrameRenderer::render)
   view::FrameBuffers image;
 };
 
@@ -379,12 +380,13 @@ std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
   w->recomputed = builder_.lastRecomputed();
   w->patches = w->list.patchCount();
   w->moved = flexible_.atoms.empty() ? current_.size() : flexible_.atoms.size();
+  if (setup_.render.opacity < 1.0) w->centers = current_.centers;  // the render stage runs beside the next read
   return w;
 }
 
 void FrameLoop::render(Work& w) {
   const auto t = std::chrono::steady_clock::now();
-  w.image = renderer_.render(w.list, setup_.render, colors_);
+  w.image = renderer_.render(w.list, setup_.render, colors_, nullptr, w.centers, current_.radii);
   w.renderMs = millisecondsSince(t);
   w.list = build::PatchList();
 }

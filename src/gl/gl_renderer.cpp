@@ -282,6 +282,9 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
     throw std::invalid_argument(
         "gl engine: renders one sample per pixel without shadows or ambient occlusion; "
         "drop --spp/--shadows/--ao or use --engine embree");
+  if (o.opacity != 1.0)
+    throw std::invalid_argument("gl engine: draws opaque surfaces only (no depth peeling yet); drop --opacity or use "
+                                "--engine embree");
   if (gl.maxSteps < 1 || gl.maxSteps > 10000) throw std::invalid_argument("gl engine: sphere-tracing steps must be in [1, 10000]");
   if (!(gl.traceEpsilon > 0.0)) throw std::invalid_argument("gl engine: sphere-tracing epsilon must be > 0");
   m.ensureTargets(cam.width, cam.height);

@@ -9,8 +9,12 @@
 #include <tuple>
 #include <type_traits>
 
+#include "build/core/assert.hpp"
+
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
+
+#include "trace/layers.hpp"
 
 namespace surftrace::trace {
 namespace {
@@ -63,7 +67,27 @@ struct HitContext {
   RTCIntersectContext embree;  // first member: Embree hands this pointer back to the callbacks
   const Ray* rays = nullptr;
   PatchHit* hits = nullptr;    // null for occlusion queries
+  // Transparency (PatchScene::intersectLayers16): every crossing goes into the ray's list.
+  LayerList* layers = nullptr;
+  const SphereClip* clip = nullptr;
 };
+
+// The layers' callback: every root of the patch on the ray that is on the patch (whole
+// spheres: SphereClip) goes into the ray's LayerList. Once the list is full the ray ends at
+// its farthest crossing, so that traversal culls what lies beyond.
+template <class Kind>
+void collectLayers(const typename Kind::Patch& patch, std::uint32_t primID, const HitContext& context, unsigned id,
+                   float& tfar) {
+  LayerList& layers = context.layers[id];
+  const Ray& ray = context.rays[id];
+  const double tMax = layers.full() ? layers.back().hit.t : static_cast<double>(tfar);
+  forEachRoot(patch, ray, 0.0, tMax, [&](const PatchHit& h) {
+    if constexpr (std::is_same_v<Kind, SphereKind>)
+      if (!context.clip->onPatch(primID, ray.org + h.t * ray.dir)) return;
+    layers.insert(SceneHit{Kind::kind, primID, h});
+  });
+  if (layers.full()) tfar = std::min(tfar, roundUp(layers.back().hit.t));
+}
 
 // Embree calls these from C and from its TBB workers for packets of N = 1, 4, 8 or 16
 // rays, honouring valid[] (STYLE §3.7). The intersectors neither throw nor allocate.
@@ -77,6 +101,10 @@ template <class Kind> void intersectFn(const RTCIntersectFunctionNArguments* arg
     if (args->valid[i] == 0) continue;
     float& tfar = RTCRayN_tfar(ray, N, i);
     const unsigned id = RTCRayN_id(ray, N, i);
+    if (context->layers) {
+      collectLayers<Kind>(patch, args->primID, *context, id, tfar);
+      continue;
+    }
     PatchHit& best = context->hits[id];
     // The nearest hit so far, in double; Embree's tfar is only its float upper bound.
     const auto h = intersect(patch, context->rays[id], 0.0, std::min(static_cast<double>(tfar), best.t));
@@ -147,8 +175,13 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 // ---------------------------------------------------------------------------------------
 // ScenePatches
 
-ScenePatches ScenePatches::fromPatchList(const build::PatchList& list) {
+ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span<const glm::dvec3> centers,
+                                         std::span<const double> radii) {
+  if (centers.size() != radii.size()) throw std::invalid_argument("scene: as many atom radii as centres are needed");
   ScenePatches s;
+  s.params = list.params;
+  s.atoms.reserve(centers.size());
+  for (std::size_t i = 0; i < centers.size(); ++i) s.atoms.push_back(glm::dvec4(centers[i], radii[i]));
   s.planes.clip = list.clipPlanes;
   s.planes.cell = list.cellPlanes;
   s.ids = view::PatchIdOrder(list);
@@ -249,6 +282,13 @@ struct PatchScene::Embree {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   PatchKind kindOfGeometry[view::kPatchKindCount] = {};  // by Embree geometry id
+  // The spheres' clipping for transparency, made by the first query that needs it.
+  std::once_flag clipOnce;
+  SphereClip clip;
+  const SphereClip& sphereClip(const ScenePatches& patches) {
+    std::call_once(clipOnce, [&] { clip = SphereClip(patches); });
+    return clip;
+  }
 
   ~Embree() {
     if (scene) rtcReleaseScene(scene);
@@ -305,16 +345,15 @@ PatchScene::PatchScene(ScenePatches patches, const EmbreeDevice& device)
 
 PatchScene::~PatchScene() = default;
 
-void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const {
-  alignas(64) int mask[16];
-  alignas(64) RTCRayHit16 rh;
-  Ray shifted[16];
-  double shift[16];
-  PatchHit exact[16];
+namespace {
+
+// A packet of 16 rays for Embree, each moved to where it enters the scene's box (enterBox).
+// Returns whether any lane is active.
+bool preparePacket(const Bounds3d& box, const Ray (&rays)[16], const bool (&valid)[16], double tMin, int (&mask)[16],
+                   RTCRayHit16& rh, Ray (&shifted)[16], double (&shift)[16]) {
   bool any = false;
   for (int i = 0; i < 16; ++i) {
-    hits[i] = {};
-    const bool active = valid[i] && enterBox(embree_->box, rays[i], tMin, std::numeric_limits<double>::infinity(), shifted[i], shift[i]);
+    const bool active = valid[i] && enterBox(box, rays[i], tMin, std::numeric_limits<double>::infinity(), shifted[i], shift[i]);
     any = any || active;
     mask[i] = active ? -1 : 0;
     RTCRay r;
@@ -334,7 +373,57 @@ void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], dou
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
-  if (!any) return;
+  return any;
+}
+
+}  // namespace
+
+void PatchScene::intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16], std::size_t maxLayers,
+                                   std::span<SceneHit> layers, std::size_t (&count)[16]) const {
+  SURFTRACE_ASSERT(maxLayers >= 1 && layers.size() >= 16 * maxLayers);
+  alignas(64) int mask[16];
+  alignas(64) RTCRayHit16 rh;
+  Ray shifted[16];
+  double shift[16];
+  for (std::size_t& c : count) c = 0;
+  if (!preparePacket(embree_->box, rays, valid, 0.0, mask, rh, shifted, shift)) return;
+  // Each lane's list merges in its own units of t (the shifted ray has the original's direction).
+  LayerList lanes[16];
+  for (std::size_t i = 0; i < 16; ++i)
+    lanes[i] = LayerList(layers.subspan(i * maxLayers, maxLayers), kLayerMergeDistance / glm::length(rays[i].dir));
+  HitContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  context.rays = shifted;
+  context.layers = lanes;
+  context.clip = &embree_->sphereClip(patches_);
+  rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
+  for (int i = 0; i < 16; ++i) {
+    count[i] = mask[i] == 0 ? 0 : lanes[i].size();
+    for (std::size_t k = 0; k < count[i]; ++k) layers[i * maxLayers + k].hit.t += shift[i];
+  }
+}
+
+std::vector<SceneHit> PatchScene::intersectLayers1(const Ray& ray, std::size_t maxLayers) const {
+  Ray rays[16];
+  bool valid[16] = {};
+  rays[0] = ray;
+  valid[0] = true;
+  std::vector<SceneHit> layers(16 * maxLayers);
+  std::size_t count[16];
+  intersectLayers16(rays, valid, maxLayers, layers, count);
+  layers.resize(count[0]);
+  return layers;
+}
+
+void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const {
+  alignas(64) int mask[16];
+  alignas(64) RTCRayHit16 rh;
+  Ray shifted[16];
+  double shift[16];
+  PatchHit exact[16];
+  for (SceneHit& h : hits) h = {};
+  if (!preparePacket(embree_->box, rays, valid, tMin, mask, rh, shifted, shift)) return;
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;

@@ -30,6 +30,10 @@ struct SceneHit {
 // SceneKinds (trace/patch_kinds.hpp). The SES holds the three kinds; the vdW and SAS
 // surfaces (build::atomSpheres) hold spheres only.
 struct ScenePatches {
+  build::SurfaceParams params;  // what surface the patches make (which spheres clip which: layers.hpp)
+  // Every atom (centre, vdW radius) when the caller gives them: the SES list holds spheres of
+  // exposed atoms only, but buried atoms hide parts of them too (trace/layers.hpp).
+  std::vector<glm::dvec4> atoms;
   ScenePlanes planes;  // the patches' plane spans point in here
   SceneKindPatches kinds;
   view::PatchIdOrder ids;
@@ -41,7 +45,9 @@ struct ScenePatches {
   ScenePatches(const ScenePatches&) = delete;
   ScenePatches& operator=(const ScenePatches&) = delete;
 
-  static ScenePatches fromPatchList(const build::PatchList& patches);
+  // `centers` and `radii` (all the atoms, or none) only matter to transparency.
+  static ScenePatches fromPatchList(const build::PatchList& patches, std::span<const glm::dvec3> centers = {},
+                                    std::span<const double> radii = {});
 
   template <class Kind> const KindPatches<Kind>& of() const { return std::get<KindPatches<Kind>>(kinds); }
   // f(const KindPatches<Kind>&) for every row, in SceneKinds order.
@@ -94,6 +100,14 @@ class PatchScene {
   // double, and do not depend on how far the camera is from the coordinate origin.
   void intersect16(const Ray (&rays)[16], const bool (&valid)[16], double tMin, SceneHit (&hits)[16]) const;
   SceneHit intersect1(const Ray& ray, double tMin, double tMax) const;
+  // Every crossing of up to 16 rays with the surface (transparency), nearest first: lane i's
+  // are layers[i·maxLayers, i·maxLayers + count[i]), at most the nearest maxLayers, seam
+  // duplicates merged and the whole spheres' hidden parts left out (trace/layers.hpp). One
+  // traversal per packet: the callbacks collect every root of every patch they are handed,
+  // and shorten the ray to the farthest kept crossing once maxLayers are kept.
+  void intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16], std::size_t maxLayers,
+                         std::span<SceneHit> layers, std::size_t (&count)[16]) const;
+  std::vector<SceneHit> intersectLayers1(const Ray& ray, std::size_t maxLayers) const;
   bool occluded(const Ray& ray, double tMin, double tMax) const;
 
  private:

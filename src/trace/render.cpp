@@ -85,6 +85,108 @@ class Shader {
   glm::dvec3 keyLight_;
 };
 
+// Runs packet(px, py) for the top-left pixel of every 4×4 packet, tile-parallel, with the
+// progress callback; makeState() gives each tile its scratch space (passed as packet's third argument).
+template <class MakeState, class Packet>
+void forEachPacket(const Camera& cam, const RenderOptions& o, MakeState makeState, Packet packet) {
+  const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
+  std::atomic<int> tilesDone{0};
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
+    auto state = makeState();
+    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+        for (int py = ty * kTile; py < std::min(cam.height, (ty + 1) * kTile); py += kPacket)
+          for (int px = tx * kTile; px < std::min(cam.width, (tx + 1) * kTile); px += kPacket) packet(px, py, state);
+        const int done = ++tilesDone;
+        if (o.progress && done % std::max(1, tilesX * tilesY / 100) == 0)
+          o.progress(static_cast<double>(done) / (tilesX * tilesY));
+      }
+  });
+}
+
+// The rays of sample s of the packet at (px, py): s = 0 is the pixel centre, 1..k² the stratified grid.
+void packetRays(const Camera& cam, const Camera::Frame& view, int px, int py, int s, int k, Ray (&rays)[16],
+                bool (&valid)[16]) {
+  for (int j = 0; j < 16; ++j) {
+    const int x = px + j % kPacket, y = py + j / kPacket;
+    valid[j] = x < cam.width && y < cam.height;
+    double sx = x + 0.5, sy = y + 0.5;
+    if (s > 0) {
+      sx = x + ((s - 1) % k + 0.5) / k;
+      sy = y + ((s - 1) / k + 0.5) / k;
+    }
+    rays[j] = view.ray(sx, sy);
+  }
+}
+
+// The centre ray's buffers from its nearest hit.
+void writeBuffers(FrameBuffers& fb, std::size_t p, const ScenePatches& patches, const Camera& cam,
+                  const glm::dvec3& forward, const Ray& ray, const SceneHit& h, std::uint32_t atom) {
+  const glm::dvec3 x = ray.org + h.hit.t * ray.dir;
+  fb.depth[p] = static_cast<float>(h.hit.t);
+  fb.viewZ[p] = static_cast<float>(glm::dot(x - cam.eye, forward));
+  for (int c = 0; c < 3; ++c) fb.normal[3 * p + c] = static_cast<float>(h.hit.normal[c]);
+  fb.kind[p] = static_cast<std::uint32_t>(h.kind);
+  fb.patchId[p] = patches.globalId(h.kind, h.patch);
+  fb.atomId[p] = atom;
+  fb.flags[p] = h.hit.flags;
+}
+
+// Transparency: every crossing of each ray, nearest first, composited front to back over the
+// background, C = Σ_k α(1 − α)^k c_k + (1 − α)^n background, and alpha (coverage) 1 − (1 − α)^n
+// for n crossings; the buffers are those of the nearest crossing. n = 0 gives the opaque
+// render's miss and n = 1 with α = 1 its hit (render() takes the opaque path for α = 1).
+FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
+  const auto start = std::chrono::steady_clock::now();
+  const Camera& cam = o.camera;
+  FrameBuffers fb;
+  fb.reset(cam.width, cam.height);
+  fb.layers.assign(fb.pixels(), 0u);
+  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.samplesPerPixel))));
+  const int extraSamples = k > 1 ? k * k : 0;
+  const Shader shader(scene, o, atomColors);
+  const glm::dvec3 forward = cam.forward();
+  const Camera::Frame view = cam.frame();
+  const ScenePatches& patches = scene.patches();
+  const std::size_t maxLayers = static_cast<std::size_t>(o.maxLayers);
+  const float alpha = static_cast<float>(o.opacity);
+
+  forEachPacket(cam, o, [&] { return std::vector<SceneHit>(16 * maxLayers); },
+                [&](int px, int py, std::vector<SceneHit>& layers) {
+    for (int s = 0; s <= extraSamples; ++s) {
+      Ray rays[16];
+      bool valid[16];
+      packetRays(cam, view, px, py, s, k, rays, valid);
+      std::size_t count[16];
+      scene.intersectLayers16(rays, valid, maxLayers, layers, count);
+      for (int j = 0; j < 16; ++j) {
+        if (!valid[j]) continue;
+        const std::size_t p = static_cast<std::size_t>(py + j / kPacket) * cam.width + (px + j % kPacket);
+        const float weight = extraSamples == 0 ? 1.0f : (s == 0 ? 0.0f : 1.0f / static_cast<float>(extraSamples));
+        if (s == 0) fb.layers[p] = static_cast<std::uint32_t>(count[j]);
+        glm::vec3 color(0.0f);
+        float through = 1.0f;  // the fraction of light that passes the layers so far
+        for (std::size_t l = 0; l < count[j]; ++l) {
+          const SceneHit& h = layers[j * maxLayers + l];
+          const std::uint32_t atom = patches.atomOf(h, rays[j].org + h.hit.t * rays[j].dir);
+          if (s == 0 && l == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom);
+          if (weight == 0.0f) break;
+          const std::uint64_t seed = (p * 1024u + static_cast<std::uint64_t>(s)) * kMaxLayers + l;
+          color += (through * alpha) * shader.color(rays[j], h, atom, seed);
+          through *= 1.0f - alpha;
+        }
+        if (weight == 0.0f) continue;
+        color += through * o.background;
+        for (int ch = 0; ch < 3; ++ch) fb.rgba[4 * p + ch] += weight * color[ch];
+        fb.rgba[4 * p + 3] += weight * (1.0f - through);
+      }
+    }
+  });
+  fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fb.rays = fb.pixels() * static_cast<std::size_t>(1 + extraSamples);
+  return fb;
+}
+
 }  // namespace
 
 FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
@@ -92,6 +194,11 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   if (o.samplesPerPixel < 1 || o.samplesPerPixel > 1024)
     throw std::invalid_argument("samples per pixel " + std::to_string(o.samplesPerPixel) + " must be in [1, 1024]");
   if (o.aoSamples < 0 || o.aoSamples > 4096) throw std::invalid_argument("ambient-occlusion samples must be in [0, 4096]");
+  if (!(o.opacity > 0.0 && o.opacity <= 1.0))
+    throw std::invalid_argument("opacity " + std::to_string(o.opacity) + " must be in (0, 1]");
+  if (o.maxLayers < 1 || o.maxLayers > kMaxLayers)
+    throw std::invalid_argument("max layers " + std::to_string(o.maxLayers) + " must be in [1, " + std::to_string(kMaxLayers) + "]");
+  if (o.opacity < 1.0) return renderTransparent(scene, o, atomColors);
   const auto start = std::chrono::steady_clock::now();
   const Camera& cam = o.camera;
   FrameBuffers fb;
@@ -104,61 +211,32 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   const glm::dvec3 forward = cam.forward();
   const Camera::Frame view = cam.frame();
   const ScenePatches& patches = scene.patches();
-  const int tilesX = (cam.width + kTile - 1) / kTile, tilesY = (cam.height + kTile - 1) / kTile;
-  std::atomic<int> tilesDone{0};
 
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1), [&](const tbb::blocked_range2d<int>& r) {
-    for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
-      for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
-        for (int py = ty * kTile; py < std::min(cam.height, (ty + 1) * kTile); py += kPacket)
-          for (int px = tx * kTile; px < std::min(cam.width, (tx + 1) * kTile); px += kPacket) {
-            // Sample s of a packet: s = 0 is the pixel centre, 1..k² the stratified grid.
-            for (int s = 0; s <= extraSamples; ++s) {
-              Ray rays[16];
-              bool valid[16];
-              for (int j = 0; j < 16; ++j) {
-                const int x = px + j % kPacket, y = py + j / kPacket;
-                valid[j] = x < cam.width && y < cam.height;
-                double sx = x + 0.5, sy = y + 0.5;
-                if (s > 0) {
-                  sx = x + ((s - 1) % k + 0.5) / k;
-                  sy = y + ((s - 1) / k + 0.5) / k;
-                }
-                rays[j] = view.ray(sx, sy);
-              }
-              SceneHit hits[16];
-              scene.intersect16(rays, valid, 0.0, hits);
-              for (int j = 0; j < 16; ++j) {
-                if (!valid[j]) continue;
-                const std::size_t p = static_cast<std::size_t>(py + j / kPacket) * cam.width + (px + j % kPacket);
-                const SceneHit& h = hits[j];
-                const float weight = extraSamples == 0 ? 1.0f : (s == 0 ? 0.0f : 1.0f / static_cast<float>(extraSamples));
-                if (!h.valid()) {
-                  for (int c = 0; c < 3; ++c) fb.rgba[4 * p + c] += weight * o.background[c];
-                  continue;
-                }
-                const glm::dvec3 x = rays[j].org + h.hit.t * rays[j].dir;
-                const std::uint32_t atom = patches.atomOf(h, x);
-                if (s == 0) {
-                  fb.depth[p] = static_cast<float>(h.hit.t);
-                  fb.viewZ[p] = static_cast<float>(glm::dot(x - cam.eye, forward));
-                  for (int c = 0; c < 3; ++c) fb.normal[3 * p + c] = static_cast<float>(h.hit.normal[c]);
-                  fb.kind[p] = static_cast<std::uint32_t>(h.kind);
-                  fb.patchId[p] = patches.globalId(h.kind, h.patch);
-                  fb.atomId[p] = atom;
-                  fb.flags[p] = h.hit.flags;
-                }
-                if (weight == 0.0f) continue;
-                const glm::vec3 c = shader.color(rays[j], h, atom, p * 1024u + static_cast<std::uint64_t>(s));
-                for (int ch = 0; ch < 3; ++ch) fb.rgba[4 * p + ch] += weight * c[ch];
-                fb.rgba[4 * p + 3] += weight;
-              }
-            }
-          }
-        const int done = ++tilesDone;
-        if (o.progress && done % std::max(1, tilesX * tilesY / 100) == 0)
-          o.progress(static_cast<double>(done) / (tilesX * tilesY));
+  forEachPacket(cam, o, [] { return 0; }, [&](int px, int py, int) {
+    for (int s = 0; s <= extraSamples; ++s) {
+      Ray rays[16];
+      bool valid[16];
+      packetRays(cam, view, px, py, s, k, rays, valid);
+      SceneHit hits[16];
+      scene.intersect16(rays, valid, 0.0, hits);
+      for (int j = 0; j < 16; ++j) {
+        if (!valid[j]) continue;
+        const std::size_t p = static_cast<std::size_t>(py + j / kPacket) * cam.width + (px + j % kPacket);
+        const SceneHit& h = hits[j];
+        const float weight = extraSamples == 0 ? 1.0f : (s == 0 ? 0.0f : 1.0f / static_cast<float>(extraSamples));
+        if (!h.valid()) {
+          for (int c = 0; c < 3; ++c) fb.rgba[4 * p + c] += weight * o.background[c];
+          continue;
+        }
+        const glm::dvec3 x = rays[j].org + h.hit.t * rays[j].dir;
+        const std::uint32_t atom = patches.atomOf(h, x);
+        if (s == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom);
+        if (weight == 0.0f) continue;
+        const glm::vec3 c = shader.color(rays[j], h, atom, p * 1024u + static_cast<std::uint64_t>(s));
+        for (int ch = 0; ch < 3; ++ch) fb.rgba[4 * p + ch] += weight * c[ch];
+        fb.rgba[4 * p + 3] += weight;
       }
+    }
   });
   // Background pixels: colour only, alpha 0 stays.
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

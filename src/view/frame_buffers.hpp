@@ -20,6 +20,9 @@ struct FrameBuffers {
   std::vector<std::uint32_t> patchId; // PatchIdOrder::globalId
   std::vector<std::uint32_t> atomId;
   std::vector<std::uint32_t> flags;   // HitFlag bits of the centre hit (view/ray.hpp)
+  // Crossings of the centre ray with the surface that a transparent frame composited (at
+  // most RenderOptions::maxLayers); empty for an opaque frame. Not written to image files.
+  std::vector<std::uint32_t> layers;
   double seconds = 0.0;               // wall time of the frame
   std::size_t rays = 0;               // camera rays traced (shadow and AO rays not counted)
 

@@ -292,6 +292,30 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
   EXPECT_EQ(frame2.patchId, frame.patchId);
 }
 
+// --opacity: recorded in the metadata with --max-layers, the buffers stay the nearest
+// crossing's (those of the opaque image), the colour differs; the GL engine refuses it and a
+// value outside (0, 1] is refused.
+TEST(Cli, OpacityIsRecordedAndGlRefusesIt) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string opaque = (dir / "o.exr").string(), clear = (dir / "t.exr").string();
+  ASSERT_EQ(run("render " + data("structures/1crn.pdb") + " --size 48x48 --quiet --exr " + opaque).status, 0);
+  const Result r = run("render " + data("structures/1crn.pdb") + " --size 48x48 --opacity 0.5 --max-layers 6 --exr " + clear);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("layers per covered pixel"), std::string::npos) << r.output;
+  surftrace::view::ImageMetadata meta;
+  const auto t = surftrace::view::readExr(clear, &meta);
+  const auto o = surftrace::view::readExr(opaque);
+  EXPECT_EQ(meta.at("surftrace:opacity"), "0.500000");
+  EXPECT_EQ(meta.at("surftrace:max_layers"), "6");
+  EXPECT_EQ(t.kind, o.kind);
+  EXPECT_NE(t.rgba, o.rgba);
+  const Result gl = run("render " + data("structures/1crn.pdb") + " --size 16x16 --engine gl --opacity 0.5 --exr " + clear);
+  EXPECT_NE(gl.status, 0);
+  EXPECT_NE(gl.output.find("--engine gl draws opaque surfaces only"), std::string::npos) << gl.output;
+  EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 0 --exr " + clear).status, 0);
+  EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 1.5 --exr " + clear).status, 0);
+}
+
 // The skin at any shrink factor fills the picture as s = 0.5 does, and no frame clips it:
 // framing takes the tighter of the patches' balls (loose as r/√s for small s) and the hull
 // of the atoms grown by the largest radius (issue 23: 0.2 % of the pixels at s = 0.01 before).

@@ -1,0 +1,91 @@
+// Every crossing of a ray with the surface, in order (transparency): the layer list and the
+// test that keeps a whole sphere's hit only where it lies on its convex patch.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "trace/patch_scene.hpp"
+
+namespace surftrace::trace {
+
+// Two hits closer than this along the ray (Å) are one crossing: where two patches meet at a
+// seam, both report the point (their trimming tests overlap by kBoundaryTolerance on purpose,
+// so that no ray slips through between them). The intersectors agree on a seam point to
+// ~1e-10 Å (ORACLES D.1's quartic error) and the patches meet tangentially (SES, skin) or at
+// a crease (vdW, SAS), so 1e-6 Å merges every seam duplicate of a ray that is not grazing
+// (|cos| > 1e-4). Two true crossings closer than this, a ray that grazes the surface, count
+// as one: the two layers would be one point anyway.
+inline constexpr double kLayerMergeDistance = 1e-6;
+
+// The whole spheres of a scene draw their hidden part too (sphere_patch.hpp): fine for the
+// nearest hit, but a transparent surface would show it. A hit x on sphere i (centre c, radius
+// ρ) is on its convex patch iff the point y = c + (ρ + g)/ρ (x − c) lies outside the grown
+// sphere (r_k + h) of every other atom k: for the SES g = h = rp (y is then a point of the SAS,
+// ORACLES D.1); for the vdW balls g = h = 0, for the SAS balls (ρ = r + rp) g = 0, h = rp (x is
+// on the union's boundary). Skin spheres are clipped by their mixed cells already.
+//
+// The atoms are ScenePatches::atoms. Without them (a scene made from a patch-list file alone)
+// the scene's own spheres stand in: complete for vdW and SAS, but the SES list has spheres of
+// exposed atoms only, so a part of a sphere that only buried atoms hide then shows. With
+// --drop-cavities the builder keeps a sphere that lines both the outer surface and a cavity
+// whole, so its cavity side shows through while the cavity's tori and concave triangles are gone.
+class SphereClip {
+ public:
+  SphereClip() = default;
+  explicit SphereClip(const ScenePatches& patches);
+
+  // Whether the hit x on sphere `sphere` (index among the scene's spheres) is on its patch.
+  // Points within a relative kBoundaryTolerance of a grown neighbour count as outside it.
+  bool onPatch(std::uint32_t sphere, const glm::dvec3& x) const;
+
+ private:
+  double grow_ = 0.0;                   // g
+  std::vector<glm::dvec4> spheres_;     // the scene's spheres: centre, radius ρ
+  std::vector<glm::dvec4> blockers_;    // the atoms: centre, grown radius r_k + h
+  std::vector<std::uint32_t> begin_;    // CSR: blockers others_[begin_[i], begin_[i + 1]) may hide sphere i
+  std::vector<std::uint32_t> others_;
+};
+
+// The crossings of one ray, nearest first, no two within kLayerMergeDistance (the nearer of
+// two such is kept), at most `capacity` of them (the nearest).
+class LayerList {
+ public:
+  LayerList() = default;
+  LayerList(std::span<SceneHit> storage, double mergeT) : hits_(storage), mergeT_(mergeT) {}
+  // Adds a crossing, merging it with one within mergeT (in units of t) of it.
+  void insert(const SceneHit& hit);
+  bool full() const { return count_ == hits_.size(); }
+  std::size_t size() const { return count_; }
+  const SceneHit& operator[](std::size_t i) const { return hits_[i]; }
+  const SceneHit& back() const { return hits_[count_ - 1]; }
+
+ private:
+  std::span<SceneHit> hits_;
+  std::size_t count_ = 0;
+  double mergeT_ = 0.0;
+};
+
+// The most roots one patch can have along a ray (a torus: 4), with room for a root found again.
+inline constexpr int kMaxRootsPerPatch = 8;
+
+// Every hit on one patch in (tMin, tMax], ascending: f(const PatchHit&) for each.
+template <class Patch, class F> void forEachRoot(const Patch& patch, const Ray& ray, double tMin, double tMax, F&& f) {
+  for (int k = 0; k < kMaxRootsPerPatch; ++k) {
+    const std::optional<PatchHit> h = intersect(patch, ray, tMin, tMax);
+    if (!h || !(h->t > tMin)) return;
+    f(*h);
+    tMin = h->t;
+  }
+}
+
+// The crossings of `ray` with a plain loop over every patch (no BVH): the test oracle of
+// PatchScene::intersectLayers16, as ScenePatches::intersectAll is of the nearest hit.
+std::vector<SceneHit> crossingsAll(const ScenePatches& patches, const SphereClip& clip, const Ray& ray,
+                                   std::size_t maxLayers);
+
+}  // namespace surftrace::trace
