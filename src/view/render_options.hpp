@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "view/camera.hpp"
+#include "view/image_effects.hpp"
 #include "view/shading.hpp"
 
 namespace surftrace::view {
@@ -21,6 +22,9 @@ struct RenderOptions {
   bool shadows = false;     // a ray towards a key light above-left of the eye
   int aoSamples = 0;        // ambient-occlusion rays per hit (0 = off)
   double aoDistance = 8.0;  // Å
+  // Image-space effects, applied after the engine by the pipeline (tools/pipeline.hpp), not by
+  // the engines: every engine's frame gets the same pass.
+  ImageEffects effects;
   // Called now and then from worker threads with the fraction done (for a progress bar).
   std::function<void(double)> progress;
 };

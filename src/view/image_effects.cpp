@@ -1,0 +1,232 @@
+// Image-space effects on a rendered frame (image_effects.hpp).
+#include "view/image_effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace surftrace::view {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+std::size_t index(const FrameBuffers& f, int x, int y) {
+  return static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x);
+}
+
+// Rows [0, height) in parallel; each task gets whole rows.
+template <class Fn>
+void forRows(int height, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) fn(y);
+  });
+}
+
+// The view depth with misses at +inf: the farthest value in a window is then +inf whenever
+// the window holds a miss, so one max filter finds both kinds of silhouette.
+std::vector<float> depthWithMissesFar(const FrameBuffers& f) {
+  std::vector<float> z(f.pixels());
+  for (std::size_t p = 0; p < z.size(); ++p) z[p] = f.kind[p] != 0 ? f.viewZ[p] : kInf;
+  return z;
+}
+
+// Max over the (2r+1)² window clipped to the image, as two 1-D passes (max is exact, so the
+// separable filter equals the 2-D one bit for bit).
+std::vector<float> maxFilter(const std::vector<float>& in, int w, int h, int r) {
+  std::vector<float> rows(in.size()), out(in.size());
+  forRows(h, [&](int y) {
+    const float* src = &in[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    float* dst = &rows[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    for (int x = 0; x < w; ++x) {
+      float m = -kInf;
+      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) m = std::max(m, src[k]);
+      dst[x] = m;
+    }
+  });
+  forRows(h, [&](int y) {
+    float* dst = &out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    std::fill(dst, dst + w, -kInf);
+    for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
+      const float* src = &rows[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+      for (int x = 0; x < w; ++x) dst[x] = std::max(dst[x], src[x]);
+    }
+  });
+  return out;
+}
+
+// One pass of a normalised convolution along x (step 1) or y (step w): numerator and weight.
+void gaussianPass(const std::vector<float>& num, const std::vector<float>& den, std::vector<float>& numOut,
+                  std::vector<float>& denOut, int w, int h, const std::vector<float>& g, bool alongX) {
+  const int r = static_cast<int>(g.size()) - 1;
+  forRows(h, [&](int y) {
+    float* n = &numOut[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    float* d = &denOut[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    std::fill(n, n + w, 0.0f);
+    std::fill(d, d + w, 0.0f);
+    if (alongX) {
+      const float* sn = &num[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+      const float* sd = &den[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+      for (int x = 0; x < w; ++x) {
+        float a = 0.0f, b = 0.0f;
+        for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) {
+          const float gk = g[static_cast<std::size_t>(std::abs(k - x))];
+          a += gk * sn[k];
+          b += gk * sd[k];
+        }
+        n[x] = a, d[x] = b;
+      }
+    } else {
+      for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
+        const float gk = g[static_cast<std::size_t>(std::abs(k - y))];
+        const float* sn = &num[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+        const float* sd = &den[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+        for (int x = 0; x < w; ++x) n[x] += gk * sn[x], d[x] += gk * sd[x];
+      }
+    }
+  });
+}
+
+}  // namespace
+
+void ImageEffects::validate() const {
+  if (lineWidth < 1) throw std::invalid_argument("silhouette width must be at least 1 pixel");
+  if (!(silhouetteJump >= 0.0) || !std::isfinite(silhouetteJump))
+    throw std::invalid_argument("silhouette depth jump must be finite and >= 0 Å");
+  if (!(creaseAngle >= 0.0 && creaseAngle < 180.0)) throw std::invalid_argument("crease angle must be in [0, 180) degrees");
+  if (!(darkeningSigma > 0.0 && darkeningSigma <= 256.0))
+    throw std::invalid_argument("depth-darkening sigma must be in (0, 256] pixels");
+  if (!(darkeningStrength >= 0.0) || !std::isfinite(darkeningStrength))
+    throw std::invalid_argument("depth-darkening strength must be finite and >= 0");
+  if (!(depthCueStrength >= 0.0 && depthCueStrength <= 1.0)) throw std::invalid_argument("depth-cue strength must be in [0, 1]");
+  if (depthCueStart && depthCueEnd && !(*depthCueEnd > *depthCueStart))
+    throw std::invalid_argument("depth-cue end must lie beyond its start");
+}
+
+std::string ImageEffects::json(const Camera& camera) const {
+  nlohmann::json j = nlohmann::json::object();
+  if (silhouettes) j["silhouettes"] = {{"depth_jump", silhouetteJump}};
+  if (lines())
+    j["lines"] = {{"width_px", lineWidth}, {"color", {lineColor.x, lineColor.y, lineColor.z}}, {"crease_angle_degrees", creaseAngle}};
+  if (depthDarkening) j["depth_darkening"] = {{"sigma_px", darkeningSigma}, {"strength", darkeningStrength}};
+  if (depthCue) {
+    nlohmann::json cue = {{"strength", depthCueStrength}};
+    const double start = depthCueStart ? *depthCueStart : camera.zNear, end = depthCueEnd ? *depthCueEnd : camera.zFar;
+    if (end > start) {
+      cue["start"] = start;
+      cue["end"] = end;
+    } else {
+      cue["range"] = "the frame's hits";
+    }
+    j["depth_cue"] = cue;
+  }
+  return j.dump();
+}
+
+std::vector<unsigned char> silhouetteMask(const FrameBuffers& f, int width, double jump) {
+  const std::vector<float> z = depthWithMissesFar(f);
+  const std::vector<float> far = maxFilter(z, f.width, f.height, width);
+  std::vector<unsigned char> mask(f.pixels(), 0);
+  for (std::size_t p = 0; p < mask.size(); ++p)
+    mask[p] = f.kind[p] != 0 && static_cast<double>(far[p]) - static_cast<double>(z[p]) > jump;
+  return mask;
+}
+
+std::vector<unsigned char> creaseMask(const FrameBuffers& f, int width, double jump, double angleDegrees) {
+  std::vector<unsigned char> mask(f.pixels(), 0);
+  if (angleDegrees <= 0.0) return mask;
+  const float cosLimit = static_cast<float>(std::cos(angleDegrees * kPi / 180.0));
+  forRows(f.height, [&](int y) {
+    for (int x = 0; x < f.width; ++x) {
+      const std::size_t p = index(f, x, y);
+      if (f.kind[p] == 0) continue;
+      const float* np = &f.normal[3 * p];
+      bool crease = false;
+      for (int qy = std::max(0, y - width); qy <= std::min(f.height - 1, y + width) && !crease; ++qy)
+        for (int qx = std::max(0, x - width); qx <= std::min(f.width - 1, x + width) && !crease; ++qx) {
+          const std::size_t q = index(f, qx, qy);
+          if (f.kind[q] == 0 || std::abs(static_cast<double>(f.viewZ[q]) - static_cast<double>(f.viewZ[p])) > jump) continue;
+          const float* nq = &f.normal[3 * q];
+          crease = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < cosLimit;
+        }
+      mask[p] = crease;
+    }
+  });
+  return mask;
+}
+
+std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma) {
+  const int w = f.width, h = f.height;
+  const std::size_t n = f.pixels();
+  // Depths relative to the nearest hit: a constant buffer becomes exactly zero, so its ΔD is
+  // exactly zero (no rounding of c·Σg/Σg), and float keeps more digits of the relief.
+  float zRef = kInf;
+  for (std::size_t p = 0; p < n; ++p)
+    if (f.kind[p] != 0) zRef = std::min(zRef, f.viewZ[p]);
+  std::vector<float> num(n, 0.0f), den(n, 0.0f);
+  for (std::size_t p = 0; p < n; ++p)
+    if (f.kind[p] != 0) num[p] = f.viewZ[p] - zRef, den[p] = 1.0f;
+  const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma)));
+  std::vector<float> g(static_cast<std::size_t>(r) + 1);
+  for (int k = 0; k <= r; ++k) g[static_cast<std::size_t>(k)] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  std::vector<float> numX(n), denX(n), numXY(n), denXY(n);
+  gaussianPass(num, den, numX, denX, w, h, g, true);
+  gaussianPass(numX, denX, numXY, denXY, w, h, g, false);
+  std::vector<float> delta(n, 0.0f);
+  for (std::size_t p = 0; p < n; ++p)
+    if (f.kind[p] != 0) delta[p] = numXY[p] / denXY[p] - num[p];  // denXY >= 1: p itself is a hit
+  return delta;
+}
+
+void depthCueRange(const ImageEffects& e, const Camera& camera, const FrameBuffers& f, double& start, double& end) {
+  start = camera.zNear, end = camera.zFar;
+  if (!camera.hasDepthRange()) {
+    start = kInf, end = -kInf;
+    for (std::size_t p = 0; p < f.pixels(); ++p)
+      if (f.kind[p] != 0) start = std::min(start, static_cast<double>(f.viewZ[p])), end = std::max(end, static_cast<double>(f.viewZ[p]));
+  }
+  if (e.depthCueStart) start = *e.depthCueStart;
+  if (e.depthCueEnd) end = *e.depthCueEnd;
+}
+
+void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& camera, const glm::vec3& background) {
+  if (!e.any() || f.pixels() == 0) return;
+  const std::size_t n = f.pixels();
+  if (e.depthDarkening) {
+    const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigma);
+    const auto lambda = static_cast<float>(e.darkeningStrength);
+    for (std::size_t p = 0; p < n; ++p)
+      if (delta[p] < 0.0f)
+        for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = std::max(0.0f, f.rgba[4 * p + c] + lambda * delta[p]);
+  }
+  if (e.depthCue) {
+    double start = 0, end = 0;
+    depthCueRange(e, camera, f, start, end);
+    const double span = end > start ? end - start : 1.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      if (f.kind[p] == 0) continue;
+      const auto fog = static_cast<float>(e.depthCueStrength * std::clamp((f.viewZ[p] - start) / span, 0.0, 1.0));
+      for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = (1.0f - fog) * f.rgba[4 * p + c] + fog * background[c];
+    }
+  }
+  if (e.lines()) {
+    std::vector<unsigned char> mask = e.silhouettes ? silhouetteMask(f, e.lineWidth, e.silhouetteJump)
+                                                    : std::vector<unsigned char>(n, 0);
+    if (e.creaseAngle > 0.0) {
+      const std::vector<unsigned char> crease = creaseMask(f, e.lineWidth, e.silhouetteJump, e.creaseAngle);
+      for (std::size_t p = 0; p < n; ++p) mask[p] |= crease[p];
+    }
+    for (std::size_t p = 0; p < n; ++p)
+      if (mask[p]) {
+        for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = e.lineColor[c];
+        f.rgba[4 * p + 3] = 1.0f;
+      }
+  }
+}
+
+}  // namespace surftrace::view
