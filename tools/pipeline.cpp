@@ -13,6 +13,7 @@
 #include "option_checks.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
+#include "view/image_effects.hpp"
 #include "view/image_io.hpp"
 
 namespace surftrace::tools {
@@ -126,15 +127,20 @@ FrameRenderer::~FrameRenderer() = default;
 view::FrameBuffers FrameRenderer::render(const build::PatchList& list, const view::RenderOptions& options,
                                          std::span<const glm::vec3> atomColors, ProgressBar* bar) {
   Impl& m = *impl_;
+  view::FrameBuffers frame;
   if (!m.device) {
     if (!m.context) m.context.emplace();
-    return gl::renderGl(*m.context, list, options, atomColors, m.gl);
+    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl);
+  } else {
+    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list), *m.device);
+    m.sceneSeconds = scene.buildSeconds();
+    view::RenderOptions withProgress = options;
+    if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
+    frame = trace::render(scene, withProgress, atomColors);
   }
-  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list), *m.device);
-  m.sceneSeconds = scene.buildSeconds();
-  view::RenderOptions withProgress = options;
-  if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
-  return trace::render(scene, withProgress, atomColors);
+  // The one place the image-space effects run: on the buffers, whichever engine filled them.
+  view::applyImageEffects(frame, options.effects, options.camera, options.background);
+  return frame;
 }
 
 void FrameRenderer::describe(ImageRecord& record) const {
@@ -157,6 +163,7 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.input = input;
   record.color = image.color;
   record.commandLine = commandLine;
+  record.effects = resolveEffects(image);
   return record;
 }
 

@@ -160,27 +160,36 @@ std::vector<unsigned char> creaseMask(const FrameBuffers& f, int width, double j
   return mask;
 }
 
-std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma) {
+std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma, double backgroundDepth) {
   const int w = f.width, h = f.height;
   const std::size_t n = f.pixels();
-  // Depths relative to the nearest hit: a constant buffer becomes exactly zero, so its ΔD is
+  const auto far = static_cast<float>(backgroundDepth);
+  // Depths relative to the nearest pixel: a constant buffer becomes exactly zero, so its ΔD is
   // exactly zero (no rounding of c·Σg/Σg), and float keeps more digits of the relief.
-  float zRef = kInf;
+  float zRef = far;
   for (std::size_t p = 0; p < n; ++p)
     if (f.kind[p] != 0) zRef = std::min(zRef, f.viewZ[p]);
-  std::vector<float> num(n, 0.0f), den(n, 0.0f);
-  for (std::size_t p = 0; p < n; ++p)
-    if (f.kind[p] != 0) num[p] = f.viewZ[p] - zRef, den[p] = 1.0f;
+  std::vector<float> num(n), den(n, 1.0f);
+  for (std::size_t p = 0; p < n; ++p) num[p] = (f.kind[p] != 0 ? f.viewZ[p] : far) - zRef;
   const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma)));
   std::vector<float> g(static_cast<std::size_t>(r) + 1);
   for (int k = 0; k <= r; ++k) g[static_cast<std::size_t>(k)] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
+  // Normalised by the weights inside the image, so that the border does not count as depth 0.
   std::vector<float> numX(n), denX(n), numXY(n), denXY(n);
   gaussianPass(num, den, numX, denX, w, h, g, true);
   gaussianPass(numX, denX, numXY, denXY, w, h, g, false);
-  std::vector<float> delta(n, 0.0f);
-  for (std::size_t p = 0; p < n; ++p)
-    if (f.kind[p] != 0) delta[p] = numXY[p] / denXY[p] - num[p];  // denXY >= 1: p itself is a hit
+  std::vector<float> delta(n);
+  tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t begin) {
+    for (std::size_t p = begin; p < std::min(n, begin + 4096); ++p) delta[p] = numXY[p] / denXY[p] - num[p];
+  });
   return delta;
+}
+
+double backgroundDepth(const FrameBuffers& f) {
+  double far = 0.0;
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    if (f.kind[p] != 0) far = std::max(far, static_cast<double>(f.viewZ[p]));
+  return far;
 }
 
 void depthCueRange(const ImageEffects& e, const Camera& camera, const FrameBuffers& f, double& start, double& end) {
@@ -198,7 +207,7 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
   if (!e.any() || f.pixels() == 0) return;
   const std::size_t n = f.pixels();
   if (e.depthDarkening) {
-    const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigma);
+    const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigma, backgroundDepth(f));
     const auto lambda = static_cast<float>(e.darkeningStrength);
     for (std::size_t p = 0; p < n; ++p)
       if (delta[p] < 0.0f)

@@ -31,12 +31,15 @@ struct ImageEffects {
   // 0 = none. Drawn with the silhouettes' width and colour.
   double creaseAngle = 0.0;
   // Depth darkening (Luft, Colditz, Deussen 2006, "Image enhancement by unsharp masking the depth
-  // buffer"): ΔD = G∗D − D with D the view depth in Å and G a Gaussian of darkeningSigma pixels
-  // (truncated at 3σ, averaged over hit pixels only, so the background does not bleed in);
-  // where ΔD < 0 (the pixel lies behind its surroundings) each colour channel gets λ·ΔD added.
+  // buffer"): ΔD = G∗D − D with D the view depth in Å (the background just behind the
+  // farthest hit: the camera's far plane would lie a molecule's radius behind the rim and
+  // turn the halo black) and G a Gaussian of darkeningSigma pixels, truncated at 3σ and
+  // normalised over the pixels inside the image; where ΔD < 0 (the pixel lies behind its
+  // surroundings) each colour channel gets λ·ΔD added. The background next to the molecule lies
+  // behind it too: it gets the paper's dark halo.
   bool depthDarkening = false;
-  double darkeningSigma = 4.0;         // px
-  double darkeningStrength = 0.05;     // λ, colour per Å of ΔD
+  double darkeningSigma = 8.0;         // px
+  double darkeningStrength = 0.03;     // λ, colour per Å of ΔD
   // Depth cueing, the depth-dependent lighting of molecular viewers (linear fog, as OpenGL's
   // GL_LINEAR): a hit's colour moves towards the background by
   // f = depthCueStrength · clamp((viewZ − start) / (end − start), 0, 1); start and end default
@@ -61,8 +64,10 @@ void applyImageEffects(FrameBuffers& frame, const ImageEffects& effects, const C
 // The pieces, for tests and benchmarks. One byte per pixel, 1 where a line is drawn.
 std::vector<unsigned char> silhouetteMask(const FrameBuffers& frame, int width, double jump);
 std::vector<unsigned char> creaseMask(const FrameBuffers& frame, int width, double jump, double angleDegrees);
-// ΔD = G∗D − D per pixel (0 at misses), separable.
-std::vector<float> depthUnsharpMask(const FrameBuffers& frame, double sigma);
+// ΔD = G∗D − D per pixel, misses at `backgroundDepth`, as two 1-D passes.
+std::vector<float> depthUnsharpMask(const FrameBuffers& frame, double sigma, double backgroundDepth);
+// The depth of the background for depth darkening: the farthest hit's.
+double backgroundDepth(const FrameBuffers& frame);
 // The depth-cue range: the effect's own, else the camera's, else the frame's hits.
 void depthCueRange(const ImageEffects& effects, const Camera& camera, const FrameBuffers& frame, double& start,
                    double& end);
