@@ -28,11 +28,19 @@ void forRows(int height, Fn&& fn) {
   });
 }
 
+// Pixels [0, n) in parallel, in blocks.
+template <class Fn>
+void forPixels(std::size_t n, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t p = r.begin(); p != r.end(); ++p) fn(p);
+  });
+}
+
 // The view depth with misses at +inf: the farthest value in a window is then +inf whenever
 // the window holds a miss, so one max filter finds both kinds of silhouette.
 std::vector<float> depthWithMissesFar(const FrameBuffers& f) {
   std::vector<float> z(f.pixels());
-  for (std::size_t p = 0; p < z.size(); ++p) z[p] = f.kind[p] != 0 ? f.viewZ[p] : kInf;
+  forPixels(z.size(), [&](std::size_t p) { z[p] = f.kind[p] != 0 ? f.viewZ[p] : kInf; });
   return z;
 }
 
@@ -43,11 +51,13 @@ std::vector<float> maxFilter(const std::vector<float>& in, int w, int h, int r) 
   forRows(h, [&](int y) {
     const float* src = &in[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
     float* dst = &rows[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    for (int x = 0; x < w; ++x) {
-      float m = -kInf;
-      for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) m = std::max(m, src[k]);
-      dst[x] = m;
-    }
+    // Offset by offset over the whole row (the loop the compiler vectorises), not pixel by pixel.
+    std::copy(src, src + w, dst);
+    for (int k = 1; k <= r && k < w; ++k)
+      for (int x = 0; x + k < w; ++x) {
+        dst[x] = std::max(dst[x], src[x + k]);
+        dst[x + k] = std::max(dst[x + k], src[x]);
+      }
   });
   forRows(h, [&](int y) {
     float* dst = &out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
@@ -60,36 +70,42 @@ std::vector<float> maxFilter(const std::vector<float>& in, int w, int h, int r) 
   return out;
 }
 
-// One pass of a normalised convolution along x (step 1) or y (step w): numerator and weight.
-void gaussianPass(const std::vector<float>& num, const std::vector<float>& den, std::vector<float>& numOut,
-                  std::vector<float>& denOut, int w, int h, const std::vector<float>& g, bool alongX) {
+// One pass of the Gaussian along x or y, offset by offset over whole rows (vectorised); the
+// window is clipped to the image.
+void gaussianPass(const std::vector<float>& in, std::vector<float>& out, int w, int h, const std::vector<float>& g,
+                  bool alongX) {
   const int r = static_cast<int>(g.size()) - 1;
   forRows(h, [&](int y) {
-    float* n = &numOut[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    float* d = &denOut[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    std::fill(n, n + w, 0.0f);
-    std::fill(d, d + w, 0.0f);
+    float* dst = &out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
     if (alongX) {
-      const float* sn = &num[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-      const float* sd = &den[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-      for (int x = 0; x < w; ++x) {
-        float a = 0.0f, b = 0.0f;
-        for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k) {
-          const float gk = g[static_cast<std::size_t>(std::abs(k - x))];
-          a += gk * sn[k];
-          b += gk * sd[k];
-        }
-        n[x] = a, d[x] = b;
+      const float* src = &in[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+      for (int x = 0; x < w; ++x) dst[x] = g[0] * src[x];
+      for (int k = 1; k <= r && k < w; ++k) {
+        const float gk = g[static_cast<std::size_t>(k)];
+        for (int x = 0; x + k < w; ++x) dst[x] += gk * src[x + k];
+        for (int x = k; x < w; ++x) dst[x] += gk * src[x - k];
       }
     } else {
+      std::fill(dst, dst + w, 0.0f);
       for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
         const float gk = g[static_cast<std::size_t>(std::abs(k - y))];
-        const float* sn = &num[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
-        const float* sd = &den[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
-        for (int x = 0; x < w; ++x) n[x] += gk * sn[x], d[x] += gk * sd[x];
+        const float* src = &in[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+        for (int x = 0; x < w; ++x) dst[x] += gk * src[x];
       }
     }
   });
+}
+
+// The Gaussian's weight inside the image at each position of a line of n pixels.
+std::vector<float> weightInside(int n, const std::vector<float>& g) {
+  const int r = static_cast<int>(g.size()) - 1;
+  std::vector<float> sum(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    float s = 0.0f;
+    for (int k = std::max(0, i - r); k <= std::min(n - 1, i + r); ++k) s += g[static_cast<std::size_t>(std::abs(k - i))];
+    sum[static_cast<std::size_t>(i)] = s;
+  }
+  return sum;
 }
 
 }  // namespace
@@ -132,8 +148,9 @@ std::vector<unsigned char> silhouetteMask(const FrameBuffers& f, int width, doub
   const std::vector<float> z = depthWithMissesFar(f);
   const std::vector<float> far = maxFilter(z, f.width, f.height, width);
   std::vector<unsigned char> mask(f.pixels(), 0);
-  for (std::size_t p = 0; p < mask.size(); ++p)
+  forPixels(mask.size(), [&](std::size_t p) {
     mask[p] = f.kind[p] != 0 && static_cast<double>(far[p]) - static_cast<double>(z[p]) > jump;
+  });
   return mask;
 }
 
@@ -169,18 +186,25 @@ std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma, double 
   float zRef = far;
   for (std::size_t p = 0; p < n; ++p)
     if (f.kind[p] != 0) zRef = std::min(zRef, f.viewZ[p]);
-  std::vector<float> num(n), den(n, 1.0f);
+  std::vector<float> num(n);
   for (std::size_t p = 0; p < n; ++p) num[p] = (f.kind[p] != 0 ? f.viewZ[p] : far) - zRef;
   const int r = std::max(1, static_cast<int>(std::ceil(3.0 * sigma)));
   std::vector<float> g(static_cast<std::size_t>(r) + 1);
   for (int k = 0; k <= r; ++k) g[static_cast<std::size_t>(k)] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
-  // Normalised by the weights inside the image, so that the border does not count as depth 0.
-  std::vector<float> numX(n), denX(n), numXY(n), denXY(n);
-  gaussianPass(num, den, numX, denX, w, h, g, true);
-  gaussianPass(numX, denX, numXY, denXY, w, h, g, false);
+  // Normalised by the weight inside the image, so that the border does not count as depth 0;
+  // that weight is separable too: the product of the two lines' weights.
+  std::vector<float> numX(n), numXY(n);
+  gaussianPass(num, numX, w, h, g, true);
+  gaussianPass(numX, numXY, w, h, g, false);
+  const std::vector<float> sumX = weightInside(w, g), sumY = weightInside(h, g);
   std::vector<float> delta(n);
-  tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t begin) {
-    for (std::size_t p = begin; p < std::min(n, begin + 4096); ++p) delta[p] = numXY[p] / denXY[p] - num[p];
+  forRows(h, [&](int y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    const float inverseY = 1.0f / sumY[static_cast<std::size_t>(y)];
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = row + static_cast<std::size_t>(x);
+      delta[p] = numXY[p] * (inverseY / sumX[static_cast<std::size_t>(x)]) - num[p];
+    }
   });
   return delta;
 }
@@ -209,19 +233,20 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
   if (e.depthDarkening) {
     const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigma, backgroundDepth(f));
     const auto lambda = static_cast<float>(e.darkeningStrength);
-    for (std::size_t p = 0; p < n; ++p)
+    forPixels(n, [&](std::size_t p) {
       if (delta[p] < 0.0f)
         for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = std::max(0.0f, f.rgba[4 * p + c] + lambda * delta[p]);
+    });
   }
   if (e.depthCue) {
     double start = 0, end = 0;
     depthCueRange(e, camera, f, start, end);
     const double span = end > start ? end - start : 1.0;
-    for (std::size_t p = 0; p < n; ++p) {
-      if (f.kind[p] == 0) continue;
+    forPixels(n, [&](std::size_t p) {
+      if (f.kind[p] == 0) return;
       const auto fog = static_cast<float>(e.depthCueStrength * std::clamp((f.viewZ[p] - start) / span, 0.0, 1.0));
       for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = (1.0f - fog) * f.rgba[4 * p + c] + fog * background[c];
-    }
+    });
   }
   if (e.lines()) {
     std::vector<unsigned char> mask = e.silhouettes ? silhouetteMask(f, e.lineWidth, e.silhouetteJump)
@@ -230,11 +255,11 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
       const std::vector<unsigned char> crease = creaseMask(f, e.lineWidth, e.silhouetteJump, e.creaseAngle);
       for (std::size_t p = 0; p < n; ++p) mask[p] |= crease[p];
     }
-    for (std::size_t p = 0; p < n; ++p)
-      if (mask[p]) {
-        for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = e.lineColor[c];
-        f.rgba[4 * p + 3] = 1.0f;
-      }
+    forPixels(n, [&](std::size_t p) {
+      if (!mask[p]) return;
+      for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = e.lineColor[c];
+      f.rgba[4 * p + 3] = 1.0f;
+    });
   }
 }
 
