@@ -1,6 +1,8 @@
 // Embree reference renderer: scene build and frame time at 1024×1024, one sample per pixel,
 // for the paper's molecules: the SES, the molecular skin at s = 0.5 and 0.3 (Lindow et al.
-// 2010, Table 2), and, as a spheres-only lower bound, the vdW surface.
+// 2010, Table 2), and, as a spheres-only lower bound, the vdW surface; and the image-space
+// effects' cost against the frame (BM_Effects).
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -12,6 +14,7 @@
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "trace/render.hpp"
+#include "view/image_effects.hpp"
 
 namespace {
 
@@ -79,7 +82,39 @@ void BM_Frame(benchmark::State& state, const std::string& name) {
   state.counters["patches"] = static_cast<double>(scene.patches().size());
 }
 
+// The image-space effects on a 1024² SES frame, after the engine: range(0) threads, range(1)
+// 0 none (a copy of the frame, the floor), 1 silhouettes, 2 silhouettes + creases, 3 depth
+// darkening, 4 depth cueing, 5 all. Counter frame_ms: the frame's time (rendered once here,
+// same threads), to divide the effect's time by; restoring the colour (effect 0) is in every row.
+void BM_Effects(benchmark::State& state, const std::string& name) {
+  const Prepared& p = prepared(name);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+  const trace::PatchScene scene(patchesFor(p, 1));
+  view::RenderOptions o;
+  o.camera = frontCamera(p, 1024);
+  const auto start = std::chrono::steady_clock::now();
+  const view::FrameBuffers frame = trace::render(scene, o, {});
+  const double frameSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  view::ImageEffects e;
+  const std::int64_t k = state.range(1);
+  e.silhouettes = k == 1 || k == 2 || k == 5;
+  e.creaseAngle = k == 2 || k == 5 ? 60.0 : 0.0;
+  e.depthDarkening = k == 3 || k == 5;
+  e.depthCue = k == 4 || k == 5;
+  view::FrameBuffers f = frame;
+  for (auto _ : state) {
+    f.rgba = frame.rgba;  // the colour the effects change: 16 MB, in every row (effect 0 alone)
+    view::applyImageEffects(f, e, o.camera, o.background);
+    benchmark::DoNotOptimize(f.rgba.data());
+  }
+  state.counters["frame_ms"] = 1e3 * frameSeconds;
+}
+
 }  // namespace
+
+BENCHMARK_CAPTURE(BM_Effects, 1vis, std::string("1vis.pdb.gz"))
+    ->ArgsProduct({{2}, {0, 1, 2, 3, 4, 5}})->ArgNames({"threads", "effect"})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 #define SURFTRACE_RENDER_BENCH(name, file)                                                                 \
   BENCHMARK_CAPTURE(BM_SceneBuild, name, std::string(file))                                                \

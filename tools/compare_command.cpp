@@ -19,7 +19,7 @@ namespace {
 
 struct CompareOptions {
   std::string test, reference, report, diff, preset;
-  std::optional<double> maxCoverage, maxDepthP99, minKind, minPatch, maxNormalP99;
+  std::optional<double> maxCoverage, maxDepthP99, minKind, minPatch, maxNormalP99, maxColorP99;
   bool ignoreCamera = false;
   // Another renderer's buffers (empty: not given; the defaults are foreignOptions').
   std::string depthChannel, depthConvention, testNormal, normalSpace, normalEncoding, testOrigin;
@@ -188,6 +188,7 @@ void runCompare(const CompareOptions& o) {
   if (o.minKind) limits.minKindAgreement = o.minKind;
   if (o.minPatch) limits.minPatchAgreement = o.minPatch;
   if (o.maxNormalP99) limits.maxNormalP99Degrees = o.maxNormalP99;
+  if (o.maxColorP99) limits.maxColorP99 = o.maxColorP99;
   // A limit on a buffer the test does not carry is neither passed nor failed.
   const auto unjudged = limits.notCompared(c);
   for (const auto& line : unjudged) std::printf("not compared: %s\n", line.c_str());
@@ -224,15 +225,19 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
                                          "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
                                          "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
-                                         "< 1°), or none (report the metrics, judge nothing). Default: foreign for another "
+                                         "< 1°), effects (gl-vs-embree and colour p99 < 0.02: two engines' images with the "
+                                         "same image-space effects), or none (report the metrics, judge nothing). Default: foreign for another "
                                          "renderer's buffers, exact when the two images' metadata name the same engine, "
                                          "else gl-vs-embree")
-      ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "none"}));
+      ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "effects", "none"}));
   cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
   cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));
   cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(numberIn(0, 1));
   cmd->add_option("--min-patch", o->minPatch, "Smallest patch-id agreement fraction")->check(numberIn(0, 1));
   cmd->add_option("--max-normal-p99", o->maxNormalP99, "Largest normal-angle p99 in degrees")->check(numberIn(0, HUGE_VAL));
+  cmd->add_option("--max-color-p99", o->maxColorP99,
+                  "Largest colour-difference p99 (largest of |dR|, |dG|, |dB| in [0, 1]) outside silhouettes and seams")
+      ->check(numberIn(0, 1));
   cmd->add_flag("--ignore-camera", o->ignoreCamera, "Compare even if the images' recorded cameras differ");
   // Another renderer's buffers (README "Validating your renderer"): any of these, or a TEST
   // without SurfTrace's channels, reads TEST as a depth buffer of the reference's camera.

@@ -70,7 +70,83 @@ view::Camera readCameraFile(const std::string& path) {
   }
 }
 
+void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
+  const char* group = "Image-space effects (both engines; from the pixel-centre buffers)";
+  cmd.add_flag("--silhouettes", o.silhouettes,
+               "Draw silhouette lines: on the nearer side of every depth jump larger than --silhouette-depth-jump "
+               "and of the outline against the background")
+      ->group(group);
+  cmd.add_option("--silhouette-width", o.silhouetteWidth, "Silhouette and crease line width in pixels")
+      ->check(wholeIn(1, 64))
+      ->default_val(2)
+      ->group(group);
+  cmd.add_option("--silhouette-color", o.silhouetteColor, "Silhouette and crease line colour r,g,b in [0,1]")
+      ->default_val("0,0,0")
+      ->group(group);
+  cmd.add_option("--silhouette-depth-jump", o.silhouetteJump,
+                 "Smallest jump in view depth (Å) within the line width that makes a silhouette")
+      ->check(numberIn(0, HUGE_VAL))
+      ->default_val(2.0)
+      ->group(group);
+  cmd.add_option("--crease-angle", o.creaseAngle,
+                 "Draw crease lines where the normal turns by more than this many degrees within the line width on "
+                 "one surface (0 = no creases)")
+      ->check(numberIn(0, 179))
+      ->default_val(0.0)
+      ->group(group);
+  cmd.add_flag("--depth-darkening", o.depthDarkening,
+               "Darken what lies behind its surroundings: unsharp masking of the depth buffer (Luft, Colditz, "
+               "Deussen 2006), colour + strength·min(0, G∗D − D), D in Å")
+      ->group(group);
+  cmd.add_option("--depth-darkening-sigma", o.darkeningSigma, "Depth darkening: the Gaussian's σ in pixels")
+      ->check(numberIn(0.1, 256))
+      ->default_val(8.0)
+      ->group(group);
+  cmd.add_option("--depth-darkening-strength", o.darkeningStrength,
+                 "Depth darkening: λ, the colour removed per Å that a pixel lies behind its surroundings")
+      ->check(numberIn(0, HUGE_VAL))
+      ->default_val(0.03)
+      ->group(group);
+  cmd.add_flag("--depth-cue", o.depthCue,
+               "Depth-dependent lighting: fade surfaces linearly towards the background with view depth, from "
+               "none at --depth-cue-start to --depth-cue-strength at --depth-cue-end")
+      ->group(group);
+  cmd.add_option("--depth-cue-strength", o.depthCueStrength, "Depth cueing: the background's share at the far end")
+      ->check(numberIn(0, 1))
+      ->default_val(0.6)
+      ->group(group);
+  cmd.add_option("--depth-cue-start", o.depthCueStart,
+                 "Depth cueing: view depth (Å from the eye) where the fading starts (default: the camera's near "
+                 "plane, tight around the scene)")
+      ->check(numberIn(0, HUGE_VAL))
+      ->group(group);
+  cmd.add_option("--depth-cue-end", o.depthCueEnd,
+                 "Depth cueing: view depth (Å) of full strength (default: the camera's far plane)")
+      ->check(numberIn(0, HUGE_VAL))
+      ->group(group);
+}
+
 }  // namespace
+
+view::ImageEffects resolveEffects(const ImageOptions& o) {
+  view::ImageEffects e;
+  e.silhouettes = o.silhouettes;
+  e.lineWidth = o.silhouetteWidth;
+  e.lineColor = parseColor("--silhouette-color", o.silhouetteColor);
+  e.silhouetteJump = o.silhouetteJump;
+  e.creaseAngle = o.creaseAngle;
+  e.depthDarkening = o.depthDarkening;
+  e.darkeningSigma = o.darkeningSigma;
+  e.darkeningStrength = o.darkeningStrength;
+  e.depthCue = o.depthCue;
+  e.depthCueStrength = o.depthCueStrength;
+  e.depthCueStart = o.depthCueStart;
+  e.depthCueEnd = o.depthCueEnd;
+  if (e.depthCueStart && e.depthCueEnd && !(*e.depthCueEnd > *e.depthCueStart))
+    throw std::invalid_argument("--depth-cue-end must lie beyond --depth-cue-start");
+  e.validate();
+  return e;
+}
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text) {
   std::istringstream in(text);
@@ -127,6 +203,7 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
                  "Write the camera used as JSON: eye, look_at, up, projection, fov_y_degrees/ortho_height, near and "
                  "far tight around the scene, and the OpenGL view_matrix and projection_matrix (column-major), for "
                  "another renderer to draw the same view");
+  addEffectOptions(cmd, o);
   for (const char* name : {"--view", "--eye", "--look-at", "--up", "--fov", "--ortho"})
     o.framingOptions.push_back(cmd.get_option(name));
   o.sizeOption = cmd.get_option("--size");
@@ -147,6 +224,7 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   ro.aoDistance = o.aoDistance;
   ro.opacity = o.opacity;
   ro.maxLayers = o.maxLayers;
+  ro.effects = resolveEffects(o);
   setup.viewDirection = view::namedViewDirection(o.view);
   if (!(o.fov > 0.0 && o.fov < 180.0))
     throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
@@ -282,6 +360,7 @@ view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& came
     meta["surftrace:opacity"] = std::to_string(r.opacity);
     meta["surftrace:max_layers"] = std::to_string(r.maxLayers);
   }
+  if (r.effects.any()) meta["surftrace:effects"] = r.effects.json(camera);
   for (const auto& [key, value] : r.engineSettings) meta[key] = value;
   meta["Software"] = kSoftware;
   return meta;

@@ -1,5 +1,5 @@
 // The options that say what an image looks like (size, view, camera, colours, samples,
-// shadows, ambient occlusion), shared by `render` and `trajectory`, and the progress bar.
+// shadows, ambient occlusion, image-space effects), shared by `render` and `trajectory`, and the progress bar.
 #pragma once
 
 #include <chrono>
@@ -36,6 +36,18 @@ struct ImageOptions {
   double aoDistance = 8.0;
   double opacity = 1.0;  // --opacity: below 1 the surface is transparent (every layer composited)
   int maxLayers = 16;    // --max-layers: the nearest layers a transparent ray composites
+  // Image-space effects (view/image_effects.hpp), applied after either engine.
+  bool silhouettes = false;
+  int silhouetteWidth = 2;
+  std::string silhouetteColor = "0,0,0";
+  double silhouetteJump = 2.0;
+  double creaseAngle = 0.0;
+  bool depthDarkening = false;
+  double darkeningSigma = 8.0;
+  double darkeningStrength = 0.03;
+  bool depthCue = false;
+  double depthCueStrength = 0.6;
+  std::optional<double> depthCueStart, depthCueEnd;
   std::string camera;     // --camera FILE: the camera instead of framing
   std::string cameraOut;  // --camera-out FILE
   // The options that --camera replaces (named in the error when given with it).
@@ -58,6 +70,8 @@ struct ImageSetup {
   std::string cameraOut;
 };
 ImageSetup resolveImageOptions(const ImageOptions& options);
+// The effect options checked and parsed (std::invalid_argument naming the option otherwise).
+view::ImageEffects resolveEffects(const ImageOptions& options);
 
 // std::invalid_argument, naming `sizeText` and how much memory is needed, when an image of
 // width x height pixels would not fit in this machine's memory (checked before allocating).
@@ -102,6 +116,7 @@ struct ImageRecord {
   std::string commandLine;
   double opacity = 1.0;  // recorded (with maxLayers) only when below 1
   int maxLayers = 16;
+  view::ImageEffects effects;  // recorded as surftrace:effects when any is on
 };
 view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
 

@@ -14,6 +14,7 @@
 #include "option_checks.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
+#include "view/image_effects.hpp"
 #include "view/image_io.hpp"
 
 namespace surftrace::tools {
@@ -152,18 +153,23 @@ view::FrameBuffers FrameRenderer::render(const build::PatchList& list, const vie
                                          std::span<const glm::vec3> atomColors, ProgressBar* bar,
                                          std::span<const glm::dvec3> centers, std::span<const double> radii) {
   Impl& m = *impl_;
+  view::FrameBuffers frame;
   if (!m.device) {
     if (!m.context) m.context.emplace();
-    return gl::renderGl(*m.context, list, options, atomColors, m.gl);
+    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl);
+  } else {
+    const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
+    const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii)
+                                              : trace::ScenePatches::fromPatchList(list),
+                                  *m.device);
+    m.sceneSeconds = scene.buildSeconds();
+    view::RenderOptions withProgress = options;
+    if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
+    frame = trace::render(scene, withProgress, atomColors);
   }
-  const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
-  const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii)
-                                            : trace::ScenePatches::fromPatchList(list),
-                                *m.device);
-  m.sceneSeconds = scene.buildSeconds();
-  view::RenderOptions withProgress = options;
-  if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
-  return trace::render(scene, withProgress, atomColors);
+  // The one place the image-space effects run: on the buffers, whichever engine filled them.
+  view::applyImageEffects(frame, options.effects, options.camera, options.background);
+  return frame;
 }
 
 void FrameRenderer::describe(ImageRecord& record) const {
@@ -188,6 +194,7 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.commandLine = commandLine;
   record.opacity = image.opacity;
   record.maxLayers = image.maxLayers;
+  record.effects = resolveEffects(image);
   return record;
 }
 

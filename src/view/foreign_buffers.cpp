@@ -130,7 +130,7 @@ ForeignFrame foreignFrame(const ImageChannels& depth, const ImageChannels* norma
 
   FrameBuffers& frame = out.frame;
   frame.reset(camera.width, camera.height);
-  out.carried = TestChannels{normals != nullptr, false, false};
+  out.carried = TestChannels{normals != nullptr, false, false, false};
   const int w = camera.width, h = camera.height;
   for (int row = 0; row < h; ++row) {
     // The buffer's row `row` is image row y (row 0 at the top).

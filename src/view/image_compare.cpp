@@ -68,7 +68,7 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
   FrameComparison c;
   c.pixels = ref.pixels();
   c.compared = carried;
-  std::vector<double> depth, depthPixels, angle;
+  std::vector<double> depth, depthPixels, angle, color;
   std::size_t kindSame = 0, patchSame = 0;
   double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
   for (int y = 0; y < ref.height; ++y)
@@ -84,6 +84,11 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
       if (testHits(test, p, carried) != refHit) {
         ++c.coverageMismatch;
         continue;
+      }
+      if (carried.color && !n.kindSeam && test.rgba.size() == 4 * c.pixels && ref.rgba.size() == 4 * c.pixels) {
+        double d = 0.0;
+        for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(static_cast<double>(test.rgba[4 * p + k]) - ref.rgba[4 * p + k]));
+        color.push_back(d);
       }
       if (!refHit) continue;
       const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
@@ -116,6 +121,10 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
   c.normalMedianDegrees = percentile(angle, 0.5);
   c.normalP99Degrees = percentile(angle, 0.99);
   c.normalMaxDegrees = angle.empty() ? 0.0 : *std::max_element(angle.begin(), angle.end());
+  c.colorSamples = color.size();
+  c.colorMedian = percentile(color, 0.5);
+  c.colorP99 = percentile(color, 0.99);
+  c.colorMax = color.empty() ? 0.0 : *std::max_element(color.begin(), color.end());
   // The scene size is the reference's depth range, at least its nearest depth's tenth, so that
   // a flat close-up does not make every error look huge.
   c.sceneSize = tMax >= tMin ? std::max(tMax - tMin, 0.1 * tMin) : 0.0;
@@ -145,7 +154,13 @@ std::string FrameComparison::summary() const {
     std::snprintf(text, sizeof text, "patch id         %.4f%% agree (%zu px)", 100.0 * patchAgreement, patchSamples);
   else
     std::snprintf(text, sizeof text, "patch id         not compared (the test image carries no patch ids)");
-  return out + text;
+  out += text;
+  if (compared.color) {
+    std::snprintf(text, sizeof text, "\ncolour error     median %.3g  p99 %.3g  max %.3g (largest of |dR|, |dG|, |dB|; %zu px)",
+                  colorMedian, colorP99, colorMax, colorSamples);
+    out += text;
+  }
+  return out;
 }
 
 std::string FrameComparison::json() const {
@@ -165,6 +180,10 @@ std::string FrameComparison::json() const {
   j["patch_id"] = compared.patchId
                       ? nlohmann::json{{"compared", true}, {"samples", patchSamples}, {"agreement", patchAgreement}}
                       : nlohmann::json{{"compared", false}};
+  if (compared.color)
+    j["color"] = {{"compared", true}, {"samples", colorSamples}, {"median", colorMedian}, {"p99", colorP99}, {"max", colorMax}};
+  else
+    j["color"] = {{"compared", false}};
   return j.dump(1);
 }
 
@@ -184,8 +203,11 @@ CompareThresholds CompareThresholds::preset(const std::string& name) {
     t.maxCoverageFraction = 1e-3;
     t.maxDepthP99Relative = 1e-3;
     t.maxNormalP99Degrees = 1.0;
+  } else if (name == "effects") {
+    t = preset("gl-vs-embree");
+    t.maxColorP99 = 0.02;
   } else {
-    throw std::invalid_argument("unknown preset '" + name + "': use gl-vs-embree, exact or foreign");
+    throw std::invalid_argument("unknown preset '" + name + "': use gl-vs-embree, exact, foreign or effects");
   }
   return t;
 }
@@ -204,6 +226,8 @@ std::vector<std::string> CompareThresholds::violations(const FrameComparison& c)
     std::snprintf(line, sizeof line, "patch-id agreement %.4f%% < %.4f%%", 100 * c.patchAgreement, 100 * *minPatchAgreement), v.emplace_back(line);
   if (maxNormalP99Degrees && c.compared.normal && c.normalP99Degrees > *maxNormalP99Degrees)
     std::snprintf(line, sizeof line, "normal p99 %.3g° > %.3g°", c.normalP99Degrees, *maxNormalP99Degrees), v.emplace_back(line);
+  if (maxColorP99 && c.compared.color && c.colorP99 > *maxColorP99)
+    std::snprintf(line, sizeof line, "colour p99 %.3g > %.3g", c.colorP99, *maxColorP99), v.emplace_back(line);
   return v;
 }
 
@@ -221,6 +245,8 @@ std::vector<std::string> CompareThresholds::notCompared(const FrameComparison& c
     std::snprintf(line, sizeof line, "patch-id agreement > %.4g%% (the test image carries no patch ids)",
                   100 * *minPatchAgreement),
         v.emplace_back(line);
+  if (maxColorP99 && !c.compared.color)
+    std::snprintf(line, sizeof line, "colour p99 < %.3g (the test image carries no colour)", *maxColorP99), v.emplace_back(line);
   return v;
 }
 

@@ -19,6 +19,7 @@ struct TestChannels {
   bool normal = true;
   bool kind = true;
   bool patchId = true;
+  bool color = true;
 };
 
 struct FrameComparison {
@@ -33,6 +34,11 @@ struct FrameComparison {
   std::size_t patchSamples = 0;       // both hit, reference patch id constant over 3×3, not flagged
   double kindAgreement = 1.0, patchAgreement = 1.0;
   double normalMedianDegrees = 0.0, normalP99Degrees = 0.0, normalMaxDegrees = 0.0;
+  // Colour: the largest |ΔR|, |ΔG|, |ΔB| of a pixel, over the pixels outside the silhouette band
+  // and off patch-kind seams and flagged pixels (where the two may see different patches: the
+  // patch colouring changes there), hits and background alike.
+  std::size_t colorSamples = 0;
+  double colorMedian = 0.0, colorP99 = 0.0, colorMax = 0.0;
   double sceneSize = 0.0;             // depth range of the reference's hits (Å), for relative depth
   TestChannels compared;              // the metrics measured; the others are "not compared"
 
@@ -53,13 +59,15 @@ struct CompareThresholds {
   std::optional<double> minKindAgreement;
   std::optional<double> minPatchAgreement;
   std::optional<double> maxNormalP99Degrees;
+  std::optional<double> maxColorP99;            // colour difference p99, in [0, 1] display units
 
   // "gl-vs-embree": the agreement issue 5 requires of the GL path (coverage < 0.1%,
   // depth p99 < 1e-3 of the scene, kind agreement > 99.9%); "exact": a re-render of a
   // reference by the same engine (coverage 0, depth p99 < 1e-6 of the scene, kinds and ids
   // identical); "foreign": another renderer's buffers (coverage < 0.1%, depth p99 < 1e-3 of
-  // the scene, normal p99 < 1°, which an 8-bit normal buffer meets). Throws
-  // std::invalid_argument naming the known presets.
+  // the scene, normal p99 < 1°, which an 8-bit normal buffer meets); "effects": gl-vs-embree
+  // and the colour p99 within 0.02 (the image-space effects, view/image_effects.hpp, on two
+  // engines' buffers). Throws std::invalid_argument naming the known presets.
   static CompareThresholds preset(const std::string& name);
   // Empty when every set limit on a compared metric holds; otherwise one line per violated limit.
   std::vector<std::string> violations(const FrameComparison& c) const;

@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "view/camera.hpp"
+#include "view/image_effects.hpp"
 #include "view/shading.hpp"
 
 namespace surftrace::view {
@@ -26,6 +27,9 @@ struct RenderOptions {
   // front to back over the background, each shaded as the opaque render shades it.
   double opacity = 1.0;
   int maxLayers = 16;
+  // Image-space effects, applied after the engine by the pipeline (tools/pipeline.hpp), not by
+  // the engines: every engine's frame gets the same pass.
+  ImageEffects effects;
   // Called now and then from worker threads with the fraction done (for a progress bar).
   std::function<void(double)> progress;
 };
