@@ -135,16 +135,10 @@ std::string foreignPreset() {
   return "foreign";
 }
 
-void runCompare(const CompareOptions& o) {
-  if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
-  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
-  view::ImageMetadata refMeta;
-  const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
-  std::optional<view::Camera> camera;
-  if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
-  // Another renderer's buffers when a flag says so, or when TEST lacks SurfTrace's channels.
-  const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
-  const view::ForeignBufferOptions foreignOpts = foreignOptions(o);
+// The image under test: SurfTrace's own EXR, or another renderer's buffers when a flag says
+// so or TEST lacks SurfTrace's channels.
+TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const std::optional<view::Camera>& camera,
+                   bool foreign, const view::ForeignBufferOptions& foreignOpts) {
   TestImage testImage;
   if (foreign) {
     testImage = readForeign(o, foreignOpts, ref, camera);
@@ -153,35 +147,34 @@ void runCompare(const CompareOptions& o) {
     testImage.description = testImage.meta.count("surftrace:renderer") ? testImage.meta.at("surftrace:renderer") : "?";
   }
   const view::FrameBuffers& test = testImage.frame;
-  const view::ImageMetadata& testMeta = testImage.meta;
   if (test.width != ref.width || test.height != ref.height)
     throw std::invalid_argument(sizeMismatch(o.test, test.width, test.height, o.reference, ref.width, ref.height));
-  if (!o.ignoreCamera && camera && testMeta.count("surftrace:camera")) {
-    const view::Camera other = view::cameraFromJson(testMeta.at("surftrace:camera"));
+  if (!o.ignoreCamera && camera && testImage.meta.count("surftrace:camera")) {
+    const view::Camera other = view::cameraFromJson(testImage.meta.at("surftrace:camera"));
     if (other.eye != camera->eye || other.lookAt != camera->lookAt || other.up != camera->up ||
         other.fovY != camera->fovY || other.projection != camera->projection || other.orthoHeight != camera->orthoHeight)
       throw std::invalid_argument("the two images were rendered with different cameras (see their surftrace:camera "
                                   "metadata); compare only renderings of the same view, or pass --ignore-camera");
   }
-  const view::FrameComparison c = view::compareFrames(test, ref, camera ? &*camera : nullptr, testImage.carried);
-  std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
-              testImage.details.c_str(), o.reference.c_str(), refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?",
-              c.summary().c_str());
-  if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
-  if (!o.diff.empty()) {
-    const std::vector<float> rgb = view::differenceImage(test, ref, testImage.carried);
-    view::FrameBuffers image;
-    image.width = ref.width;
-    image.height = ref.height;
-    image.rgba.resize(4 * ref.pixels());
-    for (std::size_t p = 0; p < ref.pixels(); ++p) {
-      for (int k = 0; k < 3; ++k) image.rgba[4 * p + k] = rgb[3 * p + k];
-      image.rgba[4 * p + 3] = 1.0f;
-    }
-    view::writePng(o.diff, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
-                                                         "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
+  return testImage;
+}
+
+void writeDifference(const std::string& path, const TestImage& testImage, const view::FrameBuffers& ref) {
+  const std::vector<float> rgb = view::differenceImage(testImage.frame, ref, testImage.carried);
+  view::FrameBuffers image;
+  image.width = ref.width;
+  image.height = ref.height;
+  image.rgba.resize(4 * ref.pixels());
+  for (std::size_t p = 0; p < ref.pixels(); ++p) {
+    for (int k = 0; k < 3; ++k) image.rgba[4 * p + k] = rgb[3 * p + k];
+    image.rgba[4 * p + 3] = 1.0f;
   }
-  const std::string preset = !o.preset.empty() ? o.preset : foreign ? foreignPreset() : defaultPreset(testMeta, refMeta);
+  view::writePng(path, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
+                                                    "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
+}
+
+// The preset's limits, with the single limits given on the command line.
+view::CompareThresholds limitsOf(const CompareOptions& o, const std::string& preset) {
   view::CompareThresholds limits = preset == "none" ? view::CompareThresholds{} : view::CompareThresholds::preset(preset);
   if (o.maxCoverage) limits.maxCoverageFraction = o.maxCoverage;
   if (o.maxDepthP99) limits.maxDepthP99Relative = o.maxDepthP99;
@@ -189,6 +182,27 @@ void runCompare(const CompareOptions& o) {
   if (o.minPatch) limits.minPatchAgreement = o.minPatch;
   if (o.maxNormalP99) limits.maxNormalP99Degrees = o.maxNormalP99;
   if (o.maxColorP99) limits.maxColorP99 = o.maxColorP99;
+  return limits;
+}
+
+void runCompare(const CompareOptions& o) {
+  if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
+  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
+  view::ImageMetadata refMeta;
+  const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
+  std::optional<view::Camera> camera;
+  if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
+  const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
+  const view::ForeignBufferOptions foreignOpts = foreignOptions(o);
+  const TestImage testImage = readTest(o, ref, camera, foreign, foreignOpts);
+  const view::FrameComparison c = view::compareFrames(testImage.frame, ref, camera ? &*camera : nullptr, testImage.carried);
+  std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
+              testImage.details.c_str(), o.reference.c_str(),
+              refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?", c.summary().c_str());
+  if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
+  if (!o.diff.empty()) writeDifference(o.diff, testImage, ref);
+  const std::string preset = !o.preset.empty() ? o.preset : foreign ? foreignPreset() : defaultPreset(testImage.meta, refMeta);
+  const view::CompareThresholds limits = limitsOf(o, preset);
   // A limit on a buffer the test does not carry is neither passed nor failed.
   const auto unjudged = limits.notCompared(c);
   for (const auto& line : unjudged) std::printf("not compared: %s\n", line.c_str());
@@ -202,6 +216,41 @@ void runCompare(const CompareOptions& o) {
   for (const auto& v : violations) text += "\n  " + v;
   if (foreign) text += originHint(o, foreignOpts, ref, *camera, c);
   throw LimitsExceeded(text);
+}
+
+// Another renderer's buffers (README "Validating your renderer"): any of these, or a TEST
+// without SurfTrace's channels, reads TEST as a depth buffer of the reference's camera.
+void addForeignBufferOptions(CLI::App& cmd, CompareOptions& o) {
+  const char* foreignGroup = "Another renderer's buffers (TEST without SurfTrace's channels)";
+  cmd.add_option("--test-depth-channel", o.depthChannel, "TEST's depth channel (default: Z, depth or Y, else the only channel)")
+      ->group(foreignGroup);
+  cmd.add_option("--depth-convention", o.depthConvention,
+                 "What TEST's depth means: window (GL depth in [0, 1] under glDepthRange 0..1 for the reference "
+                 "camera's near and far, background 1.0; the default), view-z (Å along the view direction, −z of the "
+                 "view frame) or ray (Å from the eye along the pixel's ray); background +inf or <= 0. Compared in Å "
+                 "along the reference's rays")
+      ->check(CLI::IsMember({"window", "view-z", "ray"}))
+      ->group(foreignGroup);
+  cmd.add_option("--test-origin", o.testOrigin,
+                 "Which image row TEST's first stored row is: bottom-left (glReadPixels' order, and a PFM's; the "
+                 "default) or top-left (image order); applies to --test-normal too")
+      ->check(CLI::IsMember({"bottom-left", "top-left"}))
+      ->group(foreignGroup);
+  cmd.add_option("--test-normal", o.testNormal,
+                 "Normal buffer of TEST's renderer, same size and row order (channels R, G, B, or N.X, N.Y, N.Z); "
+                 "without it normals are not compared")
+      ->check(CLI::ExistingFile)
+      ->group(foreignGroup);
+  cmd.add_option("--normal-space", o.normalSpace,
+                 "Space of --test-normal: view (x right, y up, z towards the eye: the view matrix's frame; the "
+                 "default) or world")
+      ->check(CLI::IsMember({"view", "world"}))
+      ->group(foreignGroup);
+  cmd.add_option("--normal-encoding", o.normalEncoding,
+                 "Components of --test-normal: signed (snorm: in [-1, 1]; the default) or unorm ((n + 1) / 2, e.g. an 8- or "
+                 "16-bit PNG)")
+      ->check(CLI::IsMember({"signed", "snorm", "unorm"}))
+      ->group(foreignGroup);
 }
 
 }  // namespace
@@ -239,38 +288,7 @@ void addCompareCommand(CLI::App& app) {
                   "Largest colour-difference p99 (largest of |dR|, |dG|, |dB| in [0, 1]) outside silhouettes and seams")
       ->check(numberIn(0, 1));
   cmd->add_flag("--ignore-camera", o->ignoreCamera, "Compare even if the images' recorded cameras differ");
-  // Another renderer's buffers (README "Validating your renderer"): any of these, or a TEST
-  // without SurfTrace's channels, reads TEST as a depth buffer of the reference's camera.
-  const char* foreignGroup = "Another renderer's buffers (TEST without SurfTrace's channels)";
-  cmd->add_option("--test-depth-channel", o->depthChannel, "TEST's depth channel (default: Z, depth or Y, else the only channel)")
-      ->group(foreignGroup);
-  cmd->add_option("--depth-convention", o->depthConvention,
-                  "What TEST's depth means: window (GL depth in [0, 1] under glDepthRange 0..1 for the reference "
-                  "camera's near and far, background 1.0; the default), view-z (Å along the view direction, −z of the "
-                  "view frame) or ray (Å from the eye along the pixel's ray); background +inf or <= 0. Compared in Å "
-                  "along the reference's rays")
-      ->check(CLI::IsMember({"window", "view-z", "ray"}))
-      ->group(foreignGroup);
-  cmd->add_option("--test-origin", o->testOrigin,
-                  "Which image row TEST's first stored row is: bottom-left (glReadPixels' order, and a PFM's; the "
-                  "default) or top-left (image order); applies to --test-normal too")
-      ->check(CLI::IsMember({"bottom-left", "top-left"}))
-      ->group(foreignGroup);
-  cmd->add_option("--test-normal", o->testNormal,
-                  "Normal buffer of TEST's renderer, same size and row order (channels R, G, B, or N.X, N.Y, N.Z); "
-                  "without it normals are not compared")
-      ->check(CLI::ExistingFile)
-      ->group(foreignGroup);
-  cmd->add_option("--normal-space", o->normalSpace,
-                  "Space of --test-normal: view (x right, y up, z towards the eye: the view matrix's frame; the "
-                  "default) or world")
-      ->check(CLI::IsMember({"view", "world"}))
-      ->group(foreignGroup);
-  cmd->add_option("--normal-encoding", o->normalEncoding,
-                  "Components of --test-normal: signed (snorm: in [-1, 1]; the default) or unorm ((n + 1) / 2, e.g. an 8- or "
-                  "16-bit PNG)")
-      ->check(CLI::IsMember({"signed", "snorm", "unorm"}))
-      ->group(foreignGroup);
+  addForeignBufferOptions(*cmd, *o);
   cmd->callback([o] {
     try {
       runCompare(*o);
