@@ -271,12 +271,12 @@ namespace {
 // shares follow the Delaunay simplices (ORACLES D.3), which co-spherical atoms do not fix: their
 // limit depends on the jitter's direction, so they are held to [0, 4πr²] and to the total.
 //
-// Jitter::Signs moves every coordinate by exactly +δ or −δ. Then the four atoms of a square
-// (x_k = ±δ across it) are coplanar to first order whenever the signs of the two diagonals'
-// normal offsets agree, while their co-circularity is off by O(δ) or also O(δ²): a sliver
-// tetrahedron of volume ~δ² whose orthocentre stays at a finite place (the cube's face x = 0
-// for seed 0 at δ = 1e-11: volume 2e-22, orthocentre (−1.5, 1.5, 1.5)), computed in double
-// from a determinant with no correct digit. Uniform jitter makes such slivers measure-zero rare.
+// Jitter::Signs moves every coordinate by exactly +δ or −δ. The four atoms of a square are then
+// coplanar to first order whenever their offsets ξ across it satisfy ξ_0 + ξ_3 = ξ_1 + ξ_2 (0, 3
+// and 1, 2 the diagonals; 3 sign patterns in 8): a sliver tetrahedron of volume ~δ² whose
+// orthocentre may stay at a finite place (the cube's face x = 0 for Python's seed 0 at
+// δ = 1e-11: 6·volume = 1.2e-21 and orthocentre (−1.5, 1.5, 1.5)), where double precision has
+// no correct digit of the determinant. Uniform jitter makes such slivers measure-zero rare.
 enum class Jitter { Uniform, Signs };
 
 void expectAreasOfTheExactPlacement(const std::string& name, const std::vector<glm::dvec3>& exact, double s,
