@@ -1,7 +1,9 @@
 // The MSS patch list against closed forms and against itself under changes that must not
 // change it (thread count, wider neighbourhoods, partial updates, tiny perturbations).
 // Points on the patches against the skin function from its definition: mss_oracle_test.cpp.
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 #include <random>
@@ -268,18 +270,36 @@ namespace {
 // δ = 1e-6 — so 1e-6 relative holds every jitter here, 1e5 below the old errors. The per-atom
 // shares follow the Delaunay simplices (ORACLES D.3), which co-spherical atoms do not fix: their
 // limit depends on the jitter's direction, so they are held to [0, 4πr²] and to the total.
+//
+// Jitter::Signs moves every coordinate by exactly +δ or −δ. The four atoms of a square are then
+// coplanar to first order whenever their offsets ξ across it satisfy ξ_0 + ξ_3 = ξ_1 + ξ_2 (0, 3
+// and 1, 2 the diagonals; 3 sign patterns in 8): a sliver tetrahedron of volume ~δ² whose
+// orthocentre may stay at a finite place (the cube's face x = 0 for Python's seed 0 at
+// δ = 1e-11: 6·volume = 1.2e-21 and orthocentre (−1.5, 1.5, 1.5)), where double precision has
+// no correct digit of the determinant. Uniform jitter makes such slivers measure-zero rare.
+enum class Jitter { Uniform, Signs };
+
 void expectAreasOfTheExactPlacement(const std::string& name, const std::vector<glm::dvec3>& exact, double s,
-                                    std::span<const unsigned> seeds) {
+                                    std::span<const unsigned> seeds, Jitter how = Jitter::Uniform,
+                                    std::span<const double> jitters = std::array{1e-13, 1e-11, 1e-9, 1e-6}) {
   const double r = 1.7;
   const std::vector<double> radii(exact.size(), r);
   const MssAreas ref = computeMssAreas(buildMss(exact, radii, {s}), exact);
   for (unsigned seed : seeds) {
-    for (double jitter : {1e-13, 1e-11, 1e-9, 1e-6}) {
-      const std::string where = name + " seed " + std::to_string(seed) + " jitter " + std::to_string(jitter);
+    for (double jitter : jitters) {
+      char text[96];
+      std::snprintf(text, sizeof text, " s %g seed %u jitter %s %g", s, seed,
+                    how == Jitter::Signs ? "±" : "uniform", jitter);
+      const std::string where = name + text;
       std::vector<glm::dvec3> c = exact;
       std::mt19937 rng(seed);
       std::uniform_real_distribution<double> u(-1.0, 1.0);
-      for (auto& x : c) x += jitter * glm::dvec3(u(rng), u(rng), u(rng));
+      std::bernoulli_distribution coin;
+      auto offset = [&] { return how == Jitter::Signs ? (coin(rng) ? 1.0 : -1.0) : u(rng); };
+      for (auto& x : c) {
+        const double dx = offset(), dy = offset(), dz = offset();
+        x += jitter * glm::dvec3(dx, dy, dz);
+      }
       const PatchList p = buildMss(c, radii, {s});
       const MssAreas a = computeMssAreas(p, c);
       const double tol = 1e-6 * ref.total();
@@ -310,6 +330,26 @@ TEST(MssAreas, JitteredCubeHasTheExactCubesAreas) {
   for (int k = 0; k < 8; ++k) cube.emplace_back(k & 1 ? 3.0 : 0.0, k & 2 ? 3.0 : 0.0, k & 4 ? 3.0 : 0.0);
   const unsigned seeds[] = {1, 2, 3, 4, 5, 6};  // 6 leaves a sliver on a face (old: 0.48 Å² concave)
   expectAreasOfTheExactPlacement("cube", cube, 0.3, seeds);
+}
+
+// Issue 18, every coordinate moved by exactly ±δ: sliver tetrahedra of volume ~δ² on the
+// squares (see Jitter::Signs), on the cube's faces and inside the lattice.
+TEST(MssAreas, SignJitteredCubeHasTheExactCubesAreas) {
+  std::vector<glm::dvec3> cube;
+  for (int k = 0; k < 8; ++k) cube.emplace_back(k & 1 ? 3.0 : 0.0, k & 2 ? 3.0 : 0.0, k & 4 ? 3.0 : 0.0);
+  std::vector<unsigned> seeds;
+  for (unsigned seed = 0; seed < 24; ++seed) seeds.push_back(seed);
+  const std::array jitters{1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6};
+  for (double s : {0.1, 0.3, 0.5, 0.8}) expectAreasOfTheExactPlacement("cube", cube, s, seeds, Jitter::Signs, jitters);
+}
+
+TEST(MssAreas, SignJitteredLatticeHasTheExactLatticesAreas) {
+  std::vector<glm::dvec3> lattice;
+  for (int x = 0; x < 5; ++x)
+    for (int y = 0; y < 5; ++y)
+      for (int z = 0; z < 5; ++z) lattice.emplace_back(3.0 * x, 3.0 * y, 3.0 * z);
+  const unsigned seeds[] = {0, 1, 2, 3};
+  for (double s : {0.3, 0.5}) expectAreasOfTheExactPlacement("lattice", lattice, s, seeds, Jitter::Signs);
 }
 
 TEST(MssAreas, JitteredLatticeHasTheExactLatticesAreas) {

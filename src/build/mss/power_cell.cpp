@@ -107,6 +107,13 @@ CellVertex PowerCell::makeVertex(std::uint16_t a, std::uint16_t b, std::uint16_t
   else
     v.wSign = exactWSign(v);
   v.p = glm::dvec3(v.h) / v.h.w;
+  // The position (not the decisions, which are exact) carries the cofactors' errors over |h_w|:
+  // three nearly dependent normals (the Voronoi vertex of a sliver of four nearly co-spherical
+  // atoms, issue 18, where h_w ~ δ² and its rounding ~1e-15) leave it anywhere, and callers
+  // measure it against the feasibility radius. Beyond 1e-12 of the box, solve exactly.
+  const double error = kCofactorError * (std::max({v.hMag.x, v.hMag.y, v.hMag.z}) +
+                                         std::max({std::abs(v.p.x), std::abs(v.p.y), std::abs(v.p.z)}) * v.hMag.w);
+  if (!(error <= 1e-12 * planes_[0].c * std::abs(v.h.w))) v.p = exactPosition(v);
   return v;
 }
 
@@ -154,6 +161,23 @@ int PowerCell::exactWSign(const CellVertex& v) const {
   // Three planes with dependent normals meet in no point; the clipping never builds one.
   if (sign == 0) throw std::logic_error("power cell: a vertex of three planes with dependent normals");
   return sign;
+}
+
+// The meet of the vertex's three planes, n_r·x = c_r, by Cramer's rule in rationals, rounded once.
+glm::dvec3 PowerCell::exactPosition(const CellVertex& v) const {
+  ExactRow R[3];
+  for (int r = 0; r < 3; ++r) R[r] = exactRow(points_, atom_, planes_[v.plane[r]]);
+  const mpq_class det = det3(R[0].n, R[1].n, R[2].n);
+  glm::dvec3 p;
+  for (int k = 0; k < 3; ++k) {
+    mpq_class rows[3][3];
+    for (int r = 0; r < 3; ++r) {
+      for (int m = 0; m < 3; ++m) rows[r][m] = R[r].n[m];
+      rows[r][k] = R[r].c;
+    }
+    p[k] = mpq_class(det3(rows[0], rows[1], rows[2]) / det).get_d();
+  }
+  return p;
 }
 
 // Sign of det[A; B; C; M] for rows (n, −c), with the simulated perturbation w_k + ε_k when it

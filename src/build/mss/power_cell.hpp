@@ -89,6 +89,7 @@ class PowerCell {
   [[gnu::noinline]] int exactSideCounted(const CellVertex& v, std::uint16_t m);
   int exactSide(const CellVertex& v, std::uint16_t m) const;
   int exactWSign(const CellVertex& v) const;
+  glm::dvec3 exactPosition(const CellVertex& v) const;
 
   WeightedPoints points_;
   std::uint32_t atom_ = 0;

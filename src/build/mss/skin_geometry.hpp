@@ -65,6 +65,24 @@ struct Orthocentre {
   double w;
 };
 
+// A simplex is too flat for the double formulas below when its determinant is below
+// kFlatSimplex of the product of the lengths it is computed from (a tetrahedron's volume
+// against its three edges; a triangle's squared area against its squared edges; a facet
+// direction against the offset it is the part of): the double result then carries a relative
+// error up to about u/kFlatSimplex ~ 1e-10, and below it the exact versions answer. Such
+// simplices are the slivers of nearly co-spherical atoms: four atoms of a square moved by ±δ
+// make a tetrahedron of volume ~δ² whose orthocentre stays at a finite place, while in double
+// its determinant (~1e-21 at δ = 1e-11, rounding ~1e-15) has no correct digit, so its
+// orthocentre and the side of its fourth atom were noise and the mixed cells next to it lost
+// their planes (issue 18). The test reads the simplex's atoms alone, so every cell that
+// computes a facet's plane takes the same branch and gets the same bits.
+inline constexpr double kFlatSimplex = 1e-6;
+
+// The orthocentre and the unnormalised direction of facetNormal in rational arithmetic from
+// the input doubles, rounded once (skin_geometry.cpp).
+Orthocentre exactOrthocentre(const WeightedPoints& p, const Simplex& x);
+glm::dvec3 exactFacetDirection(const WeightedPoints& p, const Simplex& x, std::uint32_t a);
+
 inline Orthocentre orthocentre(const WeightedPoints& p, const Simplex& x) {
   const glm::dvec3 z0 = p.z[x[0]];
   const double w0 = p.w[x[0]];
@@ -83,6 +101,7 @@ inline Orthocentre orthocentre(const WeightedPoints& p, const Simplex& x) {
     // y = c0 e0 + c1 e1 with the 2×2 Gram system.
     const double g00 = glm::dot(e[0], e[0]), g01 = glm::dot(e[0], e[1]), g11 = glm::dot(e[1], e[1]);
     const double det = g00 * g11 - g01 * g01;
+    if (!(det > kFlatSimplex * g00 * g11)) return exactOrthocentre(p, x);
     const double c0 = (b[0] * g11 - b[1] * g01) / det;
     const double c1 = (g00 * b[1] - g01 * b[0]) / det;
     y = c0 * e[0] + c1 * e[1];
@@ -90,6 +109,8 @@ inline Orthocentre orthocentre(const WeightedPoints& p, const Simplex& x) {
     // e_k·y = b_k: Cramer with the rows e_0, e_1, e_2.
     const glm::dvec3 c12 = glm::cross(e[1], e[2]), c20 = glm::cross(e[2], e[0]), c01 = glm::cross(e[0], e[1]);
     const double det = glm::dot(e[0], c12);
+    const double volumeScale = glm::length(e[0]) * glm::length(e[1]) * glm::length(e[2]);
+    if (!(std::abs(det) > kFlatSimplex * volumeScale)) return exactOrthocentre(p, x);
     y = (b[0] * c12 + b[1] * c20 + b[2] * c01) / det;
   }
   return {z0 + y, glm::dot(y, y) - w0};
@@ -97,15 +118,26 @@ inline Orthocentre orthocentre(const WeightedPoints& p, const Simplex& x) {
 
 // The unit normal of the facet between the mixed cells of X and X ∪ {a}: the part of
 // z_a − z_{X[0]} orthogonal to aff(X), pointing from μ_X into μ_{X∪{a}} (ORACLES C.4).
+// The double formula is trusted when the part of z_a − z_{X[0]} orthogonal to aff(X) is not
+// below kFlatSimplex of the lengths it is computed from (the simplex X ∪ {a} is not flat), and
+// for a triangle when the triangle itself is not.
 inline glm::dvec3 facetNormal(const WeightedPoints& p, const Simplex& x, std::uint32_t a) {
   const glm::dvec3 z0 = p.z[x[0]];
-  glm::dvec3 v = p.z[a] - z0;
+  const glm::dvec3 d = p.z[a] - z0;
+  glm::dvec3 v = d;
   if (x.size == 2) {
     const glm::dvec3 e = p.z[x[1]] - z0;
     v -= e * (glm::dot(v, e) / glm::dot(e, e));
+    if (!(glm::dot(v, v) > kFlatSimplex * kFlatSimplex * glm::dot(d, d))) v = exactFacetDirection(p, x, a);
   } else if (x.size == 3) {
-    const glm::dvec3 n = glm::cross(p.z[x[1]] - z0, p.z[x[2]] - z0);
-    v = n * (glm::dot(v, n) / glm::dot(n, n));
+    const glm::dvec3 e1 = p.z[x[1]] - z0, e2 = p.z[x[2]] - z0;
+    const glm::dvec3 n = glm::cross(e1, e2);
+    const double nn = glm::dot(n, n), vn = glm::dot(v, n);
+    if (nn > kFlatSimplex * kFlatSimplex * glm::dot(e1, e1) * glm::dot(e2, e2) &&
+        std::abs(vn) > kFlatSimplex * std::sqrt(glm::dot(d, d) * nn))
+      v = n * (vn / nn);
+    else
+      v = exactFacetDirection(p, x, a);
   }
   return glm::normalize(v);
 }

@@ -1,0 +1,69 @@
+// The skin's geometry for simplices too flat for double precision: orthocentres and facet
+// directions in rational arithmetic (GMP's mpq_class) from the input doubles, rounded once.
+#include "build/mss/skin_geometry.hpp"
+
+#include <gmpxx.h>
+
+#include "build/core/assert.hpp"
+
+namespace surftrace::build::mss {
+namespace {
+
+struct QVec {
+  mpq_class x, y, z;
+};
+
+QVec q(const glm::dvec3& v) { return {mpq_class(v.x), mpq_class(v.y), mpq_class(v.z)}; }
+QVec sub(const QVec& u, const QVec& v) { return {u.x - v.x, u.y - v.y, u.z - v.z}; }
+QVec add(const QVec& u, const QVec& v) { return {u.x + v.x, u.y + v.y, u.z + v.z}; }
+QVec scale(const QVec& u, const mpq_class& s) { return {u.x * s, u.y * s, u.z * s}; }
+mpq_class dot(const QVec& u, const QVec& v) { return u.x * v.x + u.y * v.y + u.z * v.z; }
+QVec cross(const QVec& u, const QVec& v) { return {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x}; }
+glm::dvec3 toDouble(const QVec& v) { return {v.x.get_d(), v.y.get_d(), v.z.get_d()}; }
+
+}  // namespace
+
+Orthocentre exactOrthocentre(const WeightedPoints& p, const Simplex& x) {
+  const QVec z0 = q(p.z[x[0]]);
+  const mpq_class w0(p.w[x[0]]);
+  QVec e[3];
+  mpq_class b[3];
+  for (int k = 1; k < x.size; ++k) {
+    e[k - 1] = sub(q(p.z[x[k]]), z0);
+    b[k - 1] = (dot(e[k - 1], e[k - 1]) - mpq_class(p.w[x[k]]) + w0) / 2;
+  }
+  QVec y{0, 0, 0};
+  if (x.size == 2) {
+    y = scale(e[0], b[0] / dot(e[0], e[0]));
+  } else if (x.size == 3) {
+    const mpq_class g00 = dot(e[0], e[0]), g01 = dot(e[0], e[1]), g11 = dot(e[1], e[1]);
+    const mpq_class det = g00 * g11 - g01 * g01;
+    // The builder never makes a simplex of dependent points (power_cell: no vertex of
+    // dependent normals, no edge of parallel planes).
+    SURFTRACE_ASSERT(det != 0);
+    y = add(scale(e[0], (b[0] * g11 - b[1] * g01) / det), scale(e[1], (g00 * b[1] - g01 * b[0]) / det));
+  } else if (x.size == 4) {
+    const QVec c12 = cross(e[1], e[2]), c20 = cross(e[2], e[0]), c01 = cross(e[0], e[1]);
+    const mpq_class det = dot(e[0], c12);
+    SURFTRACE_ASSERT(det != 0);
+    y = scale(add(add(scale(c12, b[0]), scale(c20, b[1])), scale(c01, b[2])), 1 / det);
+  }
+  return {toDouble(add(z0, y)), mpq_class(dot(y, y) - w0).get_d()};
+}
+
+glm::dvec3 exactFacetDirection(const WeightedPoints& p, const Simplex& x, std::uint32_t a) {
+  const QVec z0 = q(p.z[x[0]]);
+  QVec v = sub(q(p.z[a]), z0);
+  if (x.size == 2) {
+    const QVec e = sub(q(p.z[x[1]]), z0);
+    v = sub(v, scale(e, dot(v, e) / dot(e, e)));
+  } else if (x.size == 3) {
+    const QVec n = cross(sub(q(p.z[x[1]]), z0), sub(q(p.z[x[2]]), z0));
+    SURFTRACE_ASSERT(dot(n, n) != 0);
+    v = scale(n, dot(v, n) / dot(n, n));
+  }
+  // Components of a sliver's normal part may be ~1e-22: far above double's range limits.
+  return toDouble(v);
+}
+
+}  // namespace surftrace::build::mss
