@@ -59,6 +59,11 @@ bool mssPatchIsNegligible(const PatchList& patches, std::size_t k);
 // the summed error estimate reported. `centers` are the atoms' (for the per-atom shares).
 MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> centers);
 
+// The integration computeMssAreas did before issue 22, kept as its test oracle: adaptive
+// Gauss–Kronrod in h between every candidate breakpoint, each piece to relTol·2π·bound²; ~900
+// integrand evaluations a hyperboloid patch at relTol = 1e-10.
+MssAreas computeMssAreasAdaptive(const PatchList& patches, std::span<const glm::dvec3> centers, double relTol = 1e-10);
+
 // The skin at s = 1: the union of the van der Waals balls, exactly (Gauss–Bonnet on each
 // sphere minus the caps inside its neighbours). All of it counts as convex.
 MssAreas unionOfBallsAreas(std::span<const glm::dvec3> centers, std::span<const double> radii);
