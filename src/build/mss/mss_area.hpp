@@ -53,11 +53,19 @@ double mssThinPatchAreaBound(const PatchList& patches, std::size_t k);
 bool mssPatchIsNegligible(const PatchList& patches, std::size_t k);
 
 // Spheres (convex and concave) exactly, by Gauss–Bonnet on the sphere minus the caps outside
-// the mixed cell; hyperboloids by adaptive Gauss–Kronrod quadrature along the axis of
-// revolution between breakpoints (the circle of radius ρ(h) meets the prism's cross-section
-// polygon in arcs with closed-form length), to an estimated 1e-10 relative per patch, with
-// the summed error estimate reported. `centers` are the atoms' (for the per-atom shares).
+// the mixed cell; hyperboloids by Gauss–Kronrod quadrature along the axis of revolution between
+// breakpoints (the circle of radius ρ(h) meets the prism's cross-section polygon in arcs with
+// closed-form length), in a variable that makes the pieces' square-root ends smooth and graded
+// towards singularities just beyond them, to an estimated 1e-10·2π·bound² a piece, with the
+// summed error estimate reported. `centers` are the atoms' (for the per-atom shares). Each patch
+// is integrated on its own and the sums run in patch order: the result is the same bit for bit
+// for any thread count.
 MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> centers);
+
+// The integration computeMssAreas did before issue 22, kept as its test oracle: adaptive
+// Gauss–Kronrod in h between every candidate breakpoint, each piece to relTol·2π·bound²; ~900
+// integrand evaluations a hyperboloid patch at relTol = 1e-10.
+MssAreas computeMssAreasAdaptive(const PatchList& patches, std::span<const glm::dvec3> centers, double relTol = 1e-10);
 
 // The skin at s = 1: the union of the van der Waals balls, exactly (Gauss–Bonnet on each
 // sphere minus the caps inside its neighbours). All of it counts as convex.
