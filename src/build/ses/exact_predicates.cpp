@@ -16,22 +16,12 @@
 #include <gmpxx.h>
 
 #include "build/core/assert.hpp"
+#include "build/core/rational_vector.hpp"
 
 namespace surftrace::build {
 namespace {
 
-struct QVec {
-  mpq_class x, y, z;
-};
-
-QVec q(const glm::dvec3& v) { return {mpq_class(v.x), mpq_class(v.y), mpq_class(v.z)}; }
-QVec sub(const QVec& u, const QVec& v) { return {u.x - v.x, u.y - v.y, u.z - v.z}; }
-QVec add(const QVec& u, const QVec& v) { return {u.x + v.x, u.y + v.y, u.z + v.z}; }
-QVec scale(const QVec& u, const mpq_class& s) { return {u.x * s, u.y * s, u.z * s}; }
-mpq_class dot(const QVec& u, const QVec& v) { return u.x * v.x + u.y * v.y + u.z * v.z; }
-QVec cross(const QVec& u, const QVec& v) {
-  return {u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
-}
+using exact::QVec, exact::q, exact::sub, exact::add, exact::scale, exact::dot, exact::cross;
 
 struct Exact {
   QVec ca, a, b, n, qv;  // qv = q·det (α a + β b)
