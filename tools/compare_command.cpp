@@ -1,5 +1,6 @@
 // `surftrace compare`: two renderings of one view, pixel by pixel, with pass/fail limits; the
 // rendering under test may be SurfTrace's EXR or another renderer's depth and normal buffers.
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -151,8 +152,13 @@ TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const
     throw std::invalid_argument(sizeMismatch(o.test, test.width, test.height, o.reference, ref.width, ref.height));
   if (!o.ignoreCamera && camera && testImage.meta.count("surftrace:camera")) {
     const view::Camera other = view::cameraFromJson(testImage.meta.at("surftrace:camera"));
+    const auto window = [](const view::Camera& c) {
+      const view::ViewWindow w = c.viewWindow();
+      return std::array<double, 4>{w.left, w.right, w.bottom, w.top};
+    };
     if (other.eye != camera->eye || other.lookAt != camera->lookAt || other.up != camera->up ||
-        other.fovY != camera->fovY || other.projection != camera->projection || other.orthoHeight != camera->orthoHeight)
+        other.fovY != camera->fovY || other.projection != camera->projection || other.orthoHeight != camera->orthoHeight ||
+        window(other) != window(*camera))
       throw std::invalid_argument("the two images were rendered with different cameras (see their surftrace:camera "
                                   "metadata); compare only renderings of the same view, or pass --ignore-camera");
   }
