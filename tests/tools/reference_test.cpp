@@ -1,6 +1,6 @@
 // Every reference/ recipe, re-rendered: Embree must reproduce its stored image (preset
-// exact) and the GL path must agree with it (preset gl-vs-embree), through the same
-// `surftrace render` and `surftrace compare` a user runs.
+// exact, and the colour too) and the GL path must agree with it (preset gl-vs-embree, or the
+// case's own gl.preset), through the same `surftrace render` and `surftrace compare` a user runs.
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -39,6 +39,18 @@ std::string recipe(const std::string& name) {
   return line;
 }
 
+// The preset GL is held to: the first line of reference/CASE/gl.preset (a technique's own
+// limits, e.g. `effects`), else gl-vs-embree.
+std::string glPreset(const std::string& name) {
+  std::ifstream in(fs::path(SURFTRACE_SOURCE_DIR) / "reference" / name / "gl.preset");
+  std::string line;
+  if (!in || !std::getline(in, line) || line.empty()) return "gl-vs-embree";
+  return line;
+}
+
+// Same engine, same options: the colour must agree too, to float rounding of the shading.
+constexpr const char* kExactColor = " --max-color-p99 1e-5";
+
 class Reference : public testing::TestWithParam<std::string> {};
 
 TEST_P(Reference, EmbreeReproducesTheStoredImage) {
@@ -46,7 +58,7 @@ TEST_P(Reference, EmbreeReproducesTheStoredImage) {
   const std::string out = (fs::path(testing::TempDir()) / (name + "_embree.exr")).string();
   const Result r = run("render " + recipe(name) + " --quiet --exr " + out);
   ASSERT_EQ(r.status, 0) << r.output;
-  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset exact");
+  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset exact" + kExactColor);
   EXPECT_EQ(c.status, 0) << "re-render differs from reference/" << name
                          << " (regenerate deliberately with scripts/update-reference.sh " << name << "):\n"
                          << c.output;
@@ -58,7 +70,7 @@ TEST_P(Reference, GlAgreesWithTheReference) {
   const Result r = run("render " + recipe(name) + " --engine gl --quiet --exr " + out);
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string diff = (fs::path(testing::TempDir()) / (name + "_gl_diff.png")).string();
-  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset gl-vs-embree --diff " + diff);
+  const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset " + glPreset(name) + " --diff " + diff);
   EXPECT_EQ(c.status, 0) << c.output << "\ndifference image: " << diff;
   std::printf("%s, GL vs reference:\n%s", name.c_str(), c.output.c_str());
 }
@@ -91,6 +103,20 @@ TEST(Reference, ComparisonFailsOnADifferentImage) {
   const Result cameras = run("compare reference/crambin-front/image.exr reference/1vis-front/image.exr --preset exact");
   EXPECT_EQ(cameras.status, 1) << cameras.output;
   EXPECT_NE(cameras.output.find("different cameras"), std::string::npos) << cameras.output;
+}
+
+// The colour is compared too: the same geometry without the silhouettes fails.
+TEST(Reference, ComparisonFailsOnADifferentColour) {
+  const std::string out = (fs::path(testing::TempDir()) / "no_silhouettes.exr").string();
+  std::string args = recipe("crambin-silhouettes-darkening");
+  const std::string flag = " --silhouettes";
+  ASSERT_NE(args.find(flag), std::string::npos) << args;
+  args.erase(args.find(flag), flag.size());
+  const Result r = run("render " + args + " --quiet --exr " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Result c = run("compare " + out + " reference/crambin-silhouettes-darkening/image.exr --preset exact" + kExactColor);
+  EXPECT_EQ(c.status, 2) << c.output;
+  EXPECT_NE(c.output.find("colour p99"), std::string::npos) << c.output;
 }
 
 }  // namespace
