@@ -115,6 +115,9 @@ void BM_Effects(benchmark::State& state, const std::string& name) {
 BENCHMARK_CAPTURE(BM_Effects, 1vis, std::string("1vis.pdb.gz"))
     ->ArgsProduct({{2}, {0, 1, 2, 3, 4, 5}})->ArgNames({"threads", "effect"})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK_CAPTURE(BM_Effects, 1aon, std::string("1aon.pdb.gz"))
+    ->ArgsProduct({{2}, {0, 1, 2, 3, 4, 5}})->ArgNames({"threads", "effect"})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Repetitions(5)->ReportAggregatesOnly(true);
 
 #define SURFTRACE_RENDER_BENCH(name, file)                                                                 \
   BENCHMARK_CAPTURE(BM_SceneBuild, name, std::string(file))                                                \
