@@ -15,7 +15,7 @@
 #include "build/ses/surface_area.hpp"
 #include "build/surface.hpp"
 #include "commands.hpp"
-#include "image_options.hpp"
+#include "progress_bar.hpp"
 #include "surface_input.hpp"
 #include "trajectory_plan.hpp"
 

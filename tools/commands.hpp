@@ -9,6 +9,9 @@
 
 namespace surftrace::tools {
 
+// "surftrace 0.1.0": the program and its version (CMake's project version).
+inline constexpr const char* kSoftware = "surftrace " SURFTRACE_VERSION;
+
 // Adds the options that choose atoms and radii (model, chains, water, hydrogens, radii
 // table, default radius, format) to `cmd`, storing them in `options`.
 void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);

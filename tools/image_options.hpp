@@ -1,5 +1,5 @@
 // The options that say what an image looks like (size, view, camera, colours, samples,
-// shadows, ambient occlusion, image-space effects), shared by `render` and `trajectory`, and the progress bar.
+// shadows, ambient occlusion, image-space effects), shared by `render` and `trajectory`.
 #pragma once
 
 #include <chrono>
@@ -15,6 +15,8 @@
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
+#include "commands.hpp"
+#include "progress_bar.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 #include "view/render_options.hpp"
@@ -97,9 +99,6 @@ void writeCameraOut(const ImageSetup& setup);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
 
-// "surftrace 0.1.0": the program and its version (CMake's project version).
-inline constexpr const char* kSoftware = "surftrace " SURFTRACE_VERSION;
-
 // What an image records about how it was made (its metadata), for `compare` and for people:
 // the one place `render` and `trajectory` write it.
 struct ImageRecord {
@@ -119,30 +118,5 @@ struct ImageRecord {
   view::ImageEffects effects;  // recorded as surftrace:effects when any is on
 };
 view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
-
-// A one-line progress bar on stderr, drawn only when stderr is a terminal, never wider than
-// the terminal. Call clear() before printing anything else to the terminal (a row on
-// stdout); the next update draws the bar again below it.
-class ProgressBar {
- public:
-  // `label` starts the line ("rendering", "frames").
-  ProgressBar(bool enabled, std::string label);
-  // A fraction of one piece of work.
-  void update(double fraction);
-  // `done` of `total` items, with items per second and the time left.
-  void items(std::size_t done, std::size_t total, const char* unit);
-  // Erases the bar's line, so that other output starts on a clean line.
-  void clear();
-
- private:
-  void draw(const std::string& before, double fraction, const std::string& after);
-
-  bool enabled_;
-  bool drawn_ = false;
-  std::string label_;
-  std::mutex mutex_;
-  int last_ = -1;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 }  // namespace surftrace::tools

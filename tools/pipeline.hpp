@@ -16,54 +16,18 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
-#include <tbb/global_control.h>
 #include <glm/vec3.hpp>
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
 #include "image_options.hpp"
+#include "surface_options.hpp"
 #include "view/frame_buffers.hpp"
+#include "view/image_io.hpp"
 #include "view/render_options.hpp"
 
 namespace surftrace::tools {
-
-// Seconds of wall time since `start`, for the timings commands print.
-inline double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// --threads N: TBB runs at most N worker threads while the returned object lives (N = 0: no
-// limit, all cores).
-std::unique_ptr<tbb::global_control> limitThreads(int threads);
-
-// --surface, --probe, --shrink, --drop-cavities: what surface to build.
-struct SurfaceOptions {
-  std::string surface = "ses";
-  double probe = 1.4;
-  double shrink = 0.5;
-  bool dropCavities = false;
-  double mergeWithin = build::kMinMergeDistance;
-  CLI::Option* probeOption = nullptr;  // to tell a --probe given from its default
-
-  build::SurfaceRequest request() const;
-  bool probeGiven() const { return probeOption && probeOption->count() > 0; }
-};
-// Which surfaces --surface offers: all four (render, trajectory), or those with patches of
-// their own to build (build, area: ses, mss).
-enum class SurfaceChoice { Any, Built };
-void addSurfaceOptions(CLI::App& cmd, SurfaceOptions& options, SurfaceChoice choice = SurfaceChoice::Any);
-// --shrink: the MSS shrink factor in [kMinShrinkFactor, 1], default 0.5, with a readable error.
-void addShrinkOption(CLI::App& cmd, double& shrink);
-
-// Stage "build" for one structure: buildSurface, with what it left out (atoms inside others,
-// merged ones) printed as notes on stderr.
-build::PatchList buildWithNotes(const build::Molecule& molecule, const build::SurfaceRequest& request);
-
-// Stage "read": the molecule of a structure file, or of one frame of a trajectory whose
-// topology is `path` (when `trajectory` is not empty). Prints the reader's notes.
-build::Molecule readInput(const std::string& path, const std::string& trajectory, std::size_t frame,
-                          const build::ReadOptions& read);
 
 // --engine and the GL engine's own options.
 struct EngineOptions {
@@ -105,8 +69,19 @@ class FrameRenderer {
 ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, const ImageOptions& image,
                      const std::string& commandLine);
 
-// Stage "write": the image to `png` and/or `exr` (either may be empty), with its metadata,
-// each file whole or not at all.
+// An image's files encoded in memory: `png` and/or `exr` (an empty name: not written).
+struct EncodedFiles {
+  std::string png, exr;
+  view::EncodedImage pngBytes, exrBytes;
+};
+// Stage "encode": the image to `png` and/or `exr` in memory, with its metadata; `pngLevel` is
+// zlib's level (the pixels do not depend on it).
+EncodedFiles encodeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
+                         const ImageRecord& record, const view::Camera& camera,
+                         int pngLevel = view::kDefaultPngLevel);
+// Stage "write": each encoded file whole or not at all.
+void writeFiles(const EncodedFiles& files);
+// Both stages at once.
 void writeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
                 const ImageRecord& record, const view::Camera& camera);
 

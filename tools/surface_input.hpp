@@ -8,7 +8,7 @@
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
-#include "pipeline.hpp"
+#include "surface_options.hpp"
 
 namespace surftrace::tools {
 

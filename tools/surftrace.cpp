@@ -1,58 +1,70 @@
 // surftrace: the command-line front end. Each subcommand lives in its own *_command.cpp.
+//
+// `info`, `build` and `area` run in this program, which links no image library; every other
+// command line (render, trajectory, compare, --help, --version, a mistyped command) is handed
+// unchanged to surftrace_images beside it, which has every command. Loading OpenImageIO (with
+// OpenCV, FFmpeg, GDAL behind it), Embree and EGL, about 250 libraries, took 0.25 s of CPU
+// before any command ran; `info` on a small protein now starts in a few milliseconds (README,
+// Benchmarks). A second program rather than a dlopen()ed module: no interface to keep stable
+// between the two, each is an ordinary executable, and exec costs about a millisecond.
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
-#include <exception>
+#include <cstring>
+#include <filesystem>
 #include <string>
+#include <string_view>
+#include <system_error>
 
 #include <CLI/CLI.hpp>
 
-#include "build/io/output_file.hpp"
+#include "command_line.hpp"
 #include "commands.hpp"
-#include "image_options.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs surftrace_images from this program's own folder with the same arguments (argv[0]
+// included, so that the command line recorded in images is the one typed). Returns only when
+// it could not: the reason, naming the path.
+std::string runImageProgram(char** argv) {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "cannot find this program's own folder (/proc/self/exe: " + ec.message() + ")";
+  const fs::path program = self.parent_path() / surftrace::tools::kImageProgram;
+  execv(program.c_str(), argv);
+  return program.string() + ": " + std::strerror(errno);
+}
+
+bool isImageCommand(std::string_view command) {
+  return command == "render" || command == "trajectory" || command == "compare";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "SurfTrace computes molecular surfaces exactly - the solvent excluded surface (SES) and the\n"
-      "molecular skin surface (MSS) - as analytic patches, ray-traces them on the CPU (Embree) or with\n"
-      "OpenGL, renders whole MD trajectories, and compares renderings pixel by pixel.\n"
-      "\n"
-      "Typical use:\n"
-      "  surftrace info 1vis.pdb.gz                 what is in a structure file, what gets skipped\n"
-      "  surftrace area 1vis.pdb.gz --probe 1.4      exact SAS/SES areas and SES volume\n"
-      "  surftrace area 1vis.pdb.gz --surface mss --shrink 0.5   the skin's area and volume\n"
-      "  surftrace build 1vis.pdb.gz -o 1vis.stp     write the SES (or --surface mss) patch list for renderers\n"
-      "  surftrace render 1vis.pdb.gz -o 1vis.png    ray-trace the surface exactly (add --exr for buffers)\n"
-      "  surftrace compare gl.exr embree.exr        validate another renderer pixel by pixel\n"
-      "  surftrace trajectory adk.psf adk.dcd -o f/%05d.png   the surface of every frame of an MD run\n"
-      "\n"
-      "Input: PDB, mmCIF (both optionally gzipped), PQR (radii from the file), XYZR, XYZ, GRO; trajectories\n"
-      "from DCD, XTC, GRO, XYZ and multi-model PDB/mmCIF with a PSF, GRO, PDB or mmCIF topology.\n"
-      "Run `surftrace COMMAND --help` for the options of one command.",
-      "surftrace"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", surftrace::tools::kSoftware);
-  app.fallthrough();
-
+  const std::string_view command = argc > 1 ? argv[1] : "";
+  std::string missing;
+  if (command != "info" && command != "build" && command != "area") {
+    missing = runImageProgram(argv);
+    if (isImageCommand(command)) {
+      std::fprintf(stderr,
+                   "surftrace: error: `surftrace %s` runs in the program %s, which must lie beside surftrace "
+                   "(building surftrace builds both), but it cannot be run: %s\n",
+                   argv[1], surftrace::tools::kImageProgram, missing.c_str());
+      return 1;
+    }
+  }
+  // info, build, area; or --help, --version and errors when surftrace_images is missing.
+  CLI::App app;
+  surftrace::tools::describeApp(app);
+  if (!missing.empty())
+    app.footer(std::string("render, trajectory and compare are not available: they run in ") +
+               surftrace::tools::kImageProgram + ", which cannot be run (" + missing + ").");
   surftrace::tools::addInfoCommand(app);
   surftrace::tools::addBuildCommand(app);
   surftrace::tools::addAreaCommand(app);
-  std::string commandLine;
-  for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
-  surftrace::tools::addRenderCommand(app, commandLine);
-  surftrace::tools::addTrajectoryCommand(app, commandLine);
-  surftrace::tools::addCompareCommand(app);
-
-  try {
-    app.parse(argc, argv);
-    // What was printed must have reached standard output (a full disk, a closed pipe).
-    surftrace::build::finishStandardOutput();
-  } catch (const CLI::ParseError& e) {
-    // CLI11 prints the message; its own exit codes (104, 105, ...) mean nothing to a user:
-    // 0 for --help and --version, 1 for every error, as --help says.
-    return app.exit(e) == 0 ? 0 : 1;
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "surftrace: error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return surftrace::tools::runApp(app, argc, argv);
 }

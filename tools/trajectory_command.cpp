@@ -191,10 +191,16 @@ view::SphereFraming frameEveryFrame(build::Trajectory& trajectory, const std::st
   return framing;
 }
 
+// zlib's level for the frames' PNGs: level 1 encodes AdK's 512x512 frames in about two thirds
+// of the time of the default 6 (the conversion to 8 bits and OpenImageIO's share stay) for files
+// 7% larger, and the pixels are the same (README, Benchmarks). A movie's frames are many and are
+// read once, by ffmpeg.
+constexpr int kFramePngLevel = 1;
+
 struct Work {
   std::size_t frame = 0;
   double time = 0.0;
-  double readMs = 0.0, buildMs = 0.0, renderMs = 0.0, writeMs = 0.0;
+  double readMs = 0.0, buildMs = 0.0, sceneMs = 0.0, renderMs = 0.0, encodeMs = 0.0, writeMs = 0.0;
   std::size_t moved = 0, recomputed = 0, patches = 0;
   build::PatchList list;
   std::vector<glm::dvec3> centers;  // the frame's atoms, for a transparent frame (FrameRenderer::render)
@@ -290,15 +296,16 @@ class TimingsFile {
     file_.reset(std::fopen(path.c_str(), append ? "a" : "w"));
     if (!file_) throw build::OutputError("--timings " + path + ": cannot write the file: " + std::strerror(errno));
     if (!append &&
-        (std::fputs("frame,time_ps,read_ms,build_ms,render_ms,write_ms,moved_atoms,recomputed_atoms,patches\n",
+        (std::fputs("frame,time_ps,read_ms,build_ms,scene_ms,render_ms,encode_ms,write_ms,moved_atoms,"
+                    "recomputed_atoms,patches\n",
                     file_.get()) < 0 ||
          std::fflush(file_.get()) != 0))
       failed();
   }
   void row(const Work& w) {
     if (!file_) return;
-    if (std::fprintf(file_.get(), "%zu,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w.frame, w.time, w.readMs, w.buildMs, w.renderMs,
-                     w.writeMs, w.moved, w.recomputed, w.patches) < 0 ||
+    if (std::fprintf(file_.get(), "%zu,%g,%g,%g,%g,%g,%g,%g,%zu,%zu,%zu\n", w.frame, w.time, w.readMs, w.buildMs,
+                     w.sceneMs, w.renderMs, w.encodeMs, w.writeMs, w.moved, w.recomputed, w.patches) < 0 ||
         std::fflush(file_.get()) != 0)
       failed();
   }
@@ -311,8 +318,11 @@ class TimingsFile {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_{nullptr, std::fclose};
 };
 
-// The frames of one process through the stages "read", "build or update", "render" and
-// "write": the build of frame k+1 beside the drawing of frame k and the writing of frame k-1.
+// The frames of one process through the stages "read", "build or update", "render" (the
+// scene, then the rays) and "encode and write": the build of frame k+1 beside the drawing of
+// frame k and the writing of frames k-1, k-2, ..., which run in parallel (each frame's files
+// are its own, so the order in which they land does not matter; the rows of --timings and the
+// per-frame lines come in the order frames finish).
 // The first error of any stage (a bad frame, a full disk) is kept and stops the input; the
 // pipeline then drains, and the error is thrown once it has (an exception escaping a stage
 // let the process exit while the build of the next frame still ran: a crash on a full disk).
@@ -330,7 +340,7 @@ class FrameLoop {
 
   void run(const std::vector<std::size_t>& todo);
 
-  std::vector<double> readMs, buildMs, renderMs, writeMs;
+  std::vector<double> readMs, buildMs, sceneMs, renderMs, encodeMs, writeMs;
   double rigidDrift = 0.0;  // how far atoms held rigid actually moved in the trajectory
   std::size_t written = 0;
 
@@ -352,6 +362,7 @@ class FrameLoop {
   FrameRenderer renderer_;
   TimingsFile timings_;
   ImageRecord record_;
+  std::mutex finished_;  // the writers' shared records: timings, counts, the bar
 };
 
 std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
@@ -387,20 +398,27 @@ std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
 void FrameLoop::render(Work& w) {
   const auto t = std::chrono::steady_clock::now();
   w.image = renderer_.render(w.list, setup_.render, colors_, nullptr, w.centers, current_.radii);
-  w.renderMs = millisecondsSince(t);
+  w.sceneMs = renderer_.sceneSeconds() * 1e3;
+  w.renderMs = millisecondsSince(t) - w.sceneMs;
   w.list = build::PatchList();
 }
 
 void FrameLoop::write(Work& w, ProgressBar& bar, std::size_t total) {
-  const auto t = std::chrono::steady_clock::now();
+  auto t = std::chrono::steady_clock::now();
   ImageRecord record = record_;
   record.frame = w.frame;
   record.timePs = w.time;
-  writeImage(out_.png.empty() ? "" : out_.png(w.frame), out_.exr.empty() ? "" : out_.exr(w.frame), w.image, record,
-             setup_.render.camera);
+  const EncodedFiles files = encodeImage(out_.png.empty() ? "" : out_.png(w.frame),
+                                         out_.exr.empty() ? "" : out_.exr(w.frame), w.image, record,
+                                         setup_.render.camera, kFramePngLevel);
+  w.image = view::FrameBuffers();
+  w.encodeMs = millisecondsSince(t);
+  t = std::chrono::steady_clock::now();
+  writeFiles(files);
   w.writeMs = millisecondsSince(t);
-  readMs.push_back(w.readMs), buildMs.push_back(w.buildMs);
-  renderMs.push_back(w.renderMs), writeMs.push_back(w.writeMs);
+  const std::lock_guard lock(finished_);
+  readMs.push_back(w.readMs), buildMs.push_back(w.buildMs), sceneMs.push_back(w.sceneMs);
+  renderMs.push_back(w.renderMs), encodeMs.push_back(w.encodeMs), writeMs.push_back(w.writeMs);
   timings_.row(w);
   // One line per frame when nobody watches a bar (the logs of batch jobs).
   if (!o_.quiet && !isatty(STDERR_FILENO))
@@ -425,8 +443,9 @@ void FrameLoop::run(const std::vector<std::size_t>& todo) {
     }
   };
   using Item = std::shared_ptr<Work>;
+  // Tokens: a frame building, one drawing, and two encoding (the encoders run in parallel).
   tbb::parallel_pipeline(
-      3,
+      4,
       tbb::make_filter<void, Item>(tbb::filter_mode::serial_in_order,
                                    [&](tbb::flow_control& fc) -> Item {
                                      Item w;
@@ -440,7 +459,7 @@ void FrameLoop::run(const std::vector<std::size_t>& todo) {
                                          if (!w || failed.load() || !guarded([&] { render(*w); })) return nullptr;
                                          return w;
                                        }) &
-          tbb::make_filter<Item, void>(tbb::filter_mode::serial_in_order, [&](Item w) {
+          tbb::make_filter<Item, void>(tbb::filter_mode::parallel, [&](Item w) {
             if (w && !failed.load()) guarded([&] { write(*w, bar, todo.size()); });
           }));
   if (failure) {
@@ -481,10 +500,11 @@ void printPlan(const TrajectoryOptions& o, const build::Trajectory& trajectory, 
 
 void printTimings(const FrameLoop& loop, double loopSeconds, double setupMs, double framingMs) {
   std::printf("rendered %zu frames in %.2f s (%.2f frames/s; setup %.0f ms, of which %.0f ms framing the camera); "
-              "medians per frame: read %.2f ms, build %.2f ms, render %.2f ms, write %.2f ms\n",
+              "medians per frame: read %.2f ms, build %.2f ms, scene %.2f ms, render %.2f ms, encode %.2f ms, "
+              "write %.2f ms\n",
               loop.written, loopSeconds, loopSeconds > 0 ? static_cast<double>(loop.written) / loopSeconds : 0.0,
-              setupMs, framingMs, median(loop.readMs), median(loop.buildMs), median(loop.renderMs),
-              median(loop.writeMs));
+              setupMs, framingMs, median(loop.readMs), median(loop.buildMs), median(loop.sceneMs),
+              median(loop.renderMs), median(loop.encodeMs), median(loop.writeMs));
 }
 
 void runTrajectory(const TrajectoryOptions& o) {
@@ -586,7 +606,9 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
   cmd->add_flag("--resume", o->resume,
                 "Skip the frames whose output files exist (files are written whole, through a temporary name, so an "
                 "interrupted run leaves none half-written)");
-  cmd->add_option("--timings", o->timings, "Write per-frame timings (read, build, render, write in ms) to this CSV");
+  cmd->add_option("--timings", o->timings,
+                  "Write per-frame timings to this CSV, in ms: read, build (or update), scene (Embree's BVH), render "
+                  "(the rays and the image effects), encode (PNG, EXR), write");
   cmd->add_option("--mp4", o->mp4, "Also make an H.264 movie of the PNG frames with ffmpeg (must be on PATH)");
   cmd->add_option("--fps", o->fps, "Frames per second of the --mp4 movie")->check(positive())->default_val(25.0);
   cmd->add_option("--shard", o->shard,

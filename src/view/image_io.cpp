@@ -27,9 +27,9 @@ void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
 }
 
 // Encodes the image with OpenImageIO into memory (the format from the extension of `path`),
-// then writes the bytes through build::writeFileAtomically: every write checked, the file
-// whole or not there at all. (OpenImageIO's own file writers let a full disk pass.)
-void encodeAndWrite(const std::string& path, const oiio::ImageSpec& spec, oiio::TypeDesc type, const void* pixels) {
+// for build::writeFileAtomically: every write checked, the file whole or not there at all.
+// (OpenImageIO's own file writers let a full disk pass.)
+EncodedImage encode(const std::string& path, const oiio::ImageSpec& spec, oiio::TypeDesc type, const void* pixels) {
   auto out = oiio::ImageOutput::create(path);
   if (!out) throw std::runtime_error(path + ": cannot write this image format (" + oiio::geterror() + ")");
   if (!out->supports("ioproxy"))
@@ -40,22 +40,32 @@ void encodeAndWrite(const std::string& path, const oiio::ImageSpec& spec, oiio::
     throw std::runtime_error(path + ": cannot encode the image: " + out->geterror());
   if (!out->write_image(type, pixels) || !out->close())
     throw std::runtime_error(path + ": cannot encode the image: " + out->geterror());
+  return bytes;
+}
+
+void writeEncoded(const std::string& path, const EncodedImage& bytes) {
   build::writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(bytes)));
 }
 
 }  // namespace
 
-void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
+EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata,
+                       int compressionLevel) {
   oiio::ImageSpec spec(f.width, f.height, 3, oiio::TypeDesc::UINT8);
+  spec.attribute("png:compressionLevel", compressionLevel);
   addMetadata(spec, metadata);
   std::vector<unsigned char> pixels(3 * f.pixels());
   for (std::size_t p = 0; p < f.pixels(); ++p)
     for (int c = 0; c < 3; ++c)
       pixels[3 * p + c] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(f.rgba[4 * p + c], 0.0f, 1.0f)));
-  encodeAndWrite(path, spec, oiio::TypeDesc::UINT8, pixels.data());
+  return encode(path, spec, oiio::TypeDesc::UINT8, pixels.data());
 }
 
-void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
+void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata, int compressionLevel) {
+  writeEncoded(path, encodePng(path, f, metadata, compressionLevel));
+}
+
+EncodedImage encodeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
   oiio::ImageSpec spec(f.width, f.height, kChannels, oiio::TypeDesc::FLOAT);
   spec.channelnames.assign(std::begin(kFloatChannels), std::end(kFloatChannels));
   spec.channelnames.insert(spec.channelnames.end(), std::begin(kUintChannels), std::end(kUintChannels));
@@ -76,7 +86,11 @@ void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadat
     pixels[kChannels * p + 11] = f.atomId[p];
     pixels[kChannels * p + 12] = f.flags[p];
   }
-  encodeAndWrite(path, spec, oiio::TypeUnknown, pixels.data());
+  return encode(path, spec, oiio::TypeUnknown, pixels.data());
+}
+
+void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
+  writeEncoded(path, encodeExr(path, f, metadata));
 }
 
 FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {

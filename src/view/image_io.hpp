@@ -13,14 +13,29 @@ namespace surftrace::view {
 // String attributes stored with an image ("surftrace:camera" holds cameraToJson, etc.).
 using ImageMetadata = std::map<std::string, std::string>;
 
-// 8-bit RGB PNG of the colour buffer (already composited over the background).
-void writePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata);
+// An image file encoded in memory, to be written whole (build::writeFileAtomically).
+using EncodedImage = std::vector<unsigned char>;
+
+// zlib's level for PNGs: 6, zlib's own default, unless the caller asks for speed. The level
+// changes only the size and the time to encode, never a pixel: `trajectory` writes level 1
+// (README, Benchmarks).
+inline constexpr int kDefaultPngLevel = 6;
+
+// 8-bit RGB PNG of the colour buffer (already composited over the background), encoded in
+// memory; `path` only chooses the format and names the file in errors.
+EncodedImage encodePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata,
+                       int compressionLevel = kDefaultPngLevel);
+// encodePng, written whole to `path`.
+void writePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata,
+              int compressionLevel = kDefaultPngLevel);
 
 // OpenEXR with every buffer, one pixel per ray through the pixel centre:
 //   R G B A (half-free float colour and coverage), depth.t (ray distance, Å),
 //   depth.z (view-space z, Å), N.X N.Y N.Z (world-space unit normal), as 32-bit floats;
 //   patch.kind, patch.id, atom.id, flags as 32-bit unsigned integers (misses: id 2³²−1).
 void writeExr(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata);
+// The same EXR, encoded in memory.
+EncodedImage encodeExr(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata);
 
 // Reads an EXR written by writeExr (or by the GL path) back. Throws std::runtime_error
 // naming the file and the missing channel when it is not such a file.

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <OpenImageIO/imageio.h>
 #include <glm/geometric.hpp>
@@ -310,6 +312,37 @@ TEST(ImageIo, PngHoldsTheClampedColour) {
     for (int c = 0; c < 3; ++c)
       EXPECT_EQ(px[3 * p + c], static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, f.rgba[4 * p + c]))));
   std::filesystem::remove(path);
+}
+
+// zlib's level changes the bytes and the time, never the pixels: a frame written at level 1
+// (trajectory frames) and at the default level reads back the same, clamped colour for colour.
+TEST(ImageIo, PngLevelChangesTheBytesNotThePixels) {
+  FrameBuffers f = randomFrame(64, 48);
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    for (int c = 0; c < 4; ++c) f.rgba[4 * p + c] = static_cast<float>((p / 7 + 3 * c) % 13) / 12.0f;
+  const auto dir = std::filesystem::temp_directory_path();
+  std::vector<std::vector<unsigned char>> decoded;
+  std::vector<std::uintmax_t> sizes;
+  for (int level : {1, kDefaultPngLevel, 9}) {
+    const auto path = (dir / ("surftrace_level" + std::to_string(level) + ".png")).string();
+    writePng(path, f, {{"surftrace:frame", "7"}}, level);
+    sizes.push_back(std::filesystem::file_size(path));
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().get_string_attribute("surftrace:frame"), "7");
+    std::vector<unsigned char> px(3 * f.pixels());
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+    for (std::size_t p = 0; p < f.pixels(); ++p)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(px[3 * p + c], static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, f.rgba[4 * p + c]))))
+            << "level " << level << " pixel " << p;
+    decoded.push_back(std::move(px));
+    std::filesystem::remove(path);
+  }
+  EXPECT_EQ(decoded[0], decoded[1]);
+  // The level reached zlib: the files differ (level 1 is the largest).
+  EXPECT_GT(sizes[0], sizes[1]);
+  EXPECT_GE(sizes[1], sizes[2]);
 }
 
 TEST(ImageIo, ForeignFileIsAClearError) {
