@@ -158,6 +158,23 @@ glm::dvec3 parseVector(const std::string& option, const std::string& text) {
   return v;
 }
 
+namespace {
+// --ball-and-stick and its sizes (pipeline.hpp: BallAndStick).
+void addBallAndStickOptions(CLI::App& cmd, ImageOptions& o) {
+  cmd.add_flag("--ball-and-stick", o.ballAndStick,
+               "Draw the atoms as balls and their covalent bonds (the file's CONECT records, else distance: "
+               "d < r_cov,i + r_cov,j + 0.4 Å) as sticks, opaque, with the surface: under it with --opacity < 1 "
+               "(Lindow et al. 2010, Fig. 9 right), alone with --opacity 0");
+  cmd.add_option("--ball-scale", o.ballScale, "With --ball-and-stick: a ball's radius over its atom's radius (> 0)")
+      ->check(positive())
+      ->default_val(0.25);
+  cmd.add_option("--stick-radius", o.stickRadius,
+                 "With --ball-and-stick: the sticks' radius in Å (> 0); each half takes its atom's colour")
+      ->check(positive())
+      ->default_val(0.15);
+}
+}  // namespace
+
 void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
   cmd.add_option("--view", o.view,
@@ -191,17 +208,6 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, false, false); },
                              "NUMBER in [0, 1]", "opacity"))
       ->default_val(1.0);
-  cmd.add_flag("--ball-and-stick", o.ballAndStick,
-               "Draw the atoms as balls and their covalent bonds (the file's CONECT records, else distance: "
-               "d < r_cov,i + r_cov,j + 0.4 Å) as sticks, opaque, with the surface: under it with --opacity < 1 "
-               "(Lindow et al. 2010, Fig. 9 right), alone with --opacity 0");
-  cmd.add_option("--ball-scale", o.ballScale, "With --ball-and-stick: a ball's radius over its atom's radius (> 0)")
-      ->check(positive())
-      ->default_val(0.25);
-  cmd.add_option("--stick-radius", o.stickRadius,
-                 "With --ball-and-stick: the sticks' radius in Å (> 0); each half takes its atom's colour")
-      ->check(positive())
-      ->default_val(0.15);
   cmd.add_option("--max-layers", o.maxLayers,
                  "With --opacity below 1: the most layers composited per ray, the nearest ones (the rest are dropped)")
       ->check(wholeIn(1, 1024))
@@ -216,6 +222,7 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
                  "far tight around the scene, and the OpenGL view_matrix and projection_matrix (column-major), for "
                  "another renderer to draw the same view");
   addEffectOptions(cmd, o);
+  addBallAndStickOptions(cmd, o);
   for (const char* name : {"--view", "--eye", "--look-at", "--up", "--fov", "--ortho"})
     o.framingOptions.push_back(cmd.get_option(name));
   o.sizeOption = cmd.get_option("--size");

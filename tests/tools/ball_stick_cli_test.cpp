@@ -74,11 +74,11 @@ TEST(BallStickCli, UnderATransparentSurfaceTheModelShows) {
 TEST(BallStickCli, TrajectoryFramesGetTheModel) {
   const fs::path dir = scratch("trajectory");
   const std::string psf = kData + "/trajectories/adk_dims/adk.psf.gz", dcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
-  const Result r = runTool("trajectory " + psf + " " + dcd + " --frames 0:1 --size 32x32 --quiet --ball-and-stick "
+  const Result r = runTool("trajectory " + psf + " " + dcd + " --frames 0:2 --size 32x32 --quiet --ball-and-stick "
                            "--opacity 0 --exr " + (dir / "%03d.exr").string());
   ASSERT_EQ(r.status, 0) << r.output;
   view::ImageMetadata meta;
-  const view::FrameBuffers f = view::readExr((dir / "001.exr").string(), &meta);
+  const view::FrameBuffers f = view::readExr((dir / "000.exr").string(), &meta);
   EXPECT_EQ(meta.count("surftrace:ball_and_stick"), 1u);
   EXPECT_GT(countKind(f, view::PatchKind::Ball), 50u);
 }
