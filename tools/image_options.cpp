@@ -155,6 +155,23 @@ glm::dvec3 parseVector(const std::string& option, const std::string& text) {
   return v;
 }
 
+namespace {
+// --ball-and-stick and its sizes (pipeline.hpp: BallAndStick).
+void addBallAndStickOptions(CLI::App& cmd, ImageOptions& o) {
+  cmd.add_flag("--ball-and-stick", o.ballAndStick,
+               "Draw the atoms as balls and their covalent bonds (the file's CONECT records, else distance: "
+               "d < r_cov,i + r_cov,j + 0.4 Å) as sticks, opaque, with the surface: under it with --opacity < 1 "
+               "(Lindow et al. 2010, Fig. 9 right), alone with --opacity 0");
+  cmd.add_option("--ball-scale", o.ballScale, "With --ball-and-stick: a ball's radius over its atom's radius (> 0)")
+      ->check(positive())
+      ->default_val(0.25);
+  cmd.add_option("--stick-radius", o.stickRadius,
+                 "With --ball-and-stick: the sticks' radius in Å (> 0); each half takes its atom's colour")
+      ->check(positive())
+      ->default_val(0.15);
+}
+}  // namespace
+
 void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--size", o.size, "Image size WIDTHxHEIGHT")->default_val("1024x1024");
   cmd.add_option("--view", o.view,
@@ -182,10 +199,11 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(positive())
       ->default_val(8.0);
   cmd.add_option("--opacity", o.opacity,
-                 "Surface opacity in (0, 1]: below 1 every layer the ray crosses (up to --max-layers, nearest first) "
-                 "is blended front to back over the background (engine embree)")
-      ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, true, false); },
-                             "NUMBER in (0, 1]", "opacity"))
+                 "Surface opacity in [0, 1]: below 1 every layer the ray crosses (up to --max-layers, nearest first) "
+                 "is blended front to back over the background (engine embree); 0 draws no surface, only the "
+                 "--ball-and-stick model (both engines)")
+      ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, false, false); },
+                             "NUMBER in [0, 1]", "opacity"))
       ->default_val(1.0);
   cmd.add_option("--max-layers", o.maxLayers,
                  "With --opacity below 1: the most layers composited per ray, the nearest ones (the rest are dropped)")
@@ -201,6 +219,7 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
                  "far tight around the scene, and the OpenGL view_matrix and projection_matrix (column-major), for "
                  "another renderer to draw the same view");
   addEffectOptions(cmd, o);
+  addBallAndStickOptions(cmd, o);
   for (const char* name : {"--view", "--eye", "--look-at", "--up", "--fov", "--ortho"})
     o.framingOptions.push_back(cmd.get_option(name));
   o.sizeOption = cmd.get_option("--size");
@@ -221,6 +240,9 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   ro.aoDistance = o.aoDistance;
   ro.opacity = o.opacity;
   ro.maxLayers = o.maxLayers;
+  if (o.opacity == 0.0 && !o.ballAndStick)
+    throw std::invalid_argument("--opacity 0 draws no surface, and nothing else was asked for: add --ball-and-stick "
+                                "or give an opacity above 0");
   ro.effects = resolveEffects(o);
   setup.viewDirection = view::namedViewDirection(o.view);
   if (!(o.fov > 0.0 && o.fov < 180.0))
@@ -358,6 +380,10 @@ view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& came
     meta["surftrace:max_layers"] = std::to_string(r.maxLayers);
   }
   if (r.effects.any()) meta["surftrace:effects"] = r.effects.json(camera);
+  if (r.ballAndStick)
+    meta["surftrace:ball_and_stick"] = "{\"ball_scale\": " + detail::shortNumber(r.ballScale) +
+                                       ", \"stick_radius\": " + detail::shortNumber(r.stickRadius) +
+                                       ", \"bonds\": " + std::to_string(r.bonds) + "}";
   for (const auto& [key, value] : r.engineSettings) meta[key] = value;
   meta["Software"] = kSoftware;
   return meta;

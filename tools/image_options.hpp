@@ -38,6 +38,11 @@ struct ImageOptions {
   double aoDistance = 8.0;
   double opacity = 1.0;  // --opacity: below 1 the surface is transparent (every layer composited)
   int maxLayers = 16;    // --max-layers: the nearest layers a transparent ray composites
+  // --ball-and-stick: the atoms' balls and the bonds' sticks, opaque, drawn with the surface
+  // (under it when --opacity < 1; alone at --opacity 0).
+  bool ballAndStick = false;
+  double ballScale = 0.25;    // --ball-scale: a ball's radius over its atom's
+  double stickRadius = 0.15;  // --stick-radius, Å
   // Image-space effects (view/image_effects.hpp), applied after either engine.
   bool silhouettes = false;
   int silhouetteWidth = 2;
@@ -116,6 +121,10 @@ struct ImageRecord {
   double opacity = 1.0;  // recorded (with maxLayers) only when below 1
   int maxLayers = 16;
   view::ImageEffects effects;  // recorded as surftrace:effects when any is on
+  // The ball-and-stick model's settings, recorded as surftrace:ball_and_stick when it is drawn.
+  bool ballAndStick = false;
+  double ballScale = 0.25, stickRadius = 0.15;
+  std::size_t bonds = 0;
 };
 view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
 

@@ -21,6 +21,27 @@
 
 namespace surftrace::tools {
 
+BallAndStick BallAndStick::of(const ImageOptions& image, const build::Molecule& topology) {
+  BallAndStick b;
+  if (!image.ballAndStick) return b;
+  b.on = true;
+  b.ballScale = image.ballScale;
+  b.stickRadius = image.stickRadius;
+  b.bonds = build::moleculeBonds(topology);
+  return b;
+}
+
+build::BallStickModel BallAndStick::model(std::span<const glm::dvec3> centers, std::span<const double> radii) const {
+  return build::ballStickModel(centers, radii, bonds, ballScale, stickRadius);
+}
+
+void BallAndStick::describe(ImageRecord& record) const {
+  record.ballAndStick = on;
+  record.ballScale = ballScale;
+  record.stickRadius = stickRadius;
+  record.bonds = bonds.size();
+}
+
 void addEngineOptions(CLI::App& cmd, EngineOptions& o) {
   cmd.add_option("--engine", o.engine,
                  "embree: exact double-precision CPU ray tracing (the reference); gl: the headless OpenGL "
@@ -45,7 +66,7 @@ void checkEngineCanDraw(const EngineOptions& engine, const ImageOptions& image) 
   if (engine.engine == "gl" && (image.spp > 1 || image.shadows || image.ao > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
-  if (engine.engine == "gl" && image.opacity < 1.0)
+  if (engine.engine == "gl" && image.opacity < 1.0 && image.opacity > 0.0)
     throw std::invalid_argument("--engine gl draws opaque surfaces only (no depth peeling yet): drop --opacity or "
                                 "use --engine embree, which draws every layer exactly");
 }
@@ -71,23 +92,31 @@ FrameRenderer::FrameRenderer(EngineOptions options) : impl_(std::make_unique<Imp
 
 FrameRenderer::~FrameRenderer() = default;
 
-view::FrameBuffers FrameRenderer::render(const build::PatchList& list, const view::RenderOptions& options,
+view::FrameBuffers FrameRenderer::render(const build::PatchList& surface, const view::RenderOptions& opacityOptions,
                                          std::span<const glm::vec3> atomColors, ProgressBar* bar,
-                                         std::span<const glm::dvec3> centers, std::span<const double> radii) {
+                                         std::span<const glm::dvec3> centers, std::span<const double> radii,
+                                         const build::BallStickModel* model) {
   Impl& m = *impl_;
+  // Opacity 0: no surface at all, the model drawn opaque (the same in both engines).
+  const bool noSurface = opacityOptions.opacity == 0.0;
+  build::PatchList empty;
+  empty.params = surface.params;
+  const build::PatchList& list = noSurface ? empty : surface;
+  view::RenderOptions options = opacityOptions;
+  if (noSurface) options.opacity = 1.0;
+  if (model && model->empty()) model = nullptr;
   view::FrameBuffers frame;
   if (!m.device) {
     if (!m.context) m.context.emplace();
-    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl);
+    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl, model);
   } else {
     const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
-    const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii)
-                                              : trace::ScenePatches::fromPatchList(list),
+    const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii, model)
+                                              : trace::ScenePatches::fromPatchList(list, {}, {}, model),
                                   *m.device);
     m.sceneSeconds = scene.buildSeconds();
-    view::RenderOptions withProgress = options;
-    if (bar) withProgress.progress = [bar](double f) { bar->update(f); };
-    frame = trace::render(scene, withProgress, atomColors);
+    if (bar) options.progress = [bar](double f) { bar->update(f); };
+    frame = trace::render(scene, options, atomColors);
   }
   // The one place the image-space effects run: on the buffers, whichever engine filled them.
   view::applyImageEffects(frame, options.effects, options.camera, options.background);

@@ -14,10 +14,12 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
+#include "build/bonds.hpp"
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
@@ -28,6 +30,20 @@
 #include "view/render_options.hpp"
 
 namespace surftrace::tools {
+
+// --ball-and-stick for one topology: its bonds, computed once (build/bonds.hpp), and the
+// model of any frame of it (the bonds' indices reused for every frame's centres).
+struct BallAndStick {
+  bool on = false;
+  double ballScale = 0.25, stickRadius = 0.15;
+  std::vector<glm::uvec2> bonds;
+
+  // Off unless image.ballAndStick; the bonds of `topology` otherwise.
+  static BallAndStick of(const ImageOptions& image, const build::Molecule& topology);
+  build::BallStickModel model(std::span<const glm::dvec3> centers, std::span<const double> radii) const;
+  // Into the image's record (surftrace:ball_and_stick).
+  void describe(ImageRecord& record) const;
+};
 
 // --engine and the GL engine's own options.
 struct EngineOptions {
@@ -51,9 +67,11 @@ class FrameRenderer {
 
   // `bar`, when given, shows the progress of one frame. The atoms (`centers`, `radii`: all or
   // none) let a transparent frame hide the parts of the SES spheres that buried atoms cover.
+  // `model`, when given, is drawn opaque with the surface; options.opacity 0 leaves the surface out.
   view::FrameBuffers render(const build::PatchList& list, const view::RenderOptions& options,
                             std::span<const glm::vec3> atomColors, ProgressBar* bar = nullptr,
-                            std::span<const glm::dvec3> centers = {}, std::span<const double> radii = {});
+                            std::span<const glm::dvec3> centers = {}, std::span<const double> radii = {},
+                            const build::BallStickModel* model = nullptr);
   // The engine, its context and its own settings, into the image's record.
   void describe(ImageRecord& record) const;
   // Seconds the last frame spent building its acceleration structure (Embree; 0 for GL).

@@ -45,6 +45,9 @@ void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
     throw std::invalid_argument("--frame " + std::to_string(o.frame) + " needs --trajectory FILE (and FILE its topology)");
   if (!fromPatchList) return;
+  if (o.image.ballAndStick)
+    throw std::invalid_argument("--ball-and-stick needs the atoms and their records, which a patch list (" + o.path +
+                                ") does not hold: render the structure file");
   // A patch list given as FILE (told by its magic) is rendered as it is: its own surface,
   // probe and shrink factor, framed from its patches.
   if (!o.patches.empty())
@@ -168,11 +171,16 @@ void runRender(const RenderCommandOptions& o) {
   frameRender(setup, list, molecule, fromPatchList, o.path);
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
                                     : view::atomColors(molecule, setup.render.color, setup.uniformColor);
+  const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
+  const build::BallStickModel model =
+      ballAndStick.on ? ballAndStick.model(molecule.centers, molecule.radii) : build::BallStickModel();
   FrameRenderer renderer(o.engine);
   ProgressBar bar(!o.quiet && o.engine.engine == "embree", "rendering");
-  const view::FrameBuffers frame = renderer.render(list, setup.render, colors, &bar, molecule.centers, molecule.radii);
+  const view::FrameBuffers frame =
+      renderer.render(list, setup.render, colors, &bar, molecule.centers, molecule.radii, &model);
   ImageRecord record = recordOfRender(o, list, fromPatchList);
   renderer.describe(record);
+  ballAndStick.describe(record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);
   printRenderSummary(o, list, frame, readSeconds, buildSeconds, renderer.sceneSeconds());
 }

@@ -204,6 +204,7 @@ struct Work {
   std::size_t moved = 0, recomputed = 0, patches = 0;
   build::PatchList list;
   std::vector<glm::dvec3> centers;  // the frame's atoms, for a transparent frame (FrameRenderer::render)
+  build::BallStickModel model;      // --ball-and-stick: the frame's (the topology's bonds)
   view::FrameBuffers image;
 };
 
@@ -332,10 +333,11 @@ class FrameLoop {
             const Flexible& flexible, const ImageSetup& setup, std::vector<glm::vec3> colors, const Outputs& out)
       : o_(o), trajectory_(trajectory), reference_(reference), flexible_(flexible), setup_(setup),
         colors_(std::move(colors)), out_(out), builder_(o.surface.request()), current_(reference),
-        renderer_(EngineOptions{}), timings_(o.timings, o.resume) {
+        renderer_(EngineOptions{}), timings_(o.timings, o.resume), ballAndStick_(BallAndStick::of(o.image, reference)) {
     record_ = recordOf(o.surface, o.topology, o.image, o.commandLine);
     record_.trajectory = o.trajectory;
     renderer_.describe(record_);
+    ballAndStick_.describe(record_);
   }
 
   void run(const std::vector<std::size_t>& todo);
@@ -361,6 +363,7 @@ class FrameLoop {
   bool built_ = false;
   FrameRenderer renderer_;
   TimingsFile timings_;
+  const BallAndStick ballAndStick_;  // bonds of the reference frame, once, for every frame
   ImageRecord record_;
   std::mutex finished_;  // the writers' shared records: timings, counts, the bar
 };
@@ -392,12 +395,13 @@ std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
   w->patches = w->list.patchCount();
   w->moved = flexible_.atoms.empty() ? current_.size() : flexible_.atoms.size();
   if (setup_.render.opacity < 1.0) w->centers = current_.centers;  // the render stage runs beside the next read
+  if (ballAndStick_.on) w->model = ballAndStick_.model(current_.centers, current_.radii);
   return w;
 }
 
 void FrameLoop::render(Work& w) {
   const auto t = std::chrono::steady_clock::now();
-  w.image = renderer_.render(w.list, setup_.render, colors_, nullptr, w.centers, current_.radii);
+  w.image = renderer_.render(w.list, setup_.render, colors_, nullptr, w.centers, current_.radii, &w.model);
   w.sceneMs = renderer_.sceneSeconds() * 1e3;
   w.renderMs = millisecondsSince(t) - w.sceneMs;
   w.list = build::PatchList();

@@ -112,7 +112,7 @@ GpuFrame frameBlock(const view::RenderOptions& o, const GlOptions& gl, std::size
                          static_cast<float>(kNearFraction * reach), static_cast<float>(1.0 / (1.001 * reach + 1e-3)));
   f.lighting = glm::vec4(o.lighting.ambient, o.lighting.diffuse, o.lighting.specular, o.lighting.shininess);
   f.background = glm::vec4(o.background, 0.0f);
-  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
+  for (std::size_t row = 0; row < view::kPatchKindCount; ++row) {
     const view::PatchKind kind = view::kPatchKinds[row].kind;
     f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
     f.kinds[row].first = glm::uvec4(ids.first(kind), 0u, 0u, 0u);
@@ -161,6 +161,11 @@ struct GlRenderer::Impl {
   GLuint programs[kGpuKindCount] = {};
   GLuint records[kGpuKindCount] = {}, atoms[kGpuKindCount] = {};
   std::size_t counts[kGpuKindCount] = {};
+  // The ball-and-stick model's balls and sticks (rows Ball, Stick): programs, buffers, counts.
+  static constexpr const char* kModelShaders[2] = {"ball", "stick"};
+  GLuint modelPrograms[2] = {};
+  GLuint modelRecords[2] = {}, modelAtoms[2] = {};
+  std::size_t modelCounts[2] = {};
   view::PatchIdOrder ids;
   GLuint vao = 0;
   GLuint atomColorBuffer = 0;
@@ -178,6 +183,10 @@ struct GlRenderer::Impl {
   ~Impl() {
     for (GLuint p : programs)
       if (p != 0) glDeleteProgram(p);
+    for (GLuint p : modelPrograms)
+      if (p != 0) glDeleteProgram(p);
+    glDeleteBuffers(2, modelRecords);
+    glDeleteBuffers(2, modelAtoms);
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), records);
     glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), atoms);
@@ -187,6 +196,50 @@ struct GlRenderer::Impl {
     glDeleteBuffers(1, &countBuffer);
     glDeleteTextures(1, &clipTexture);
     releaseTargets();
+  }
+
+  // The model's records in float, shifted by −origin in double first (as packPatches does), and
+  // the depth mapping's bounding ball grown to hold them (`alone`: there is no surface).
+  void uploadModel(const build::BallStickModel* model, const glm::dvec3& shift, bool alone) {
+    Impl& m = *this;
+    std::vector<glm::vec4> balls, sticks;
+    std::vector<std::uint32_t> ballAtoms;
+    std::vector<glm::uvec2> stickAtoms;
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    if (model) {
+      const double stick = model->stickRadius;
+      for (std::size_t i = 0; i < model->centers.size(); ++i) {
+        const glm::dvec3 c = model->centers[i] - shift;
+        balls.emplace_back(glm::vec3(c), static_cast<float>(model->ballRadii[i]));
+        ballAtoms.push_back(static_cast<std::uint32_t>(i));
+        const double reach = std::max(model->ballRadii[i], stick);
+        lo = glm::min(lo, c - reach);
+        hi = glm::max(hi, c + reach);
+      }
+      for (const glm::uvec2& b : model->bonds) {
+        sticks.emplace_back(glm::vec3(model->centers[b.x] - shift), static_cast<float>(stick));
+        sticks.emplace_back(glm::vec3(model->centers[b.y] - shift), 0.0f);
+        stickAtoms.push_back(b);
+      }
+    }
+    bufferData(m.modelRecords[0], balls);
+    bufferData(m.modelAtoms[0], ballAtoms);
+    bufferData(m.modelRecords[1], sticks);
+    bufferData(m.modelAtoms[1], stickAtoms);
+    checkGlError("uploading the ball-and-stick model");
+    m.modelCounts[0] = balls.size();
+    m.modelCounts[1] = stickAtoms.size();
+    if (balls.empty()) return;
+    const glm::dvec3 center = shift + 0.5 * (lo + hi);
+    const double radius = 0.5 * glm::length(hi - lo);
+    if (alone) {
+      m.boundsCenter = center;
+      m.boundsRadius = radius;
+    } else {  // the ball around both
+      const double d = glm::length(center - m.boundsCenter);
+      const double grown = std::max(m.boundsRadius, d + radius);
+      m.boundsRadius = grown;
+    }
   }
 
   void releaseTargets() {
@@ -232,6 +285,9 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
   context.makeCurrent();
   Impl& m = *impl_;
   forEachGpuKind([&](std::size_t row, auto kind) { m.programs[row] = linkProgram(decltype(kind)::shader); });
+  for (int k = 0; k < 2; ++k) m.modelPrograms[k] = linkProgram(Impl::kModelShaders[k]);
+  glCreateBuffers(2, m.modelRecords);
+  glCreateBuffers(2, m.modelAtoms);
   glCreateVertexArrays(1, &m.vao);
   glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.records);
   glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.atoms);
@@ -247,10 +303,10 @@ GlRenderer::~GlRenderer() = default;
 
 unsigned GlRenderer::program(view::PatchKind kind) const { return impl_->programs[view::kindRow(kind)]; }
 
-void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin) {
+void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin, const build::BallStickModel* model) {
   Impl& m = *impl_;
   const GpuPatches g = packPatches(patches, origin);
-  std::array<std::size_t, kGpuKindCount> counts{};
+  std::array<std::size_t, view::kPatchKindCount> counts{};
   forEachGpuKind([&](std::size_t row, auto kind) {
     const auto& k = g.of<decltype(kind)>();
     bufferData(m.records[row], k.records);
@@ -261,11 +317,14 @@ void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origi
   // Re-attach: the buffer's data store was just re-specified.
   glTextureBuffer(m.clipTexture, GL_RGBA32F, m.clipBuffer);
   checkGlError("uploading the patches");
-  std::copy(counts.begin(), counts.end(), m.counts);
-  m.ids = view::PatchIdOrder(counts);
+  std::copy(counts.begin(), counts.begin() + kGpuKindCount, m.counts);
   m.origin = origin;
   m.boundsCenter = g.boundsCenter;
   m.boundsRadius = g.boundsRadius;
+  m.uploadModel(model, origin, patches.patchCount() == 0);
+  counts[view::kindRow(view::PatchKind::Ball)] = m.modelCounts[0];
+  counts[view::kindRow(view::PatchKind::Stick)] = m.modelCounts[1];
+  m.ids = view::PatchIdOrder(counts);
   m.uploaded = true;
 }
 
@@ -324,6 +383,15 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   bufferData(m.countBuffer, zeros);
   m.counted = gl.countFragments;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCountBinding, m.countBuffer);
+  // The ball-and-stick model first, opaque, into the depth buffer the surface is then tested
+  // against (a transparent surface's peeling takes this depth as its far limit).
+  for (int k = 0; k < 2; ++k) {
+    if (m.modelCounts[k] == 0) continue;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, m.modelRecords[k]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, m.modelAtoms[k]);
+    glUseProgram(m.modelPrograms[k]);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(m.modelCounts[k]));
+  }
   // One draw per kind, its records and atoms bound to the two slots every kind's program reads.
   for (std::size_t row = 0; row < kGpuKindCount; ++row) {
     if (m.counts[row] == 0) continue;
@@ -387,12 +455,12 @@ view::FrameBuffers GlRenderer::readBack() const {
 
 view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
                              const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
-                             const GlOptions& gl) {
+                             const GlOptions& gl, const build::BallStickModel* model) {
   const auto start = std::chrono::steady_clock::now();
   GlRenderer renderer(context);
   // The look-at point is the molecule's centre for framed views and near the surface for
   // close-ups: either way the coordinates the GPU sees are small (ORACLES D.4).
-  renderer.upload(patches, options.camera.lookAt);
+  renderer.upload(patches, options.camera.lookAt, model);
   renderer.draw(options, atomColors, gl);
   view::FrameBuffers fb = renderer.readBack();
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

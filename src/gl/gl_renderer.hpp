@@ -9,6 +9,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "build/bonds.hpp"
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gpu_kinds.hpp"
@@ -64,8 +65,9 @@ class GlRenderer {
   GlRenderer& operator=(const GlRenderer&) = delete;
 
   // Uploads the patch list in the compact GPU form (gpu_kinds.hpp), coordinates shifted by
-  // −origin in double first (use the camera's look-at or the molecule centre). Once per frame.
-  void upload(const build::PatchList& patches, const glm::dvec3& origin);
+  // −origin in double first (use the camera's look-at or the molecule centre), and the
+  // ball-and-stick model when given (drawn first, opaque). Once per frame.
+  void upload(const build::PatchList& patches, const glm::dvec3& origin, const build::BallStickModel* model = nullptr);
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
   // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion
   // are rejected with std::invalid_argument (the Embree path renders those).
@@ -90,7 +92,7 @@ class GlRenderer {
 // fb.seconds is the wall time of all three.
 view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
                              const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
-                             const GlOptions& gl = {});
+                             const GlOptions& gl = {}, const build::BallStickModel* model = nullptr);
 
 // Frame times of `frames` frames after one warm-up frame, each waited for with glFinish.
 struct GlTimings {

@@ -74,11 +74,13 @@ using GpuKinds = std::tuple<GpuSphereKind, GpuTorusKind, GpuConcaveKind, GpuSkin
 inline constexpr std::size_t kGpuKindCount = std::tuple_size_v<GpuKinds>;
 
 template <std::size_t... I> constexpr bool gpuRowsMatchView(std::index_sequence<I...>) {
-  return kGpuKindCount == view::kPatchKindCount && kGpuKindCount == static_cast<std::size_t>(kKindCount) &&
+  return kGpuKindCount == view::kSurfaceKindCount && view::kPatchKindCount == static_cast<std::size_t>(kKindCount) &&
          ((std::tuple_element_t<I, GpuKinds>::kind == view::kPatchKinds[I].kind) && ...);
 }
 static_assert(gpuRowsMatchView(std::make_index_sequence<kGpuKindCount>{}),
-              "gl::GpuKinds must list the kinds of view::kPatchKinds, in that order, and gpu_shared.h count them");
+              "gl::GpuKinds must list the surface kinds of view::kPatchKinds, in that order, and gpu_shared.h count them");
+static_assert(shared::kBallKind == static_cast<std::uint32_t>(view::PatchKind::Ball) &&
+              shared::kStickKind == static_cast<std::uint32_t>(view::PatchKind::Stick));
 static_assert(shared::kConvexKind == static_cast<std::uint32_t>(view::PatchKind::Convex) &&
               shared::kToroidalKind == static_cast<std::uint32_t>(view::PatchKind::Toroidal) &&
               shared::kConcaveKind == static_cast<std::uint32_t>(view::PatchKind::Concave) &&

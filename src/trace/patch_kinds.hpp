@@ -10,10 +10,12 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "build/bonds.hpp"
 #include "build/patch_list.hpp"
 #include "trace/concave_patch.hpp"
 #include "trace/mss_patch.hpp"
 #include "trace/sphere_patch.hpp"
+#include "trace/stick_patch.hpp"
 #include "trace/torus_patch.hpp"
 #include "view/patch_kind.hpp"
 
@@ -82,9 +84,39 @@ template <build::MssKind K> struct SkinKind {
   }
 };
 
+// The ball-and-stick model's rows: loaded from a build::BallStickModel (`fromModel`), not from
+// the patch list, and opaque to transparent rays (render.cpp).
+struct BallKind {
+  static constexpr view::PatchKind kind = view::PatchKind::Ball;
+  static constexpr bool fromModel = true;
+  using Patch = SpherePatch;
+  using Atoms = std::uint32_t;
+  static std::size_t count(const build::BallStickModel& m) { return m.centers.size(); }
+  static Patch patch(const build::BallStickModel& m, std::size_t i) { return SpherePatch{m.centers[i], m.ballRadii[i]}; }
+  static Atoms atoms(const build::BallStickModel&, std::size_t i) { return static_cast<Atoms>(i); }
+};
+
+struct StickKind {
+  static constexpr view::PatchKind kind = view::PatchKind::Stick;
+  static constexpr bool fromModel = true;
+  using Patch = StickPatch;
+  using Atoms = glm::uvec2;  // the bond's atoms
+  static std::size_t count(const build::BallStickModel& m) { return m.bonds.size(); }
+  static Patch patch(const build::BallStickModel& m, std::size_t i) {
+    return StickPatch{m.centers[m.bonds[i].x], m.centers[m.bonds[i].y], m.stickRadius};
+  }
+  static Atoms atoms(const build::BallStickModel& m, std::size_t i) { return m.bonds[i]; }
+};
+
+// Whether a row is the model's (its patches come from a build::BallStickModel).
+template <class Kind> constexpr bool isModelRow() {
+  if constexpr (requires { Kind::fromModel; }) return Kind::fromModel;
+  else return false;
+}
+
 using SceneKinds = std::tuple<SphereKind, TorusKind, ConcaveKind, SkinKind<build::MssKind::Convex>,
                               SkinKind<build::MssKind::Edge>, SkinKind<build::MssKind::Face>,
-                              SkinKind<build::MssKind::Concave>>;
+                              SkinKind<build::MssKind::Concave>, BallKind, StickKind>;
 
 // The patches of one kind in the intersector's form, with their atoms.
 template <class Kind> struct KindPatches {

@@ -1,6 +1,7 @@
 // The patch list as an Embree 3 scene of user geometry: one geometry per patch kind.
 #include "trace/patch_scene.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -81,6 +82,12 @@ void collectLayers(const typename Kind::Patch& patch, std::uint32_t primID, cons
   LayerList& layers = context.layers[id];
   const Ray& ray = context.rays[id];
   const double tMax = layers.full() ? layers.back().hit.t : static_cast<double>(tfar);
+  if constexpr (isModelRow<Kind>()) {
+    // The model is opaque: only where a ray enters it matters (render.cpp stops there).
+    if (const auto h = intersect(patch, ray, 0.0, tMax)) layers.insert(SceneHit{Kind::kind, primID, *h});
+    if (layers.full()) tfar = std::min(tfar, roundUp(layers.back().hit.t));
+    return;
+  }
   forEachRoot(patch, ray, 0.0, tMax, [&](const PatchHit& h) {
     if constexpr (std::is_same_v<Kind, SphereKind>)
       if (!context.clip->onPatch(primID, ray.org + h.t * ray.dir)) return;
@@ -176,7 +183,7 @@ void setFloatRay(RTCRay& r, const Ray& ray, double tFar, unsigned id) {
 // ScenePatches
 
 ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span<const glm::dvec3> centers,
-                                         std::span<const double> radii) {
+                                         std::span<const double> radii, const build::BallStickModel* model) {
   if (centers.size() != radii.size()) throw std::invalid_argument("scene: as many atom radii as centres are needed");
   ScenePatches s;
   s.params = list.params;
@@ -184,22 +191,35 @@ ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span
   for (std::size_t i = 0; i < centers.size(); ++i) s.atoms.push_back(glm::dvec4(centers[i], radii[i]));
   s.planes.clip = list.clipPlanes;
   s.planes.cell = list.cellPlanes;
-  s.ids = view::PatchIdOrder(list);
   std::apply(
       [&](auto&... k) {
         auto load = [&](auto& kp) {
           using Kind = typename std::remove_reference_t<decltype(kp)>::Row;
-          const std::size_t n = view::patchCount(list, Kind::kind);
-          kp.patches.reserve(n);
-          kp.atoms.reserve(n);
-          for (std::size_t i = 0; i < n; ++i) {
-            kp.patches.push_back(Kind::patch(list, i, s.planes));
-            kp.atoms.push_back(Kind::atoms(list, i));
+          if constexpr (isModelRow<Kind>()) {
+            const std::size_t n = model ? Kind::count(*model) : 0;
+            kp.patches.reserve(n);
+            kp.atoms.reserve(n);
+            for (std::size_t i = 0; i < n; ++i) {
+              kp.patches.push_back(Kind::patch(*model, i));
+              kp.atoms.push_back(Kind::atoms(*model, i));
+            }
+          } else {
+            const std::size_t n = view::patchCount(list, Kind::kind);
+            kp.patches.reserve(n);
+            kp.atoms.reserve(n);
+            for (std::size_t i = 0; i < n; ++i) {
+              kp.patches.push_back(Kind::patch(list, i, s.planes));
+              kp.atoms.push_back(Kind::atoms(list, i));
+            }
           }
         };
         (load(k), ...);
       },
       s.kinds);
+  std::array<std::size_t, view::kPatchKindCount> counts{};
+  std::size_t row = 0;
+  s.forEachKind([&](const auto& k) { counts[row++] = k.patches.size(); });
+  s.ids = view::PatchIdOrder(counts);
   return s;
 }
 

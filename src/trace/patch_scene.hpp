@@ -45,9 +45,10 @@ struct ScenePatches {
   ScenePatches(const ScenePatches&) = delete;
   ScenePatches& operator=(const ScenePatches&) = delete;
 
-  // `centers` and `radii` (all the atoms, or none) only matter to transparency.
+  // `centers` and `radii` (all the atoms, or none) only matter to transparency. `model`, when
+  // given, adds the ball-and-stick model's balls and sticks (rows BallKind, StickKind).
   static ScenePatches fromPatchList(const build::PatchList& patches, std::span<const glm::dvec3> centers = {},
-                                    std::span<const double> radii = {});
+                                    std::span<const double> radii = {}, const build::BallStickModel* model = nullptr);
 
   template <class Kind> const KindPatches<Kind>& of() const { return std::get<KindPatches<Kind>>(kinds); }
   // f(const KindPatches<Kind>&) for every row, in SceneKinds order.
@@ -56,7 +57,8 @@ struct ScenePatches {
   }
 
   std::size_t size() const { return ids.total(); }
-  // Global patch id (view::PatchIdOrder): spheres first, then tori, then concave triangles.
+  // Global patch id (view::PatchIdOrder): spheres first, then tori, then concave triangles, ...,
+  // then the model's balls and sticks.
   std::uint32_t globalId(PatchKind kind, std::uint32_t patch) const { return ids.globalId(kind, patch); }
   // The atom a hit belongs to: its sphere's atom, the nearer contact atom of a torus or
   // concave triangle (atomOf of the kind's intersector).
@@ -102,7 +104,8 @@ class PatchScene {
   SceneHit intersect1(const Ray& ray, double tMin, double tMax) const;
   // Every crossing of up to 16 rays with the surface (transparency), nearest first: lane i's
   // are layers[i·maxLayers, i·maxLayers + count[i]), at most the nearest maxLayers, seam
-  // duplicates merged and the whole spheres' hidden parts left out (trace/layers.hpp). One
+  // duplicates merged and the whole spheres' hidden parts left out (trace/layers.hpp); of each
+  // ball and stick of the model only the nearest crossing, where the ray enters it. One
   // traversal per packet: the callbacks collect every root of every patch they are handed,
   // and shorten the ray to the farthest kept crossing once maxLayers are kept.
   void intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16], std::size_t maxLayers,

@@ -136,6 +136,9 @@ void writeBuffers(FrameBuffers& fb, std::size_t p, const ScenePatches& patches, 
 // background, C = Σ_k α(1 − α)^k c_k + (1 − α)^n background, and alpha (coverage) 1 − (1 − α)^n
 // for n crossings; the buffers are those of the nearest crossing. n = 0 gives the opaque
 // render's miss and n = 1 with α = 1 its hit (render() takes the opaque path for α = 1).
+// The ball-and-stick model is opaque: its first crossing ends the ray, with weight (1 − α)^k
+// behind the k surface layers in front of it (alpha 1); the layers behind it are dropped, and
+// the `layers` buffer counts the surface layers composited.
 FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors) {
   const auto start = std::chrono::steady_clock::now();
   const Camera& cam = o.camera;
@@ -163,17 +166,25 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
         if (!valid[j]) continue;
         const std::size_t p = static_cast<std::size_t>(py + j / kPacket) * cam.width + (px + j % kPacket);
         const float weight = extraSamples == 0 ? 1.0f : (s == 0 ? 0.0f : 1.0f / static_cast<float>(extraSamples));
-        if (s == 0) fb.layers[p] = static_cast<std::uint32_t>(count[j]);
+        std::size_t surfaceLayers = count[j];
+        for (std::size_t l = 0; l < count[j]; ++l)
+          if (view::isModelKind(layers[j * maxLayers + l].kind)) {
+            surfaceLayers = l;
+            break;
+          }
+        const bool opaqueBehind = surfaceLayers < count[j];
+        if (s == 0) fb.layers[p] = static_cast<std::uint32_t>(surfaceLayers);
         glm::vec3 color(0.0f);
         float through = 1.0f;  // the fraction of light that passes the layers so far
-        for (std::size_t l = 0; l < count[j]; ++l) {
+        for (std::size_t l = 0; l < surfaceLayers + (opaqueBehind ? 1 : 0); ++l) {
           const SceneHit& h = layers[j * maxLayers + l];
           const std::uint32_t atom = patches.atomOf(h, rays[j].org + h.hit.t * rays[j].dir);
           if (s == 0 && l == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom);
           if (weight == 0.0f) break;
           const std::uint64_t seed = (p * 1024u + static_cast<std::uint64_t>(s)) * kMaxLayers + l;
-          color += (through * alpha) * shader.color(rays[j], h, atom, seed);
-          through *= 1.0f - alpha;
+          const float a = l < surfaceLayers ? alpha : 1.0f;
+          color += (through * a) * shader.color(rays[j], h, atom, seed);
+          through *= 1.0f - a;
         }
         if (weight == 0.0f) continue;
         color += through * o.background;

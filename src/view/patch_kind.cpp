@@ -29,6 +29,8 @@ std::size_t patchCount(const build::PatchList& list, PatchKind kind) {
       const auto range = build::mssKindRange(list.mss, static_cast<build::MssKind>(static_cast<std::uint32_t>(kind) - 4));
       return range.second - range.first;
     }
+    case PatchKind::Ball:
+    case PatchKind::Stick:
     case PatchKind::None: break;
   }
   return 0;

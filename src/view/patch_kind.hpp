@@ -23,6 +23,8 @@ enum class PatchKind : std::uint32_t {
   SkinEdge = 5,
   SkinFace = 6,
   SkinConcave = 7,
+  Ball = 8,   // the ball-and-stick model (build/bonds.hpp): an atom's ball
+  Stick = 9,  // and a bond's stick
 };
 
 // One row per kind that holds patches, in the order of the global patch ids (and of the
@@ -42,7 +44,14 @@ inline constexpr PatchKindInfo kPatchKinds[] = {
     {PatchKind::SkinEdge, "skin edge", {0.85f, 0.25f, 0.20f}},
     {PatchKind::SkinFace, "skin face", {0.90f, 0.80f, 0.25f}},
     {PatchKind::SkinConcave, "skin concave", {0.25f, 0.40f, 0.85f}},
+    {PatchKind::Ball, "ball", {0.55f, 0.55f, 0.60f}},
+    {PatchKind::Stick, "stick", {0.70f, 0.70f, 0.72f}},
 };
+// The rows before kSurfaceKindCount are the surface's (what a patch list holds); the rest are
+// the ball-and-stick model's, which the renderers take beside the list (build::BallStickModel)
+// and draw opaque.
+inline constexpr std::size_t kSurfaceKindCount = 7;
+constexpr bool isModelKind(PatchKind kind) { return kind == PatchKind::Ball || kind == PatchKind::Stick; }
 // The view kind of an MSS patch kind, and back.
 constexpr PatchKind skinKind(build::MssKind k) { return static_cast<PatchKind>(4 + static_cast<std::uint32_t>(k)); }
 inline constexpr std::size_t kPatchKindCount = std::size(kPatchKinds);
@@ -52,12 +61,12 @@ constexpr std::size_t kindRow(PatchKind kind) { return static_cast<std::size_t>(
 
 const char* patchKindName(PatchKind kind);  // "none" for None
 glm::vec3 kindColor(PatchKind kind);         // black for None
-// How many patches of `kind` the list holds.
+// How many patches of `kind` the list holds (0 for the model's kinds).
 std::size_t patchCount(const build::PatchList& list, PatchKind kind);
 
 // Global patch ids (the `patch.id` channel, GL's fragment counts): the kinds in row order,
 // each kind's patches in list order: SES spheres, tori, concave triangles, then the skin's
-// kinds (the MSS list is grouped by kind already).
+// kinds (the MSS list is grouped by kind already), then the model's balls and sticks.
 class PatchIdOrder {
  public:
   PatchIdOrder() = default;

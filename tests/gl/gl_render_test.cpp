@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "build/bonds.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "gl/gl_context.hpp"
@@ -193,6 +194,48 @@ Compared compareWithEmbree(const View& v, const GlOptions& gl) {
   }
   std::printf("  GL frame %.3f s, Embree %.3f s\n", f.seconds, ref.seconds);
   return {a, s.size};
+}
+
+// The ball-and-stick model (balls: ball.glsl, sticks: stick.glsl) against Embree's exact
+// intersectors (trace/stick_patch.cpp), alone and with the opaque SES over it, to the
+// gl-vs-embree preset of `surftrace compare`; the colours by atom (each stick half its atom's).
+view::FrameComparison compareModelWithEmbree(const View& v, bool withSurface) {
+  const Scene s = loadScene(v.file);
+  view::RenderOptions o = viewOptions(s, v);
+  o.color = view::ColorMode::Element;
+  std::vector<glm::vec3> colors(s.molecule.size());
+  for (std::size_t i = 0; i < colors.size(); ++i) colors[i] = glm::vec3(0.2f + 0.6f * static_cast<float>(i % 7) / 7.0f, 0.5f, 0.7f);
+  const build::BallStickModel model = build::ballStickModel(s.molecule.centers, s.molecule.radii,
+                                                            build::moleculeBonds(s.molecule), 0.25, 0.15);
+  const build::PatchList none;
+  const build::PatchList& list = withSurface ? s.patches : none;
+  const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list, {}, {}, &model));
+  const view::FrameBuffers ref = trace::render(scene, o, colors);
+  const GlContext context;
+  const view::FrameBuffers f = renderGl(context, list, o, colors, GlOptions{}, &model);
+  const view::FrameComparison a = view::compareFrames(f, ref);
+  std::printf("%s, ball-and-stick%s: %s\n", v.name, withSurface ? " under the SES" : "", a.summary().c_str());
+  if (const char* folder = std::getenv("SURFTRACE_GL_TEST_IMAGES")) {
+    const std::string name = std::string(folder) + "/" + v.name + (withSurface ? "_bas_ses" : "_bas");
+    view::writePng(name + "_gl.png", f, {});
+    view::writePng(name + "_embree.png", ref, {});
+  }
+  return a;
+}
+
+TEST(GlBallAndStick, ModelAloneMeetsTheGlVsEmbreePreset) {
+  const view::FrameComparison a = compareModelWithEmbree(kViews[0], false);
+  EXPECT_GT(a.depthSamples, a.pixels / 10);
+  const std::vector<std::string> bad = view::CompareThresholds::preset("gl-vs-embree").violations(a);
+  EXPECT_TRUE(bad.empty()) << a.summary();
+}
+
+TEST(GlBallAndStick, ModelUnderTheOpaqueSesMeetsTheGlVsEmbreePreset) {
+  for (const View& v : {kViews[0], kViews[1]}) {
+    const view::FrameComparison a = compareModelWithEmbree(v, true);
+    const std::vector<std::string> bad = view::CompareThresholds::preset("gl-vs-embree").violations(a);
+    EXPECT_TRUE(bad.empty()) << v.name << ": " << a.summary();
+  }
 }
 
 class GlVsEmbree : public testing::TestWithParam<View> {};

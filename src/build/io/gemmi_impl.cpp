@@ -259,6 +259,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   // record's index, so every atom gemmi returns leads back to its line. The charge columns
   // 79-80 are blanked too: gemmi throws on the line serials old entries keep there.
   std::vector<PdbAtomLine> records;
+  std::vector<std::array<int, 2>> bondRecords;
   int lineNumber = 0;
   std::size_t pos = 0;
   while (pos < text.size()) {
@@ -302,6 +303,14 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
       for (std::size_t column = 78; column < std::min<std::size_t>(line.size(), 80); ++column)
         text[pos + column] = ' ';
       records.push_back(record);
+    } else if (pdb::recordIs(line, "CONECT")) {
+      // gemmi 0.5.7 reads no CONECT records (pdb.hpp: "ignore for now"), so they are read here:
+      // the atom's serial in columns 7-11, up to four bonded atoms' in 12-31, as gemmi reads serials.
+      const int from = pdbSerial(line);
+      for (std::size_t k = 1; k <= 4 && line.size() > 6 + 5 * k; ++k) {
+        const int to = pdbSerial(line.substr(5 * k));
+        if (from > 0 && to > 0 && from != to) bondRecords.push_back({std::min(from, to), std::max(from, to)});
+      }
     } else if (pdb::isEndRecord(line)) {
       break;
     }
@@ -323,6 +332,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   molecule.modelCount = static_cast<int>(structure.models.size());
   molecule.modelUsed = model;
   if (model > molecule.modelCount) throwNoSuchModel(path, model, structure.models.size());
+  molecule.bondRecords = std::move(bondRecords);
 
   struct Found {
     std::size_t index;

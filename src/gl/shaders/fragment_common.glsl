@@ -52,3 +52,33 @@ void writeHit(vec3 dir, float t, vec3 n, uint kind, uint patchId, uint atom) {
   // Linear in t: per pixel the same order as the ray distance, which is what occludes.
   gl_FragDepth = clamp(t * frame.viewport.w, 0.0, 1.0);
 }
+
+// The first hit in t > 0 of the ray with the whole sphere s (centre, radius), as
+// sphere_patch.cpp (ORACLES B.5): f is the ray's closest point to the centre, so the
+// discriminant r² − |f|² keeps the small term that b² − (|oc|² − r²) would cancel.
+bool sphereHit(vec4 s, vec3 org, vec3 dir, out float t, out vec3 n) {
+  vec3 oc = org - s.xyz;
+  float b = dot(oc, dir);
+  vec3 f = oc - b * dir;
+  float rr = s.w * s.w;
+  float disc = rr - dot(f, f);
+  t = 0.0;
+  n = vec3(0.0);
+  if (!(disc >= 0.0)) return false;
+  float root = sqrt(disc);
+  float q = -b - (b >= 0.0 ? root : -root);
+  float r2 = q != 0.0 ? (dot(oc, oc) - rr) / q : 0.0;
+  float tNear = min(q, r2), tFar = max(q, r2);
+  float side;
+  if (tNear > 0.0) {
+    t = tNear;
+    side = -1.0;
+  } else if (tFar > 0.0) {
+    t = tFar;
+    side = 1.0;
+  } else {
+    return false;
+  }
+  n = normalize(f + (side * root) * dir);
+  return true;
+}

@@ -11,8 +11,9 @@
 const int kFrameBinding = 0;          // uniform block Frame (std140)
 const int kAtomColorBinding = 0;      // vec4 atomColors[]
 const int kFragmentCountBinding = 1;  // uint fragmentCounts[2 n]: fragments shaded, hits (statistics only)
-const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], GpuTorus tori[], GpuConcave concaves[], GpuSkin skins[]
-const int kAtomBinding = 3;           // the kind's atoms: uint, uvec2 (i, j), uvec4 (i, j, k, unused)
+const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], GpuTorus tori[], GpuConcave concaves[], GpuSkin skins[],
+                                      // vec4 balls[], vec4 sticks[2 n] (a, radius; b, unused)
+const int kAtomBinding = 3;           // the kind's atoms: uint, uvec2 (i, j), uvec4 (i, j, k, unused); balls uint, sticks uvec2
 const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w): SES clipping, then MSS cell planes
 
 // The `patch.kind` codes (view::PatchKind); the frame's kinds[code − 1] is the kind's row.
@@ -20,7 +21,9 @@ const uint kConvexKind = 1u;
 const uint kToroidalKind = 2u;
 const uint kConcaveKind = 3u;
 const uint kSkinConvexKind = 4u;   // the molecular skin: kSkinConvexKind + MssKind
-const int kKindCount = 7;
+const uint kBallKind = 8u;         // the ball-and-stick model, drawn before the surface
+const uint kStickKind = 9u;
+const int kKindCount = 9;
 
 // A saddle in four vectors: the torus, its frame and the patch limits (ORACLES A.3).
 struct GpuTorus {

@@ -19,32 +19,11 @@ void main() {
 #ifdef SURFTRACE_FRAGMENT_STAGE
 void main() {
   countFragment(globalId(kConvexKind, patchIndex), 0u);
-  vec4 s = spheres[patchIndex];
   vec3 org, dir;
   cameraRay(org, dir);
-  // ORACLES B.5 (sphere_patch.cpp): f is the ray's closest point to the centre, so the
-  // discriminant r² − |f|² keeps the small term that b² − (|oc|² − r²) would cancel.
-  vec3 oc = org - s.xyz;
-  float b = dot(oc, dir);
-  vec3 f = oc - b * dir;
-  float rr = s.w * s.w;
-  float disc = rr - dot(f, f);
-  if (!(disc >= 0.0)) discard;
-  float root = sqrt(disc);
-  float q = -b - (b >= 0.0 ? root : -root);
-  float r2 = q != 0.0 ? (dot(oc, oc) - rr) / q : 0.0;
-  float tNear = min(q, r2), tFar = max(q, r2);
-  float t, side;
-  if (tNear > 0.0) {
-    t = tNear;
-    side = -1.0;
-  } else if (tFar > 0.0) {
-    t = tFar;
-    side = 1.0;
-  } else {
-    discard;
-  }
-  vec3 n = normalize(f + (side * root) * dir);
+  float t;
+  vec3 n;
+  if (!sphereHit(spheres[patchIndex], org, dir, t, n)) discard;
   writeHit(dir, t, n, kConvexKind, globalId(kConvexKind, patchIndex), sphereAtoms[patchIndex]);
 }
 #endif
