@@ -45,9 +45,14 @@ int main(int argc, char** argv) {
   app.add_flag("--count-fragments", countFragments, "also report fragments shaded and hits per patch kind (one more frame)");
   app.add_option("--view", view, "front, back, left, right, top, bottom or x,y,z")->capture_default_str();
   app.add_option("--projection", projection, "perspective | orthographic")->capture_default_str();
+  double opacity = 1.0;
+  int maxLayers = 16;
+  app.add_option("--opacity", opacity, "surface opacity in (0, 1]: below 1 the frame peels its layers")->capture_default_str();
+  app.add_option("--max-layers", maxLayers, "with --opacity below 1: the most layers peeled")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     build::PatchList patches;
+    std::vector<glm::dvec4> atoms;  // every atom, for the spheres' blockers (transparency)
     double buildSeconds = 0.0;
     if (endsWith(input, ".stp")) {
       patches = build::readPatchList(input);
@@ -56,9 +61,12 @@ int main(int argc, char** argv) {
       const auto t0 = std::chrono::steady_clock::now();
       patches = build::buildSurface(molecule, {build::parseSurfaceKind(surface), probe, shrink, false});
       buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      for (std::size_t i = 0; i < molecule.size(); ++i) atoms.push_back(glm::dvec4(molecule.centers[i], molecule.radii[i]));
     }
     view::RenderOptions options;
     options.camera.width = options.camera.height = size;
+    options.opacity = opacity;
+    options.maxLayers = maxLayers;
     if (projection == "orthographic") {
       options.camera.projection = view::Projection::Orthographic;
     } else if (projection != "perspective") {
@@ -73,7 +81,8 @@ int main(int argc, char** argv) {
     glOptions.primitive = gl::parsePrimitive(primitive);
     glOptions.maxSteps = steps;
     const gl::GlContext context;
-    const gl::GlTimings t = gl::benchmarkGl(context, patches, options, {}, glOptions, frames);
+    const build::SphereBlockers blockers = build::sphereBlockers(patches, atoms);
+    const gl::GlTimings t = gl::benchmarkGl(context, patches, options, {}, glOptions, frames, &blockers);
     std::string fragmentStats;
     if (countFragments) {
       gl::GlOptions counted = glOptions;
@@ -97,10 +106,10 @@ int main(int argc, char** argv) {
     std::printf(
         "{\"input\": \"%s\", \"renderer\": \"%s\", \"size\": %d, \"method\": \"%s\", \"primitive\": \"%s\", \"spheres\": %zu, \"tori\": %zu, "
         "\"concave\": %zu, \"build_s\": %.3f, \"frames\": %d, \"median_frame_s\": %.5f, \"median_draw_s\": %.5f, "
-        "\"min_draw_s\": %.5f, \"fps\": %.2f%s}\n",
+        "\"min_draw_s\": %.5f, \"fps\": %.2f, \"opacity\": %g, \"peel_passes\": %d%s}\n",
         input.c_str(), t.renderer.c_str(), size, method.c_str(), primitive.c_str(), patches.convex.size(), patches.tori.size(),
         patches.concave.size(), buildSeconds, t.frames, t.medianFrameSeconds, t.medianDrawSeconds, t.minDrawSeconds,
-        1.0 / t.medianFrameSeconds, fragmentStats.c_str());
+        1.0 / t.medianFrameSeconds, opacity, t.peelPasses, fragmentStats.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "surftrace_gl_bench: %s\n", e.what());

@@ -281,10 +281,11 @@ void addCompareCommand(CLI::App& app) {
                                          "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
                                          "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
                                          "< 1°), effects (gl-vs-embree and colour p99 < 0.02: two engines' images with the "
-                                         "same image-space effects), or none (report the metrics, judge nothing). Default: foreign for another "
+                                         "same image-space effects), transparency (gl-vs-embree and colour p99 < 1e-3: GL's depth peeling "
+                                         "against Embree's layers at --opacity < 1), or none (report the metrics, judge nothing). Default: foreign for another "
                                          "renderer's buffers, exact when the two images' metadata name the same engine, "
                                          "else gl-vs-embree")
-      ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "effects", "none"}));
+      ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "effects", "transparency", "none"}));
   cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
   cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));
   cmd->add_option("--min-kind", o->minKind, "Smallest patch-kind agreement fraction")->check(numberIn(0, 1));

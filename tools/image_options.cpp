@@ -200,8 +200,8 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
       ->default_val(8.0);
   cmd.add_option("--opacity", o.opacity,
                  "Surface opacity in [0, 1]: below 1 every layer the ray crosses (up to --max-layers, nearest first) "
-                 "is blended front to back over the background (engine embree); 0 draws no surface, only the "
-                 "--ball-and-stick model (both engines)")
+                 "is blended front to back over the background (engine embree exactly; engine gl by depth peeling); "
+                 "0 draws no surface, only the --ball-and-stick model")
       ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, false, false); },
                              "NUMBER in [0, 1]", "opacity"))
       ->default_val(1.0);

@@ -10,6 +10,7 @@
 #include "build/io/output_file.hpp"
 #include "build/io/trajectory.hpp"
 #include "build/mss/mss_builder.hpp"
+#include "build/sphere_blockers.hpp"
 #include "commands.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
@@ -66,9 +67,6 @@ void checkEngineCanDraw(const EngineOptions& engine, const ImageOptions& image) 
   if (engine.engine == "gl" && (image.spp > 1 || image.shadows || image.ao > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
-  if (engine.engine == "gl" && image.opacity < 1.0 && image.opacity > 0.0)
-    throw std::invalid_argument("--engine gl draws opaque surfaces only (no depth peeling yet): drop --opacity or "
-                                "use --engine embree, which draws every layer exactly");
 }
 
 struct FrameRenderer::Impl {
@@ -108,7 +106,15 @@ view::FrameBuffers FrameRenderer::render(const build::PatchList& surface, const 
   view::FrameBuffers frame;
   if (!m.device) {
     if (!m.context) m.context.emplace();
-    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl, model);
+    // Transparency: every atom hides parts of the whole spheres (build/sphere_blockers.hpp).
+    std::optional<build::SphereBlockers> blockers;
+    if (options.opacity < 1.0 && centers.size() == list.params.atomCount) {
+      std::vector<glm::dvec4> atoms;
+      atoms.reserve(centers.size());
+      for (std::size_t i = 0; i < centers.size(); ++i) atoms.push_back(glm::dvec4(centers[i], radii[i]));
+      blockers = build::sphereBlockers(list, atoms);
+    }
+    frame = gl::renderGl(*m.context, list, options, atomColors, m.gl, blockers ? &*blockers : nullptr, model);
   } else {
     const bool transparent = options.opacity < 1.0 && centers.size() == list.params.atomCount;
     const trace::PatchScene scene(transparent ? trace::ScenePatches::fromPatchList(list, centers, radii, model)

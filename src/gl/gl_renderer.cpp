@@ -14,6 +14,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "build/sphere_blockers.hpp"
 #include "gl/gl_api.hpp"
 
 namespace surftrace::gl {
@@ -55,11 +56,12 @@ GLuint compileShader(GLenum stage, const std::string& source, const std::string&
   return shader;
 }
 
-GLuint linkProgram(const std::string& name) {
-  const ProgramSources sources = programSources(name);
-  const GLuint stages[3] = {compileShader(GL_VERTEX_SHADER, sources.vertex, name + " vertex"),
-                            compileShader(GL_GEOMETRY_SHADER, sources.geometry, name + " geometry"),
-                            compileShader(GL_FRAGMENT_SHADER, sources.fragment, name + " fragment")};
+// Links a kind's program (programSources) or, with imagePass, a full-screen pass (imagePassSources).
+GLuint linkProgram(const std::string& name, bool imagePass = false) {
+  const ProgramSources sources = imagePass ? imagePassSources(name) : programSources(name);
+  std::vector<GLuint> stages = {compileShader(GL_VERTEX_SHADER, sources.vertex, name + " vertex")};
+  if (!sources.geometry.empty()) stages.push_back(compileShader(GL_GEOMETRY_SHADER, sources.geometry, name + " geometry"));
+  stages.push_back(compileShader(GL_FRAGMENT_SHADER, sources.fragment, name + " fragment"));
   const GLuint program = glCreateProgram();
   for (GLuint s : stages) glAttachShader(program, s);
   glLinkProgram(program);
@@ -159,6 +161,25 @@ template <class F> void forEachGpuKind(F&& f) {
 struct GlRenderer::Impl {
   // Per row of GpuKinds: the kind's program, its record and atom buffers, its patch count.
   GLuint programs[kGpuKindCount] = {};
+  GLuint peelProgram = 0;  // peel.glsl: composite a layer, resolve
+  GLuint peelBuffer = 0;   // the uniform block Peel (GpuPeel)
+  // The spheres' blockers (build/sphere_blockers.hpp), uploaded by the first transparent draw
+  // after an upload; the spheres and surface they are made from until then.
+  GLuint blockerBuffer = 0, blockerListBuffer = 0;
+  bool blockersUploaded = false;
+  double grow = 0.0;
+  std::optional<build::SphereBlockers> givenBlockers;
+  build::SurfaceParams params;
+  std::vector<glm::dvec3> sphereCenters;
+  std::vector<double> sphereRadii;
+  std::vector<std::uint32_t> sphereAtoms;
+  // Peeling targets: two layers (colour, t) in turn, the accumulated colour and layer count,
+  // and the resolve's view of targets[0].
+  GLuint peelFbo[2] = {}, peelColor[2] = {}, peelDepth[2] = {}, peelZ[2] = {};
+  GLuint accumFbo = 0, accumColor = 0, accumLayers = 0, resolveFbo = 0;
+  GLuint query = 0;
+  bool transparent = false;  // the last draw peeled: readBack reports its layer counts
+  int passes = 0;            // peeling passes the last draw ran
   GLuint records[kGpuKindCount] = {}, atoms[kGpuKindCount] = {};
   std::size_t counts[kGpuKindCount] = {};
   // The ball-and-stick model's balls and sticks (rows Ball, Stick): programs, buffers, counts.
@@ -166,6 +187,8 @@ struct GlRenderer::Impl {
   GLuint modelPrograms[2] = {};
   GLuint modelRecords[2] = {}, modelAtoms[2] = {};
   std::size_t modelCounts[2] = {};
+  // The model's colour and (t, viewZ), copied aside for a transparent draw (OpaqueLayer).
+  GLuint modelColor = 0, modelDepth = 0;
   view::PatchIdOrder ids;
   GLuint vao = 0;
   GLuint atomColorBuffer = 0;
@@ -195,6 +218,11 @@ struct GlRenderer::Impl {
     glDeleteBuffers(1, &clipBuffer);
     glDeleteBuffers(1, &countBuffer);
     glDeleteTextures(1, &clipTexture);
+    if (peelProgram != 0) glDeleteProgram(peelProgram);
+    glDeleteBuffers(1, &peelBuffer);
+    glDeleteBuffers(1, &blockerBuffer);
+    glDeleteBuffers(1, &blockerListBuffer);
+    glDeleteQueries(1, &query);
     releaseTargets();
   }
 
@@ -249,6 +277,115 @@ struct GlRenderer::Impl {
     fbo = depth = 0;
     std::fill(std::begin(targets), std::end(targets), 0u);
     width = height = 0;
+    releasePeelTargets();
+  }
+
+  void releasePeelTargets() {
+    glDeleteTextures(1, &modelColor);
+    glDeleteTextures(1, &modelDepth);
+    modelColor = modelDepth = 0;
+    glDeleteFramebuffers(2, peelFbo);
+    glDeleteTextures(2, peelColor);
+    glDeleteTextures(2, peelDepth);
+    glDeleteRenderbuffers(2, peelZ);
+    glDeleteFramebuffers(1, &accumFbo);
+    glDeleteFramebuffers(1, &resolveFbo);
+    glDeleteTextures(1, &accumColor);
+    glDeleteTextures(1, &accumLayers);
+    for (int i = 0; i < 2; ++i) peelFbo[i] = peelColor[i] = peelDepth[i] = peelZ[i] = 0;
+    accumFbo = resolveFbo = accumColor = accumLayers = 0;
+  }
+
+  static void checkComplete(GLuint framebuffer, const char* what) {
+    const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER);
+    checkGlError(what);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error(std::string("OpenGL: ") + what + " are not complete, status 0x" + std::to_string(status));
+  }
+
+  // Draws the ball-and-stick model, opaque, into the bound targets; whether there was one.
+  bool drawModel() {
+    bool drawn = false;
+    for (int k = 0; k < 2; ++k) {
+      if (modelCounts[k] == 0) continue;
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, modelRecords[k]);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, modelAtoms[k]);
+      glUseProgram(modelPrograms[k]);
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(modelCounts[k]));
+      drawn = true;
+    }
+    return drawn;
+  }
+
+  // The drawn model's colour and (t, viewZ) targets, copied into textures of their own.
+  OpaqueLayer copyModelLayer() {
+    if (modelColor == 0) {
+      glCreateTextures(GL_TEXTURE_2D, 1, &modelColor);
+      glCreateTextures(GL_TEXTURE_2D, 1, &modelDepth);
+      glTextureStorage2D(modelColor, 1, GL_RGBA32F, width, height);
+      glTextureStorage2D(modelDepth, 1, GL_RG32F, width, height);
+    }
+    glCopyImageSubData(targets[0], GL_TEXTURE_2D, 0, 0, 0, 0, modelColor, GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
+    glCopyImageSubData(targets[1], GL_TEXTURE_2D, 0, 0, 0, 0, modelDepth, GL_TEXTURE_2D, 0, 0, 0, 0, width, height, 1);
+    checkGlError("copying the ball-and-stick model's layer");
+    return OpaqueLayer{modelColor, modelDepth};
+  }
+
+  // The peeling targets at the size of the main ones (ensureTargets first).
+  void ensurePeelTargets() {
+    if (accumFbo != 0) return;
+    glCreateFramebuffers(2, peelFbo);
+    glCreateTextures(GL_TEXTURE_2D, 2, peelColor);
+    glCreateTextures(GL_TEXTURE_2D, 2, peelDepth);
+    glCreateRenderbuffers(2, peelZ);
+    const GLenum layerDraw[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE, GL_NONE};
+    for (int i = 0; i < 2; ++i) {
+      glTextureStorage2D(peelColor[i], 1, GL_RGBA32F, width, height);
+      glTextureStorage2D(peelDepth[i], 1, GL_RG32F, width, height);
+      glNamedRenderbufferStorage(peelZ[i], GL_DEPTH_COMPONENT32F, width, height);
+      glNamedFramebufferTexture(peelFbo[i], GL_COLOR_ATTACHMENT0, peelColor[i], 0);
+      glNamedFramebufferTexture(peelFbo[i], GL_COLOR_ATTACHMENT1, peelDepth[i], 0);
+      glNamedFramebufferRenderbuffer(peelFbo[i], GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, peelZ[i]);
+      glNamedFramebufferDrawBuffers(peelFbo[i], 4, layerDraw);
+      checkComplete(peelFbo[i], "the peeling layer targets (RGBA32F, RG32F, depth 32F)");
+    }
+    glCreateTextures(GL_TEXTURE_2D, 1, &accumColor);
+    glCreateTextures(GL_TEXTURE_2D, 1, &accumLayers);
+    glTextureStorage2D(accumColor, 1, GL_RGBA32F, width, height);
+    glTextureStorage2D(accumLayers, 1, GL_R32F, width, height);
+    glCreateFramebuffers(1, &accumFbo);
+    glNamedFramebufferTexture(accumFbo, GL_COLOR_ATTACHMENT0, accumColor, 0);
+    glNamedFramebufferTexture(accumFbo, GL_COLOR_ATTACHMENT1, accumLayers, 0);
+    const GLenum accumDraw[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(accumFbo, 2, accumDraw);
+    checkComplete(accumFbo, "the peeling accumulation targets (RGBA32F, R32F)");
+    glCreateFramebuffers(1, &resolveFbo);
+    glNamedFramebufferTexture(resolveFbo, GL_COLOR_ATTACHMENT0, targets[0], 0);
+    const GLenum resolveDraw[2] = {GL_COLOR_ATTACHMENT0, GL_NONE};
+    glNamedFramebufferDrawBuffers(resolveFbo, 2, resolveDraw);
+    checkComplete(resolveFbo, "the peeling resolve target");
+  }
+
+  // Uploads the spheres' blockers (origin-shifted), computing them from the spheres alone when
+  // upload was given none.
+  void ensureBlockers() {
+    if (blockersUploaded) return;
+    const build::SphereBlockers b = givenBlockers ? std::move(*givenBlockers)
+                                                  : build::sphereBlockers(params, sphereCenters, sphereRadii, sphereAtoms, {});
+    givenBlockers.reset();
+    std::vector<glm::vec4> blockers;
+    blockers.reserve(b.blockers.size());
+    for (const glm::dvec4& o : b.blockers) blockers.push_back(vec4Of(glm::dvec3(o) - origin, o.w));
+    const std::uint32_t offset = static_cast<std::uint32_t>(b.begin.size());
+    std::vector<std::uint32_t> list;
+    list.reserve(b.begin.size() + b.list.size());
+    for (std::uint32_t i : b.begin) list.push_back(offset + i);
+    list.insert(list.end(), b.list.begin(), b.list.end());
+    bufferData(blockerBuffer, blockers);
+    bufferData(blockerListBuffer, list);
+    grow = b.grow;
+    blockersUploaded = true;
+    checkGlError("uploading the spheres' blockers");
   }
 
   void ensureTargets(int w, int h) {
@@ -296,6 +433,11 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
   glCreateBuffers(1, &m.clipBuffer);
   glCreateBuffers(1, &m.countBuffer);
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &m.clipTexture);
+  m.peelProgram = linkProgram("peel", true);
+  glCreateBuffers(1, &m.peelBuffer);
+  glCreateBuffers(1, &m.blockerBuffer);
+  glCreateBuffers(1, &m.blockerListBuffer);
+  glCreateQueries(GL_ANY_SAMPLES_PASSED, 1, &m.query);
   checkGlError("creating the GL renderer");
 }
 
@@ -303,8 +445,20 @@ GlRenderer::~GlRenderer() = default;
 
 unsigned GlRenderer::program(view::PatchKind kind) const { return impl_->programs[view::kindRow(kind)]; }
 
-void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin, const build::BallStickModel* model) {
+void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origin, const build::SphereBlockers* blockers,
+                        const build::BallStickModel* model) {
   Impl& m = *impl_;
+  if (blockers && blockers->begin.size() != patches.convex.center.size() + 1)
+    throw std::invalid_argument("GlRenderer::upload: the sphere blockers are of " +
+                                std::to_string(blockers->begin.size() - std::min<std::size_t>(blockers->begin.size(), 1)) +
+                                " spheres, the patch list has " + std::to_string(patches.convex.center.size()));
+  m.givenBlockers.reset();
+  if (blockers) m.givenBlockers = *blockers;
+  m.blockersUploaded = false;
+  m.params = patches.params;
+  m.sphereCenters = patches.convex.center;
+  m.sphereRadii = patches.convex.radius;
+  m.sphereAtoms = patches.convex.atom;
   const GpuPatches g = packPatches(patches, origin);
   std::array<std::size_t, view::kPatchKindCount> counts{};
   forEachGpuKind([&](std::size_t row, auto kind) {
@@ -328,7 +482,8 @@ void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origi
   m.uploaded = true;
 }
 
-void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> atomColors, const GlOptions& gl) {
+void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> atomColors, const GlOptions& gl,
+                      const OpaqueLayer* opaque) {
   Impl& m = *impl_;
   if (!m.uploaded) throw std::logic_error("GlRenderer::draw before upload");
   const view::Camera& cam = o.camera;
@@ -341,12 +496,19 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
     throw std::invalid_argument(
         "gl engine: renders one sample per pixel without shadows or ambient occlusion; "
         "drop --spp/--shadows/--ao or use --engine embree");
-  if (o.opacity != 1.0)
-    throw std::invalid_argument("gl engine: draws opaque surfaces only (no depth peeling yet); drop --opacity or use "
-                                "--engine embree");
+  if (!(o.opacity > 0.0 && o.opacity <= 1.0))
+    throw std::invalid_argument("gl engine: opacity " + std::to_string(o.opacity) + " must be in (0, 1]");
+  if (o.maxLayers < 1 || o.maxLayers > kMaxPeelLayers)
+    throw std::invalid_argument("gl engine: max layers " + std::to_string(o.maxLayers) + " must be in [1, " +
+                                std::to_string(kMaxPeelLayers) + "]");
   if (gl.maxSteps < 1 || gl.maxSteps > 10000) throw std::invalid_argument("gl engine: sphere-tracing steps must be in [1, 10000]");
   if (!(gl.traceEpsilon > 0.0)) throw std::invalid_argument("gl engine: sphere-tracing epsilon must be > 0");
+  if (!(gl.mergeDistance >= 0.0 && gl.mergeRelative >= 0.0))
+    throw std::invalid_argument("gl engine: the peeling merge distances must be >= 0");
+  if (opaque && (opaque->color == 0 || opaque->depth == 0))
+    throw std::invalid_argument("gl engine: an opaque layer needs both its colour and its depth texture");
   m.ensureTargets(cam.width, cam.height);
+  const bool transparent = o.opacity < 1.0;
 
   const GpuFrame f = frameBlock(o, gl, atomColors.size(), m.origin, m.boundsCenter, m.boundsRadius, m.ids);
   glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
@@ -354,6 +516,8 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   colors.reserve(atomColors.size());
   for (const glm::vec3& c : atomColors) colors.emplace_back(c, 1.0f);
   bufferData(m.atomColorBuffer, colors);
+  const GpuPeel off{};  // the opaque draw: every bound off
+  glNamedBufferData(m.peelBuffer, sizeof(off), &off, GL_STREAM_DRAW);
 
   const float inf = std::numeric_limits<float>::infinity();
   const float clearColor[4] = {o.background.r, o.background.g, o.background.b, 0.0f};
@@ -376,6 +540,7 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   glDepthMask(GL_TRUE);
   glBindVertexArray(m.vao);
   glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, m.frameBuffer);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kPeelBinding, m.peelBuffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomColorBinding, m.atomColorBuffer);
   glBindTextureUnit(kClipPlaneUnit, m.clipTexture);
   const std::size_t patchCount = m.ids.total();
@@ -383,15 +548,35 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   bufferData(m.countBuffer, zeros);
   m.counted = gl.countFragments;
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCountBinding, m.countBuffer);
-  // The ball-and-stick model first, opaque, into the depth buffer the surface is then tested
-  // against (a transparent surface's peeling takes this depth as its far limit).
-  for (int k = 0; k < 2; ++k) {
-    if (m.modelCounts[k] == 0) continue;
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, m.modelRecords[k]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, m.modelAtoms[k]);
-    glUseProgram(m.modelPrograms[k]);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(m.modelCounts[k]));
+  m.transparent = transparent;
+  m.passes = 1;
+  // The ball-and-stick model first, opaque, into the main targets and the depth buffer the
+  // surface is then tested against.
+  const bool model = m.drawModel();
+  if (transparent) {
+    m.ensureBlockers();
+    m.ensurePeelTargets();
+    // The model is the peels' opaque layer: its colour and (t, viewZ) copied aside, as layer 0
+    // is then drawn over it into the main targets.
+    OpaqueLayer modelLayer;
+    if (model) {
+      if (opaque) throw std::invalid_argument("GlRenderer::draw: an opaque layer and a ball-and-stick model; give one");
+      modelLayer = m.copyModelLayer();
+      opaque = &modelLayer;
+    }
+    peel(o, gl, opaque);
+  } else {
+    drawPatches();
   }
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  checkGlError("drawing the patches");
+}
+
+void GlRenderer::drawPatches() {
+  Impl& m = *impl_;
   // One draw per kind, its records and atoms bound to the two slots every kind's program reads.
   for (std::size_t row = 0; row < kGpuKindCount; ++row) {
     if (m.counts[row] == 0) continue;
@@ -400,12 +585,85 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
     glUseProgram(m.programs[row]);
     glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(m.counts[row]));
   }
-  glUseProgram(0);
-  glBindVertexArray(0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glFinish();
-  checkGlError("drawing the patches");
 }
+
+// Depth peeling (Everitt 2001, "Interactive order-independent transparency"): pass k draws
+// every patch into a cleared layer target and keeps, per pixel, the nearest hit beyond layer
+// k − 1's t by the merge distance (peelAfter in fragment_common.glsl) and in front of the
+// opaque depth; the layer is then composited under the ones before it. Layer 0 goes to the
+// main targets, so the buffers are the nearest crossing's as in trace/render.cpp. The passes
+// stop when one writes no fragment (an occlusion query) or after maxLayers.
+void GlRenderer::peel(const view::RenderOptions& o, const GlOptions& gl, const OpaqueLayer* opaque) {
+  Impl& m = *impl_;
+  GpuPeel p{};
+  p.flags = glm::uvec4(0u, opaque ? 1u : 0u, 1u, 0u);
+  p.merge = glm::vec4(static_cast<float>(gl.mergeDistance), static_cast<float>(gl.mergeRelative),
+                      static_cast<float>(m.grow), static_cast<float>(o.opacity));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlockerBinding, m.blockerBuffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBlockerListBinding, m.blockerListBuffer);
+  glBindTextureUnit(kOpaqueDepthUnit, opaque ? opaque->depth : 0u);
+  glBindTextureUnit(kOpaqueColorUnit, opaque ? opaque->color : 0u);
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearNamedFramebufferfv(m.accumFbo, GL_COLOR, 0, zero);
+  glClearNamedFramebufferfv(m.accumFbo, GL_COLOR, 1, zero);
+  const float inf = std::numeric_limits<float>::infinity();
+  const float clearDepth[4] = {inf, inf, 0.0f, 0.0f};
+  const float farDepth = 1.0f;
+  GLuint previous = 0;  // the (t, viewZ) texture of layer k − 1
+  m.passes = 0;
+  for (int k = 0; k < o.maxLayers; ++k) {
+    const GLuint target = k == 0 ? m.fbo : m.peelFbo[k % 2];
+    const GLuint color = k == 0 ? m.targets[0] : m.peelColor[k % 2];
+    const GLuint depth = k == 0 ? m.targets[1] : m.peelDepth[k % 2];
+    if (k > 0) {
+      glClearNamedFramebufferfv(target, GL_COLOR, 1, clearDepth);
+      glClearNamedFramebufferfv(target, GL_DEPTH, 0, &farDepth);
+    }
+    p.flags.x = k > 0 ? 1u : 0u;
+    p.flags.w = 0u;
+    glNamedBufferSubData(m.peelBuffer, 0, sizeof(p), &p);
+    glBindTextureUnit(kPreviousLayerUnit, previous);
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+    glEnable(GL_DEPTH_TEST);
+    glBeginQuery(GL_ANY_SAMPLES_PASSED, m.query);
+    drawPatches();
+    glEndQuery(GL_ANY_SAMPLES_PASSED);
+    GLuint written = 0;
+    glGetQueryObjectuiv(m.query, GL_QUERY_RESULT, &written);
+    ++m.passes;
+    if (written == 0) break;
+    // Composite: (α c, α) under what is there, one more layer where the layer has a hit.
+    glBindTextureUnit(kPreviousLayerUnit, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, m.accumFbo);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparatei(0, GL_ONE_MINUS_DST_ALPHA, GL_ONE, GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+    glBlendFunci(1, GL_ONE, GL_ONE);
+    glBindTextureUnit(kLayerColorUnit, color);
+    glBindTextureUnit(kLayerDepthUnit, depth);
+    glUseProgram(m.peelProgram);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_BLEND);
+    glBindTextureUnit(kLayerColorUnit, 0);
+    glBindTextureUnit(kLayerDepthUnit, 0);
+    previous = depth;
+  }
+  // Resolve into targets[0]: the layers over the opaque colour, or over the background.
+  p.flags.w = 1u;
+  glNamedBufferSubData(m.peelBuffer, 0, sizeof(p), &p);
+  glBindTextureUnit(kPreviousLayerUnit, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, m.resolveFbo);
+  glDisable(GL_DEPTH_TEST);
+  glBindTextureUnit(kAccumulatedUnit, m.accumColor);
+  glUseProgram(m.peelProgram);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindTextureUnit(kAccumulatedUnit, 0);
+  glBindTextureUnit(kOpaqueDepthUnit, 0);
+  glBindTextureUnit(kOpaqueColorUnit, 0);
+  glEnable(GL_DEPTH_TEST);
+}
+
+int GlRenderer::peelPasses() const { return impl_->passes; }
 
 std::vector<glm::uvec2> GlRenderer::fragmentCounts() const {
   const Impl& m = *impl_;
@@ -449,18 +707,27 @@ view::FrameBuffers GlRenderer::readBack() const {
       fb.atomId[d] = hit ? ids[4 * s + 2] : ~0u;
     }
   }
+  if (m.transparent) {
+    std::vector<float> layers(n);
+    glGetTextureImage(m.accumLayers, 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(layers.size() * sizeof(float)), layers.data());
+    checkGlError("reading the layer counts back");
+    fb.layers.resize(n);
+    for (std::size_t y = 0; y < h; ++y)
+      for (std::size_t x = 0; x < w; ++x) fb.layers[y * w + x] = static_cast<std::uint32_t>(layers[(h - 1 - y) * w + x]);
+  }
   fb.rays = n;
   return fb;
 }
 
 view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
                              const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
-                             const GlOptions& gl, const build::BallStickModel* model) {
+                             const GlOptions& gl, const build::SphereBlockers* blockers,
+                             const build::BallStickModel* model) {
   const auto start = std::chrono::steady_clock::now();
   GlRenderer renderer(context);
   // The look-at point is the molecule's centre for framed views and near the surface for
   // close-ups: either way the coordinates the GPU sees are small (ORACLES D.4).
-  renderer.upload(patches, options.camera.lookAt, model);
+  renderer.upload(patches, options.camera.lookAt, blockers, model);
   renderer.draw(options, atomColors, gl);
   view::FrameBuffers fb = renderer.readBack();
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -468,17 +735,18 @@ view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& pa
 }
 
 GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const view::RenderOptions& options,
-                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames) {
+                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames,
+                      const build::SphereBlockers* blockers) {
   if (frames < 1) throw std::invalid_argument("benchmark: frames must be >= 1");
   GlRenderer renderer(context);
   using Clock = std::chrono::steady_clock;
   const glm::dvec3 origin = options.camera.lookAt;
-  renderer.upload(patches, origin);
+  renderer.upload(patches, origin, blockers);
   renderer.draw(options, atomColors, gl);  // warm-up: shader compilation inside the driver, allocation
   std::vector<double> frame, draw;
   for (int i = 0; i < frames; ++i) {
     const auto t0 = Clock::now();
-    renderer.upload(patches, origin);
+    renderer.upload(patches, origin, blockers);
     renderer.draw(options, atomColors, gl);
     frame.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
   }
@@ -493,6 +761,7 @@ GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches,
   t.medianDrawSeconds = median(draw);
   t.minDrawSeconds = *std::min_element(draw.begin(), draw.end());
   t.renderer = context.description();
+  t.peelPasses = renderer.peelPasses();
   return t;
 }
 

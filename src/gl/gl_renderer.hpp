@@ -11,6 +11,7 @@
 
 #include "build/bonds.hpp"
 #include "build/patch_list.hpp"
+#include "build/sphere_blockers.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gpu_kinds.hpp"
 #include "gl/shaders.hpp"
@@ -36,6 +37,22 @@ enum class Primitive {
 Primitive parsePrimitive(const std::string& name);  // "cylinder" | "box"; throws std::invalid_argument
 const char* primitiveName(Primitive primitive);
 
+// The defaults of GlOptions::mergeDistance and mergeRelative (measured: tests/gl/gl_peel_test.cpp).
+inline constexpr double kDefaultMergeDistance = 1e-5;
+inline constexpr double kDefaultMergeRelative = 2e-6;
+// The most layers one transparent frame peels (trace::kMaxLayers, RenderOptions::maxLayers).
+inline constexpr int kMaxPeelLayers = 1024;
+
+// An opaque image drawn before the peels (e.g. a ball-and-stick model): textures of the
+// frame's size, colour RGBA32F (alpha its coverage) and depth whose red channel is the ray
+// distance t of view::Camera::ray (Å, +inf where it drew nothing), as the renderer's own
+// (t, viewZ) target. Peeled layers at or behind its depth are dropped, and the layers are
+// composited over its colour instead of the background.
+struct OpaqueLayer {
+  unsigned color = 0;  // GL texture names
+  unsigned depth = 0;
+};
+
 struct GlOptions {
   TorusMethod torus = TorusMethod::Quartic;
   int maxSteps = 30;             // sphere tracing: steps per ray (Lindow et al. 2010: 30)
@@ -52,6 +69,13 @@ struct GlOptions {
   // Count, per patch, the fragments shaded and the hits (GlRenderer::fragmentCounts);
   // statistics for tests and benchmarks, slower.
   bool countFragments = false;
+  // Transparency: a hit is the next layer when it lies beyond the previous one by more than
+  // mergeDistance + mergeRelative·t (Å). Embree merges seam duplicates within 1e-6 Å, which
+  // float cannot resolve: a pixel's t (~100 Å from the eye) has an ulp of ~1e-5 Å and the
+  // float intersectors agree on a seam point to ~1e-4 Å (ORACLES D.4's depth error); two
+  // true crossings that close are a grazing ray, inside the silhouette band.
+  double mergeDistance = kDefaultMergeDistance;
+  double mergeRelative = kDefaultMergeRelative;
 };
 
 // Holds the compiled programs, the uploaded patches and the render targets of one context.
@@ -66,14 +90,26 @@ class GlRenderer {
 
   // Uploads the patch list in the compact GPU form (gpu_kinds.hpp), coordinates shifted by
   // −origin in double first (use the camera's look-at or the molecule centre), and the
-  // ball-and-stick model when given (drawn first, opaque). Once per frame.
-  void upload(const build::PatchList& patches, const glm::dvec3& origin, const build::BallStickModel* model = nullptr);
+  // ball-and-stick model when given (drawn first, opaque: a transparent draw peels the surface
+  // in front of it). Once per frame. `blockers` (build::sphereBlockers of this list and all
+  // atoms) clip the spheres of a transparent draw; without them the first transparent draw
+  // computes them from the spheres alone (complete for vdW and SAS, not for the SES:
+  // build/sphere_blockers.hpp).
+  void upload(const build::PatchList& patches, const glm::dvec3& origin, const build::SphereBlockers* blockers = nullptr,
+              const build::BallStickModel* model = nullptr);
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
   // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion
-  // are rejected with std::invalid_argument (the Embree path renders those).
-  void draw(const view::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {});
-  // Reads the last frame back: the buffers of trace::render, rows top first; flags 0.
+  // are rejected with std::invalid_argument (the Embree path renders those). With
+  // options.opacity < 1 it peels up to options.maxLayers layers, the transparency of
+  // trace::render, over `opaque` when given (peel()).
+  void draw(const view::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {},
+            const OpaqueLayer* opaque = nullptr);
+  // Reads the last frame back: the buffers of trace::render, rows top first; flags 0; after a
+  // transparent draw, `layers` holds the layers composited per pixel.
   view::FrameBuffers readBack() const;
+  // Peeling passes the last draw ran (1 for an opaque draw): its deepest pixel's layers + 1,
+  // at most maxLayers.
+  int peelPasses() const;
 
   // Per global patch id (view::PatchIdOrder): (fragments shaded, hits) of the
   // last draw with GlOptions::countFragments; empty otherwise.
@@ -83,6 +119,8 @@ class GlRenderer {
   unsigned program(view::PatchKind kind) const;
 
  private:
+  void drawPatches();
+  void peel(const view::RenderOptions& options, const GlOptions& gl, const OpaqueLayer* opaque);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -92,7 +130,8 @@ class GlRenderer {
 // fb.seconds is the wall time of all three.
 view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& patches,
                              const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
-                             const GlOptions& gl = {}, const build::BallStickModel* model = nullptr);
+                             const GlOptions& gl = {}, const build::SphereBlockers* blockers = nullptr,
+                             const build::BallStickModel* model = nullptr);
 
 // Frame times of `frames` frames after one warm-up frame, each waited for with glFinish.
 struct GlTimings {
@@ -101,8 +140,10 @@ struct GlTimings {
   double medianDrawSeconds = 0.0;    // draw only (patches uploaded once)
   double minDrawSeconds = 0.0;
   std::string renderer;              // GlContext::description()
+  int peelPasses = 1;                // of the last frame (GlRenderer::peelPasses)
 };
 GlTimings benchmarkGl(const GlContext& context, const build::PatchList& patches, const view::RenderOptions& options,
-                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames);
+                      std::span<const glm::vec3> atomColors, const GlOptions& gl, int frames,
+                      const build::SphereBlockers* blockers = nullptr);
 
 }  // namespace surftrace::gl

@@ -20,6 +20,7 @@ using uint = std::uint32_t;
 using shared::GpuConcave;
 using shared::GpuFrame;
 using shared::GpuKind;
+using shared::GpuPeel;
 using shared::GpuSkin;
 using shared::GpuTorus;
 using shared::kAtomBinding;
@@ -29,6 +30,15 @@ using shared::kFragmentCountBinding;
 using shared::kFrameBinding;
 using shared::kKindCount;
 using shared::kRecordBinding;
+using shared::kAccumulatedUnit;
+using shared::kBlockerBinding;
+using shared::kBlockerListBinding;
+using shared::kLayerColorUnit;
+using shared::kLayerDepthUnit;
+using shared::kOpaqueColorUnit;
+using shared::kOpaqueDepthUnit;
+using shared::kPeelBinding;
+using shared::kPreviousLayerUnit;
 
 // A sphere is one vec4 (centre, radius).
 using GpuSphere = glm::vec4;
@@ -40,6 +50,7 @@ static_assert(sizeof(GpuConcave) == 64 && offsetof(GpuConcave, dirIBegin) == 16 
               offsetof(GpuConcave, dirJCount) == 32 && offsetof(GpuConcave, dirK) == 48);
 static_assert(sizeof(GpuSkin) == 64 && offsetof(GpuSkin, axisConstant) == 16 && offsetof(GpuSkin, coefficients) == 32 &&
               offsetof(GpuSkin, cell) == 48);
+static_assert(sizeof(GpuPeel) == 32 && offsetof(GpuPeel, merge) == 16);
 static_assert(sizeof(GpuKind) == 32 && offsetof(GpuKind, first) == 16);
 static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 3 * 16);
 static_assert(offsetof(GpuFrame, kinds) == 112 && offsetof(GpuFrame, shading) == 112 + kKindCount * 32 &&

@@ -23,4 +23,8 @@ ProgramSources programSources(const std::string& shader) {
   return ProgramSources{stage("vertex.vert"), stage(shader + ".geom"), stage(shader + ".frag")};
 }
 
+ProgramSources imagePassSources(const std::string& name) {
+  return ProgramSources{stage(name + ".vert"), "", stage(name + ".frag")};
+}
+
 }  // namespace surftrace::gl

@@ -24,5 +24,7 @@ struct ProgramSources {
 // and a fragment shader that builds the pixel-centre ray of view::Camera and intersects the
 // patch exactly. Throws std::logic_error if the library was built without that shader.
 ProgramSources programSources(const std::string& shader);
+// A full-screen image pass ("peel"): "<name>.vert" and "<name>.frag", no geometry stage.
+ProgramSources imagePassSources(const std::string& name);
 
 }  // namespace surftrace::gl

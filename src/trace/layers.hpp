@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "build/sphere_blockers.hpp"
 #include "trace/patch_scene.hpp"
 
 namespace surftrace::trace {
@@ -22,18 +23,10 @@ namespace surftrace::trace {
 // as one: the two layers would be one point anyway.
 inline constexpr double kLayerMergeDistance = 1e-6;
 
-// The whole spheres of a scene draw their hidden part too (sphere_patch.hpp): fine for the
-// nearest hit, but a transparent surface would show it. A hit x on sphere i (centre c, radius
-// ρ) is on its convex patch iff the point y = c + (ρ + g)/ρ (x − c) lies outside the grown
-// sphere (r_k + h) of every other atom k: for the SES g = h = rp (y is then a point of the SAS,
-// ORACLES D.1); for the vdW balls g = h = 0, for the SAS balls (ρ = r + rp) g = 0, h = rp (x is
-// on the union's boundary). Skin spheres are clipped by their mixed cells already.
-//
-// The atoms are ScenePatches::atoms. Without them (a scene made from a patch-list file alone)
-// the scene's own spheres stand in: complete for vdW and SAS, but the SES list has spheres of
-// exposed atoms only, so a part of a sphere that only buried atoms hide then shows. With
-// --drop-cavities the builder keeps a sphere that lines both the outer surface and a cavity
-// whole, so its cavity side shows through while the cavity's tori and concave triangles are gone.
+// The whole spheres of a scene draw their hidden part too; SphereClip keeps a sphere's hit only
+// on its convex patch: the test and its data are build::SphereBlockers (build/sphere_blockers.hpp),
+// which the GL engine shares. The atoms are ScenePatches::atoms; without them the scene's own
+// spheres stand in (complete for vdW and SAS, not for the SES: see sphere_blockers.hpp).
 class SphereClip {
  public:
   SphereClip() = default;
@@ -44,11 +37,8 @@ class SphereClip {
   bool onPatch(std::uint32_t sphere, const glm::dvec3& x) const;
 
  private:
-  double grow_ = 0.0;                   // g
-  std::vector<glm::dvec4> spheres_;     // the scene's spheres: centre, radius ρ
-  std::vector<glm::dvec4> blockers_;    // the atoms: centre, grown radius r_k + h
-  std::vector<std::uint32_t> begin_;    // CSR: blockers others_[begin_[i], begin_[i + 1]) may hide sphere i
-  std::vector<std::uint32_t> others_;
+  std::vector<glm::dvec4> spheres_;  // the scene's spheres: centre, radius ρ
+  build::SphereBlockers blockers_;
 };
 
 // The crossings of one ray, nearest first, no two within kLayerMergeDistance (the nearer of

@@ -67,7 +67,9 @@ struct CompareThresholds {
   // identical); "foreign": another renderer's buffers (coverage < 0.1%, depth p99 < 1e-3 of
   // the scene, normal p99 < 1°, which an 8-bit normal buffer meets); "effects": gl-vs-embree
   // and the colour p99 within 0.02 (the image-space effects, view/image_effects.hpp, on two
-  // engines' buffers). Throws std::invalid_argument naming the known presets.
+  // engines' buffers); "transparency": gl-vs-embree and the colour p99 within 1e-3 (the two
+  // engines' layers at opacity < 1, GL peeling them). Throws std::invalid_argument naming the
+  // known presets.
   static CompareThresholds preset(const std::string& name);
   // Empty when every set limit on a compared metric holds; otherwise one line per violated limit.
   std::vector<std::string> violations(const FrameComparison& c) const;

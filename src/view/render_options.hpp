@@ -22,7 +22,7 @@ struct RenderOptions {
   bool shadows = false;     // a ray towards a key light above-left of the eye
   int aoSamples = 0;        // ambient-occlusion rays per hit (0 = off)
   double aoDistance = 8.0;  // Å
-  // Transparency (Embree only): opacity 1 draws the nearest crossing alone; below 1 every
+  // Transparency (Embree: every crossing exactly; GL: depth peeling): opacity 1 draws the nearest crossing alone; below 1 every
   // crossing of the ray with the surface, up to the nearest maxLayers, is alpha-composited
   // front to back over the background, each shaded as the opaque render shades it.
   double opacity = 1.0;

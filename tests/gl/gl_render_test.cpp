@@ -212,7 +212,7 @@ view::FrameComparison compareModelWithEmbree(const View& v, bool withSurface) {
   const trace::PatchScene scene(trace::ScenePatches::fromPatchList(list, {}, {}, &model));
   const view::FrameBuffers ref = trace::render(scene, o, colors);
   const GlContext context;
-  const view::FrameBuffers f = renderGl(context, list, o, colors, GlOptions{}, &model);
+  const view::FrameBuffers f = renderGl(context, list, o, colors, GlOptions{}, nullptr, &model);
   const view::FrameComparison a = view::compareFrames(f, ref);
   std::printf("%s, ball-and-stick%s: %s\n", v.name, withSurface ? " under the SES" : "", a.summary().c_str());
   if (const char* folder = std::getenv("SURFTRACE_GL_TEST_IMAGES")) {

@@ -293,9 +293,9 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
 }
 
 // --opacity: recorded in the metadata with --max-layers, the buffers stay the nearest
-// crossing's (those of the opaque image), the colour differs; the GL engine refuses it and a
-// value outside (0, 1] is refused.
-TEST(Cli, OpacityIsRecordedAndGlRefusesIt) {
+// crossing's (those of the opaque image), the colour differs; the GL engine peels it (still
+// refusing what it cannot draw with it, e.g. --shadows) and a value outside (0, 1] is refused.
+TEST(Cli, OpacityIsRecordedAndGlPeelsIt) {
   const auto dir = std::filesystem::path(testing::TempDir());
   const std::string opaque = (dir / "o.exr").string(), clear = (dir / "t.exr").string();
   ASSERT_EQ(run("render " + data("structures/1crn.pdb") + " --size 48x48 --quiet --exr " + opaque).status, 0);
@@ -309,9 +309,16 @@ TEST(Cli, OpacityIsRecordedAndGlRefusesIt) {
   EXPECT_EQ(meta.at("surftrace:max_layers"), "6");
   EXPECT_EQ(t.kind, o.kind);
   EXPECT_NE(t.rgba, o.rgba);
-  const Result gl = run("render " + data("structures/1crn.pdb") + " --size 16x16 --engine gl --opacity 0.5 --exr " + clear);
-  EXPECT_NE(gl.status, 0);
-  EXPECT_NE(gl.output.find("--engine gl draws opaque surfaces only"), std::string::npos) << gl.output;
+  const std::string peeled = (dir / "g.exr").string();
+  const Result gl = run("render " + data("structures/1crn.pdb") + " --size 48x48 --engine gl --opacity 0.5 --max-layers 6 --exr " + peeled);
+  ASSERT_EQ(gl.status, 0) << gl.output;
+  EXPECT_NE(gl.output.find("layers per covered pixel"), std::string::npos) << gl.output;
+  const auto g = surftrace::view::readExr(peeled);
+  EXPECT_EQ(g.kind, o.kind);
+  EXPECT_NE(g.rgba, o.rgba);
+  const Result shadows = run("render " + data("structures/1crn.pdb") + " --size 16x16 --engine gl --opacity 0.5 --shadows --exr " + clear);
+  EXPECT_NE(shadows.status, 0);
+  EXPECT_NE(shadows.output.find("--engine gl draws one sample per pixel without shadows"), std::string::npos) << shadows.output;
   EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 0 --exr " + clear).status, 0);
   EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 1.5 --exr " + clear).status, 0);
 }

@@ -76,6 +76,33 @@ TEST(EffectsCli, GlAgreesWithEmbreeForEachEffect) {
   }
 }
 
+// Transparency: GL's depth peeling against Embree's exact layers (compare --preset transparency:
+// colour p99 < 1e-3) on the SES, the skin and the vdW balls at two opacities; an image with the
+// wrong opacity fails the same check.
+TEST(EffectsCli, GlPeelsTheLayersEmbreeComposites) {
+  const fs::path dir = scratch("transparency");
+  const std::vector<std::pair<std::string, std::string>> surfaces = {
+      {"ses", kCrambin},
+      {"skin", kData + "/small/1grm_single.pdb --surface mss --shrink 0.5"},
+      {"vdw", kCrambin + " --surface vdw"}};
+  for (const auto& [name, input] : surfaces)
+    for (const std::string opacity : {"0.4", "0.7"}) {
+      const fs::path embree = dir / (name + opacity + "_embree.exr"), gl = dir / (name + opacity + "_gl.exr");
+      const std::string args = " --size 96x96 --quiet --opacity " + opacity;
+      ASSERT_EQ(runTool("render " + input + args + " --exr " + embree.string()).status, 0);
+      const Result r = runTool("render " + input + args + " --engine gl --exr " + gl.string());
+      ASSERT_EQ(r.status, 0) << r.output;
+      const Result c = runTool("compare " + gl.string() + " " + embree.string() + " --preset transparency");
+      EXPECT_EQ(c.status, 0) << name << " " << opacity << ":\n" << c.output;
+      std::printf("%s at opacity %s, GL vs Embree:\n%s", name.c_str(), opacity.c_str(), c.output.c_str());
+    }
+  const fs::path other = dir / "ses0.4_other_gl.exr";
+  ASSERT_EQ(runTool("render " + kCrambin + " --size 96x96 --quiet --opacity 0.5 --engine gl --exr " + other.string()).status, 0);
+  const Result wrong = runTool("compare " + other.string() + " " + (dir / "ses0.4_embree.exr").string() + " --preset transparency");
+  EXPECT_EQ(wrong.status, 2) << wrong.output;
+  EXPECT_NE(wrong.output.find("colour p99"), std::string::npos) << wrong.output;
+}
+
 TEST(EffectsCli, EffectsAreRecordedAndOffMeansTheImageAsItWas) {
   const fs::path dir = scratch("off");
   const fs::path plain = dir / "plain.exr", tuned = dir / "tuned.exr", on = dir / "on.exr";

@@ -91,9 +91,11 @@ void main() {
   if (dot(gij, uK) < 0.0) { gij = -gij; gjk = -gjk; gki = -gki; }
   int begin = int(C.dirIBegin.w), count = int(C.dirJCount.w);
   // The visible root is usually the far one, but both are tested in ascending t.
+  // Beyond peelAfter(): 0 outside peeling, the previous layer's t plus the merge distance.
+  float after = peelAfter();
   for (int side = 0; side < 2; ++side) {
     float t = side == 0 ? tNear : tFar;
-    if (!(t > 0.0)) continue;
+    if (!(t > after)) continue;
     vec3 v = f + (side == 0 ? -root : root) * dir;
     if (dot(gij, v) < 0.0 || dot(gjk, v) < 0.0 || dot(gki, v) < 0.0) continue;
     vec3 x = p + v;

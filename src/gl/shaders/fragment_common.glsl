@@ -41,7 +41,28 @@ void countFragment(uint patchId, uint what) {
   if (frame.traceParams.z != 0.0) atomicAdd(fragmentCounts[2u * patchId + what], 1u);
 }
 
+// Depth peeling (gl_renderer.cpp): pass k keeps the nearest hit strictly behind layer k − 1 by
+// the merge distance, and in front of the opaque geometry. Outside peeling both bounds are off
+// and a hit counts for t > 0, the opaque draw's test.
+layout(std140, binding = kPeelBinding) uniform Peel { GpuPeel peel; };
+layout(binding = kPreviousLayerUnit) uniform sampler2D previousLayer;
+layout(binding = kOpaqueDepthUnit) uniform sampler2D opaqueDepth;
+
+// The ray distance beyond which a hit is the next layer: 0, or layer k − 1's t plus the merge
+// distance (+inf where layer k − 1 is empty: the pixel has no more layers).
+float peelAfter() {
+  if (peel.flags.x == 0u) return 0.0;
+  float t = texelFetch(previousLayer, ivec2(gl_FragCoord.xy), 0).r;
+  return t + (peel.merge.x + peel.merge.y * t);
+}
+
+// Whether the opaque geometry hides a hit at t.
+bool behindOpaque(float t) {
+  return peel.flags.y != 0u && t >= texelFetch(opaqueDepth, ivec2(gl_FragCoord.xy), 0).r;
+}
+
 void writeHit(vec3 dir, float t, vec3 n, uint kind, uint patchId, uint atom) {
+  if (behindOpaque(t)) discard;
   countFragment(patchId, 1u);
   vec3 base = frame.shading.x == 0u ? frame.kinds[kind - 1u].color.rgb
               : (atom < frame.shading.y ? atomColors[atom].rgb : vec3(1.0, 0.0, 1.0));

@@ -15,6 +15,17 @@ const int kRecordBinding = 2;         // the kind's records: vec4 spheres[], Gpu
                                       // vec4 balls[], vec4 sticks[2 n] (a, radius; b, unused)
 const int kAtomBinding = 3;           // the kind's atoms: uint, uvec2 (i, j), uvec4 (i, j, k, unused); balls uint, sticks uvec2
 const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w): SES clipping, then MSS cell planes
+// Depth peeling (transparency, gl_renderer.cpp): the pass's block, the previous layer's and the
+// opaque geometry's ray distance t per pixel, and the spheres' blockers (build/sphere_blockers.hpp).
+const int kPeelBinding = 1;           // uniform block Peel (std140)
+const int kPreviousLayerUnit = 1;     // sampler2D previousLayer (R: t of layer k − 1, +inf where none)
+const int kOpaqueDepthUnit = 2;       // sampler2D opaqueDepth (R: t of the opaque geometry, +inf where none)
+const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius
+const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), then the lists
+const int kLayerColorUnit = 3;        // sampler2D layerColor: the colour a peel wrote (peel.glsl)
+const int kLayerDepthUnit = 4;        // sampler2D layerDepth (R: t, +inf where the peel wrote nothing)
+const int kAccumulatedUnit = 5;       // sampler2D accumulated: Σ α(1 − α)^k c_k, coverage 1 − (1 − α)^n
+const int kOpaqueColorUnit = 6;       // sampler2D opaqueColor: the opaque geometry's colour, alpha its coverage
 
 // The `patch.kind` codes (view::PatchKind); the frame's kinds[code − 1] is the kind's row.
 const uint kConvexKind = 1u;
@@ -77,3 +88,13 @@ struct GpuFrame {
   uvec4 torusTrace;    // torus method (0 quartic, 1 sphere tracing), max steps, plain march (1), unused
   vec4 traceParams;    // sphere-tracing stop distance (Å), primitive (0 box, 1 cylinder), count fragments (1), unused
 };
+
+// One depth-peeling pass. All zero: the opaque draw, every hit in t > 0 counts.
+struct GpuPeel {
+  uvec4 flags;   // x: a previous layer bounds the hits (pass k >= 1), y: an opaque depth (and
+                 // colour) bounds them, z: clip the spheres to their convex patches,
+                 // w: peel.glsl's step (0 composite a layer, 1 resolve over the opaque colour)
+  vec4 merge;    // x: merge distance (Å) at t = 0, y: its growth per Å of t, z: the spheres' grow
+                 // distance g (build::SphereBlockers), w: the opacity α
+};
+

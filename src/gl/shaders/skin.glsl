@@ -67,9 +67,11 @@ void main() {
   // Accept roots a hair outside the cell: the skin is C¹ across cell facets (ORACLES C.4).
   float slack = 1e-5 * (R + length(c));
   int begin = int(P.cell.y), planes = int(P.cell.z);
+  // Beyond peelAfter(): 0 outside peeling, the previous layer's t plus the merge distance.
+  float after = peelAfter();
   for (int k = 0; k < count; ++k) {
     float t = t0 + u[k];
-    if (!(t > 0.0)) continue;
+    if (!(t > after)) continue;
     vec3 x = o + u[k] * dir;  // relative to the centre
     if (dot(x, x) > R * R * 1.0002) continue;
     bool kept = true;

@@ -166,14 +166,19 @@ float polishOnTube(vec3 o, vec3 d, float s, float lo, float hi) {
   return s;
 }
 
-bool castQuartic(vec3 o, vec3 d, GpuTorus T, float lo, float hi, out float sHit) {
+// Peeling passes `after`, the s beyond which a root is the next layer (sAfter <= lo outside
+// peeling): roots are isolated beyond it, but polished within [lo, hi], and a root that the
+// polish brings back to `after` or before is the previous layer found again: near a double root
+// the float quartic's root can lie 0.01–0.1 Å off, and a polish clamped at `after` would leave
+// it there as a layer of its own.
+bool castQuartic(vec3 o, vec3 d, GpuTorus T, float lo, float hi, bool peeling, float after, out float sHit) {
   // ORACLES B.2: the monic quartic (|x|² − R² − r²)² + 4R²(z² − r²) along o + s d.
   float R2 = Rn * Rn;
   float K = dot(o, o) - R2 - rn * rn, f = dot(o, d);
   float c[5] = float[5](K * K + 4.0 * R2 * (o.z * o.z - rn * rn), 4.0 * f * K + 8.0 * R2 * o.z * d.z,
                         2.0 * K + 4.0 * f * f + 4.0 * R2 * d.z * d.z, 4.0 * f, 1.0);
   float roots[4];
-  int n = quarticRoots(c, lo, hi, roots);
+  int n = quarticRoots(c, peeling ? max(lo, after) : lo, hi, roots);
   for (int k = 0; k < n; ++k) {
     float s = roots[k];
     vec3 x = o + s * d;
@@ -183,6 +188,7 @@ bool castQuartic(vec3 o, vec3 d, GpuTorus T, float lo, float hi, out float sHit)
     float f1 = (rho - Rn) * (rho - Rn) + zr, f2 = (rho + Rn) * (rho + Rn) + zr;
     if (abs(f1) > abs(f2)) continue;
     s = polishOnTube(o, d, s, lo, hi);
+    if (peeling && !(s > after)) continue;
     x = o + s * d;
     if (insidePatch(x, length(x.xy), T)) {
       sHit = s;
@@ -254,6 +260,10 @@ void main() {
   if (!(o2 <= sphere2)) discard;
   float halfChord = sqrt(sphere2 - o2);
   float lo = max(-halfChord, -tShift * invS), hi = halfChord;
+  // Peeling: the roots beyond the previous layer by the merge distance (peelAfter()).
+  float after = peelAfter();
+  bool peeling = peel.flags.x != 0u;
+  float sAfter = (after - tShift) * invS;
   vec3 o = vec3(dot(sh, e1), dot(sh, e2), dot(sh, ax));
   vec3 d = normalize(vec3(dot(dir, e1), dot(dir, e2), dot(dir, ax)));
   float aLo = rn * sin(T.theta.x) - 1e-5, aHi = rn * sin(T.theta.y) + 1e-5;
@@ -267,11 +277,11 @@ void main() {
   if (!(lo <= hi)) discard;
   float s;
   bool found = frame.torusTrace.x == 0u
-                   ? castQuartic(o, d, T, lo, hi, s)
-                   : sphereTrace(o, d, T, lo, hi, frame.traceParams.x * invS, int(frame.torusTrace.y), frame.torusTrace.z != 0u, s);
+                   ? castQuartic(o, d, T, lo, hi, peeling, sAfter, s)
+                   : sphereTrace(o, d, T, peeling ? max(lo, sAfter) : lo, hi, frame.traceParams.x * invS, int(frame.torusTrace.y), frame.torusTrace.z != 0u, s);
   if (!found) discard;
   float t = s * S + tShift;
-  if (!(t > 0.0)) discard;
+  if (!(t > after)) discard;
   vec3 x = o + s * d;
   float rho = length(x.xy);
   // Outward SES normal (P − x)/rp (ORACLES A.3); at a cusp the average, ∓axis.
