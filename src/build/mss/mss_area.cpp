@@ -375,6 +375,25 @@ Moments conicIntegrand(const Revolution& r, const BoundaryFrame& f, const ConicB
 // square of G7's) overstates the 15-point result's by orders of magnitude: with it as the
 // criterion half the pieces were split for accuracy they already had. Returns the summed estimate.
 template <class F>
+double kronrodMoments(const F& fn, double lo, double hi, double tol, int depth, Moments& out);
+
+// The conic integrands are analytic in a strip of half-width ~π/2 about the real σ axis (τ
+// beside a tip), so a 15-point piece longer than ~2 is split for accuracy anyway: cut it first,
+// rather than spend a rule on the whole (measured on 1AON: 12% fewer evaluations).
+constexpr double kMaxPiece = 2.0;
+
+template <class F>
+double kronrodPieces(const F& fn, double lo, double hi, double tol, Moments& out) {
+  const double n = std::ceil((hi - lo) / kMaxPiece);
+  if (!(n > 1.0)) return kronrodMoments(fn, lo, hi, tol, 0, out);
+  double error = 0.0;
+  const int count = n < 64.0 ? static_cast<int>(n) : 64;
+  for (int i = 0; i < count; ++i)
+    error += kronrodMoments(fn, lo + (hi - lo) * i / count, i + 1 == count ? hi : lo + (hi - lo) * (i + 1) / count, tol / count, 0, out);
+  return error;
+}
+
+template <class F>
 double kronrodMoments(const F& fn, double lo, double hi, double tol, int depth, Moments& out) {
   using Kronrod = boost::math::quadrature::gauss_kronrod<double, 15>;
   using Gauss = boost::math::quadrature::gauss<double, 7>;
@@ -530,12 +549,22 @@ double hyperboloidMomentsBoundary(const PatchList& p, std::size_t k, double relT
       }
       auto fn = [&](double sigma) { return conicIntegrand(r, f, q, sigma); };
       for (const auto& [x0, x1] : pieces) {
-        // Beside a tip (k > dist²) dφ/dσ peaks at σ = 0 with width dist/√k: split there.
-        if (!q.crossesWaist && x0 < 0.0 && x1 > 0.0 && kk > s.dist * s.dist) {
-          error += kronrodMoments(fn, x0, 0.0, tol, 0, m);
-          error += kronrodMoments(fn, 0.0, x1, tol, 0, m);
+        // Beside a tip (k > dist², two sheets) dφ/dσ peaks at σ = 0 with width ε = asin(dist/√k)
+        // (its poles are at ±iε): σ = ε sinh τ moves them to ±iπ/2 (the sinh transformation of
+        // Johnston and Elliott, for nearly singular integrands), so the peak needs no bisection.
+        if (!q.crossesWaist && kk > s.dist * s.dist) {
+          const double eps = std::asin(std::abs(s.dist) / std::sqrt(kk));
+          if (eps > 0.0) {
+            auto g = [&](double tau) {
+              const double e = std::exp(tau), ie = 1.0 / e;
+              return (eps * 0.5 * (e + ie)) * conicIntegrand(r, f, q, eps * 0.5 * (e - ie));
+            };
+            error += kronrodPieces(g, std::asinh(x0 / eps), std::asinh(x1 / eps), tol, m);
+          } else {
+            error += kronrodPieces(fn, x0, x1, tol, m);
+          }
         } else {
-          error += kronrodMoments(fn, x0, x1, tol, 0, m);
+          error += kronrodPieces(fn, x0, x1, tol, m);
         }
       }
     }
