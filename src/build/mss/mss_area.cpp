@@ -1,10 +1,11 @@
-// MSS areas and volumes: spheres in closed form, hyperboloids of revolution by quadrature along
-// their axis. For a patch about z with axis a write x = z + h a + ρ e(φ); in every mixed cell of
+// MSS areas and volumes: spheres in closed form, hyperboloids of revolution by boundary integrals
+// (and, as the test oracle, by quadrature along their axis). For a patch about z with axis a write x = z + h a + ρ e(φ); in every mixed cell of
 // an edge or a triangle the lateral planes contain a, so the cross-section is one polygon for
 // all h and the circle of radius ρ(h) meets it in arcs whose length Φ and moment E = ∫ e dφ are
 // closed form. With f = B ρ² + A h² + c (B = radial, A = radial + axial) the surface is
 // ρ² = α h² + β (α = −A/B > 0, β = −c/B), dA = J dh dφ with J = √(ρ² + α² h²), and
 //   area = ∫ J Φ dh,  ∫ n dA = ∫ (sign(B) ρ E + (A/|B|) h Φ a) dh,  ∫ (x − z)·n dA = ∫ (−c/|B|) Φ dh.
+// computeMssAreas turns these into integrals over the patch's boundary (hyperboloidMomentsBoundary).
 #include "build/mss/mss_area.hpp"
 
 #include <algorithm>
