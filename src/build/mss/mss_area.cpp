@@ -1,16 +1,18 @@
-// MSS areas and volumes: spheres in closed form, hyperboloids of revolution by quadrature along
-// their axis. For a patch about z with axis a write x = z + h a + ρ e(φ); in every mixed cell of
+// MSS areas and volumes: spheres in closed form, hyperboloids of revolution by boundary integrals
+// (and, as the test oracle, by quadrature along their axis). For a patch about z with axis a write x = z + h a + ρ e(φ); in every mixed cell of
 // an edge or a triangle the lateral planes contain a, so the cross-section is one polygon for
 // all h and the circle of radius ρ(h) meets it in arcs whose length Φ and moment E = ∫ e dφ are
 // closed form. With f = B ρ² + A h² + c (B = radial, A = radial + axial) the surface is
 // ρ² = α h² + β (α = −A/B > 0, β = −c/B), dA = J dh dφ with J = √(ρ² + α² h²), and
 //   area = ∫ J Φ dh,  ∫ n dA = ∫ (sign(B) ρ E + (A/|B|) h Φ a) dh,  ∫ (x − z)·n dA = ∫ (−c/|B|) Φ dh.
+// computeMssAreas turns these into integrals over the patch's boundary (hyperboloidMomentsBoundary).
 #include "build/mss/mss_area.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <numbers>
 
 #include <boost/math/quadrature/gauss.hpp>
@@ -68,7 +70,7 @@ struct ExcludedArc {
 struct Scratch {
   SphericalRegionScratch sphere;
   std::vector<Cap> caps;
-  std::vector<std::array<double, 2>> arcs, merged;
+  std::vector<std::array<double, 2>> arcs, merged, pieces;
   std::vector<ExcludedArc> excluded, excludedMerged;
   std::vector<double> breaks, tail;
   Revolution rev;
@@ -178,17 +180,13 @@ void circleInPolygonFast(const Revolution& r, double h, double rho, Scratch& sc,
   moment = -excludedMoment;  // ∫ e over the whole circle is 0
 }
 
-template <bool kFast>
 Moments revolutionIntegrand(const Revolution& r, double h, Scratch& sc) {
   const double rho2 = r.alpha * h * h + r.beta;
   if (!(rho2 > 0.0)) return {};
   const double rho = std::sqrt(rho2);
   double phi;
   glm::dvec2 e;
-  if constexpr (kFast)
-    circleInPolygonFast(r, h, rho, sc, phi, e);
-  else
-    circleInPolygon(r, h, rho, sc, phi, e);
+  circleInPolygon(r, h, rho, sc, phi, e);
   if (phi == 0.0) return {};
   const double J = std::sqrt(rho2 + r.alpha * r.alpha * h * h);
   const glm::dvec3 E = e.x * r.e1 + e.y * r.e2;
@@ -208,8 +206,8 @@ double integrate(const Revolution& r, double lo, double hi, double tol, int dept
   const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   Moments kronrod, gauss;
   for (std::size_t k = 0; k < x.size(); ++k) {
-    Moments f = revolutionIntegrand<false>(r, mid + half * x[k], sc);
-    if (k > 0) f += revolutionIntegrand<false>(r, mid - half * x[k], sc);
+    Moments f = revolutionIntegrand(r, mid + half * x[k], sc);
+    if (k > 0) f += revolutionIntegrand(r, mid - half * x[k], sc);
     kronrod += wk[k] * f;
     if (k % 2 == 0) gauss += wg[k / 2] * f;
   }
@@ -295,107 +293,281 @@ double hyperboloidMomentsAdaptive(const PatchList& p, std::size_t k, double relT
   return error;
 }
 
-// ∫ of the moments over h ∈ [mid − half, mid + half] written as h = mid + half·(3u − u³)/2,
-// u ∈ [u0, u1] ⊂ [−1, 1]. dh/du = 1.5·half·(1 − u²) vanishes at u = ±1, so a square-root end,
-// Φ ~ √(h − h₀) where the circle leaves or meets a side (acos near ±1) or ρ ~ √(h − h₀) at a
-// tip, becomes a smooth function of u: Gauss–Kronrod then converges geometrically instead of
-// like a power of the piece's length. Adaptive in u where the estimate asks for it.
-double integrateSmoothed(const Revolution& r, double mid, double half, double u0, double u1, double tol, int depth,
-                         Scratch& sc, Moments& out) {
+// The boundary integral (issue 22). Over the patch dA = J dh dφ on the region
+// R = {(h, φ): h ∈ [lo, hi], ρ(h) e(φ) ∈ P} of the (h, φ) cylinder, P the cross-section polygon.
+// Green's theorem on the cylinder turns each moment ∫∫_R f dh dφ into ∮_∂R (L dh + M dφ) with
+// ∂M/∂h − ∂L/∂φ = f: the parts of f constant in φ take M = ∫ f dh, closed form (area: ∫ J dh
+// with J = √(γh² + β), γ = α(1 + α)), and the parts ∝ e(φ) take L = F(h) e⊥(φ) with F = the
+// coefficient, which needs no antiderivative at all. ∂R is made of the caps (h = lo, hi, where
+// ∮ = ±M(h) Φ(h), closed form), the tips (ρ = 0: ±M·2π when the axis lies in P) and, on each
+// side of P, the conic where the side's plane cuts the hyperboloid: α h² − t² = dist² − β for
+// the coordinate t along the side. Parametrised by σ with cosh and sinh, each conic branch is
+// an entire function of σ but for poles and branch points ~π/2 off the real axis (or ~dist/√k
+// beside a tip), so Gauss–Kronrod converges geometrically on a handful of pieces where the
+// integration in h needed ~16 pieces between every corner's and foot's height.
+
+// M for the φ-constant parts of area, flux, normal·a and first moment·a, and J.
+struct Potentials {
+  double area = 0.0, flux = 0.0, axial = 0.0, firstAxial = 0.0, J = 0.0;
+};
+
+struct BoundaryFrame {
+  double gamma, sqrtGamma, absB, signB, sqrtBeta;
+};
+
+Potentials potentials(const Revolution& r, const BoundaryFrame& f, double h) {
+  Potentials m;
+  const double a = std::abs(h), h2 = h * h;
+  m.J = std::sqrt(std::max(0.0, f.gamma * h2 + r.beta));
+  // ∫ √(γh² + β) dh = ½(hJ + β/√γ · ln(√γ h + J)), odd in h: for β > 0 the log of
+  // (√γ|h| + J)/√β = 1 + (√γ|h| + γh²/(J + √β))/√β, so that it vanishes at h = 0 (asinh without
+  // its overhead); for β < 0 (two sheets, |h| beyond the tips) any constant does (anchors).
+  double log = 0.0;
+  if (r.beta > 0.0)
+    log = std::log1p((f.sqrtGamma * a + f.gamma * h2 / (m.J + f.sqrtBeta)) / f.sqrtBeta);
+  else if (r.beta < 0.0)
+    log = std::log(f.sqrtGamma * a + m.J);
+  const double half = 0.5 * (a * m.J + r.beta / f.sqrtGamma * log);
+  m.area = h < 0.0 ? -half : half;
+  m.flux = -r.c / f.absB * h;
+  m.axial = 0.5 * r.A / f.absB * h2;
+  m.firstAxial = m.J * m.J * m.J / (3.0 * f.gamma);
+  return m;
+}
+
+// One branch of a side's conic: x = foot + t·along in the (e1, e2) frame, and either
+// t = tScale sinh σ, h = hScale cosh σ (k > 0) or t = tScale cosh σ, h = hScale sinh σ (k < 0,
+// the branch crosses the waist). `orientation` makes increasing σ run anticlockwise about R.
+struct ConicBranch {
+  bool crossesWaist;
+  double tScale, hScale, orientation, dist;
+  glm::dvec2 foot, along;
+  Potentials ref;  // M is taken relative to the sheet's anchor (∮ dφ = 0), against cancellation
+};
+
+Moments conicIntegrand(const Revolution& r, const BoundaryFrame& f, const ConicBranch& q, double sigma) {
+  // sinh from expm1: (e − 1/e)/2 loses all but a few digits at |σ| ~ 1e-5, where a side passing
+  // close to a tip puts a peak.
+  const double em1 = std::expm1(sigma), ie = 1.0 / (1.0 + em1);
+  const double sh = 0.5 * em1 * (1.0 + ie), ch = 1.0 + 0.5 * em1 * em1 * ie;
+  double t, dt, h, dh;
+  if (q.crossesWaist) {
+    t = q.tScale * ch, dt = q.tScale * sh, h = q.hScale * sh, dh = q.hScale * ch;
+  } else {
+    t = q.tScale * sh, dt = q.tScale * ch, h = q.hScale * ch, dh = q.hScale * sh;
+  }
+  const double dphi = q.orientation * q.dist * dt / (q.dist * q.dist + t * t);
+  const glm::dvec2 x = q.foot + t * q.along;
+  const glm::dvec3 perp = q.orientation * dh * (-x.y * r.e1 + x.x * r.e2);  // ρ e⊥(φ) dh
+  const Potentials m = potentials(r, f, h);
+  Moments out;
+  out.area = (m.area - q.ref.area) * dphi;
+  out.flux = (m.flux - q.ref.flux) * dphi;
+  out.normal = (m.axial - q.ref.axial) * dphi * r.a + f.signB * perp;
+  out.first = (m.firstAxial - q.ref.firstAxial) * dphi * r.a + m.J * perp;
+  return out;
+}
+
+// Adaptive Gauss–Kronrod (7/15 points, Boost.Math's nodes) of the moments; the area component
+// steers the subdivision. The error of the 15-point result is estimated as QUADPACK's QK15 does
+// (Piessens, de Doncker-Kapenga, Überhuber, Kahaner, QUADPACK, 1983): with e = |K15 − G7| and
+// I = ∫|f − mean f|, e' = I·min(1, (200 e/I)^1.5), at least 50 ulps of ∫|f|. |K15 − G7| itself
+// bounds the 7-point rule's error, and on these analytic integrands (K15's error falls like the
+// square of G7's) overstates the 15-point result's by orders of magnitude: with it as the
+// criterion half the pieces were split for accuracy they already had. Returns the summed estimate.
+template <class F>
+double kronrodMoments(const F& fn, double lo, double hi, double tol, int depth, Moments& out);
+
+// The conic integrands are analytic in a strip of half-width ~π/2 about the real σ axis (τ
+// beside a tip), so a 15-point piece longer than ~2 is split for accuracy anyway: cut it first,
+// rather than spend a rule on the whole (measured on 1AON: 12% fewer evaluations).
+constexpr double kMaxPiece = 2.0;
+
+template <class F>
+double kronrodPieces(const F& fn, double lo, double hi, double tol, Moments& out) {
+  const double n = std::ceil((hi - lo) / kMaxPiece);
+  if (!(n > 1.0)) return kronrodMoments(fn, lo, hi, tol, 0, out);
+  double error = 0.0;
+  const int count = n < 64.0 ? static_cast<int>(n) : 64;
+  for (int i = 0; i < count; ++i)
+    error += kronrodMoments(fn, lo + (hi - lo) * i / count, i + 1 == count ? hi : lo + (hi - lo) * (i + 1) / count, tol / count, 0, out);
+  return error;
+}
+
+template <class F>
+double kronrodMoments(const F& fn, double lo, double hi, double tol, int depth, Moments& out) {
   using Kronrod = boost::math::quadrature::gauss_kronrod<double, 15>;
   using Gauss = boost::math::quadrature::gauss<double, 7>;
   const auto& x = Kronrod::abscissa();
   const auto& wk = Kronrod::weights();
   const auto& wg = Gauss::weights();
-  const double uMid = 0.5 * (u0 + u1), uHalf = 0.5 * (u1 - u0);
-  auto at = [&](double u) {
-    const double dh = 1.5 * half * (1.0 - u * u);
-    return dh * revolutionIntegrand<true>(r, mid + half * (0.5 * u * (3.0 - u * u)), sc);
-  };
+  const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
   Moments kronrod, gauss;
+  std::array<double, 15> area;
   for (std::size_t k = 0; k < x.size(); ++k) {
-    Moments f = at(uMid + uHalf * x[k]);
-    if (k > 0) f += at(uMid - uHalf * x[k]);
-    kronrod += wk[k] * f;
-    if (k % 2 == 0) gauss += wg[k / 2] * f;
+    Moments v = fn(mid + half * x[k]);
+    area[2 * k] = v.area;
+    if (k > 0) {
+      const Moments w = fn(mid - half * x[k]);
+      area[2 * k - 1] = w.area;
+      v += w;
+    }
+    kronrod += wk[k] * v;
+    if (k % 2 == 0) gauss += wg[k / 2] * v;
   }
-  const double error = uHalf * std::abs(kronrod.area - gauss.area);
-  if (error <= tol || depth >= 30 || uHalf < 1e-13) {
-    out += uHalf * kronrod;
+  const double mean = 0.5 * kronrod.area;
+  double absolute = 0.0, spread = 0.0;  // ∫|f| and ∫|f − mean f| over [−1, 1]
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const double a0 = area[2 * k], a1 = k > 0 ? area[2 * k - 1] : 0.0;
+    absolute += wk[k] * (std::abs(a0) + (k > 0 ? std::abs(a1) : 0.0));
+    spread += wk[k] * (std::abs(a0 - mean) + (k > 0 ? std::abs(a1 - mean) : 0.0));
+  }
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+  double error = half * std::abs(kronrod.area - gauss.area);
+  if (spread > 0.0 && error > 0.0) error = half * spread * std::min(1.0, std::pow(200.0 * error / (half * spread), 1.5));
+  error = std::max(error, 50.0 * kEpsilon * half * absolute);
+  // Below ~1000 ulps of ∫|f| the difference is rounding, not truncation: the halved tolerance
+  // of a deep piece beside a peak (a side passing 1e-5 Å from a tip) would never be met.
+  if (error <= std::max(tol, 1000.0 * kEpsilon * half * absolute) || depth >= 40 ||
+      half < 1e-13 * (1.0 + std::abs(mid))) {
+    out += half * kronrod;
     return error;
   }
-  return integrateSmoothed(r, mid, half, u0, uMid, 0.5 * tol, depth + 1, sc, out) +
-         integrateSmoothed(r, mid, half, uMid, u1, 0.5 * tol, depth + 1, sc, out);
+  return kronrodMoments(fn, lo, mid, 0.5 * tol, depth + 1, out) + kronrodMoments(fn, mid, hi, 0.5 * tol, depth + 1, out);
 }
 
-// A hyperboloid patch (edge or triangle) by integrateSmoothed between the heights where the
-// integrand may not be smooth: the tips (ρ = 0), the waist h = 0, and the radii of every foot and
-// corner of the lateral lines. Corners and feet outside the cross-section polygon are kept: the
-// branch of Φ on a piece is analytic, but its continuation is singular there, and one just
-// beyond a piece's end (a corner near a foot, a side near a tip) spoils a rule that does not
-// see it (measured on 1VIS: dropping them left patches wrong by 2e-9 relative).
-double hyperboloidMomentsSmoothed(const PatchList& p, std::size_t k, double relTol, Scratch& sc, Moments& m) {
+// σ with cosh σ ∈ [a, b] and σ ∈ [s0, s1]: up to two intervals.
+void coshInterval(double a, double b, double s0, double s1, std::vector<std::array<double, 2>>& out) {
+  if (!(b >= 1.0) || !(b >= a)) return;
+  const double inner = a > 1.0 ? std::acosh(a) : 0.0, outer = std::acosh(b);
+  auto add = [&](double x0, double x1) {
+    x0 = std::max(x0, s0);
+    x1 = std::min(x1, s1);
+    if (x1 > x0) out.push_back({x0, x1});
+  };
+  if (inner == 0.0) {
+    add(-outer, outer);
+  } else {
+    add(-outer, -inner);
+    add(inner, outer);
+  }
+}
+
+// The part [t0, t1] of side l's line that bounds P; false when the side does not (redundant,
+// or a duplicate of an earlier side, or P empty).
+bool sideExtent(const Revolution& r, std::size_t l, double& t0, double& t1) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const Lateral& s = r.laterals[l];
+  t0 = -kInfinity;
+  t1 = kInfinity;
+  for (std::size_t m = 0; m < r.laterals.size(); ++m) {
+    if (m == l) continue;
+    const Lateral& o = r.laterals[m];
+    const double slope = s.nx * o.ny - s.ny * o.nx, rhs = o.dist - s.dist * (s.nx * o.nx + s.ny * o.ny);
+    if (std::abs(slope) < 1e-12) {  // parallel: this side lies outside the other, or on it
+      const double scale = 1e-12 * (1.0 + std::abs(s.dist) + std::abs(o.dist));
+      if (rhs < -scale || (std::abs(rhs) <= scale && s.nx * o.nx + s.ny * o.ny > 0.0 && m < l)) return false;
+      continue;
+    }
+    if (slope > 0.0)
+      t1 = std::min(t1, rhs / slope);
+    else
+      t0 = std::max(t0, rhs / slope);
+  }
+  return t1 > t0;
+}
+
+double hyperboloidMomentsBoundary(const PatchList& p, std::size_t k, double relTol, Scratch& sc, Moments& m) {
   Revolution& r = sc.rev;
   double lo, hi;
   if (!setUpRevolution(p, k, r, lo, hi)) return 0.0;
   const double bound = p.mss.boundRadius[k];
-  const std::size_t n = r.laterals.size();
-  // Every candidate height, also outside [lo, hi]: a singularity just beyond a piece's end
-  // matters as much as one on it (the grading below).
-  sc.breaks.assign({lo, hi, 0.0});
-  auto addRadius = [&](double rho2) {
-    const double h2 = (rho2 - r.beta) / r.alpha;
-    if (h2 < 0.0) return;
-    sc.breaks.push_back(std::sqrt(h2));
-    sc.breaks.push_back(-std::sqrt(h2));
-  };
-  addRadius(0.0);
-  for (std::size_t u = 0; u < n; ++u) {
-    const Lateral& lu = r.laterals[u];
-    addRadius(lu.dist * lu.dist);
-    for (std::size_t v = u + 1; v < n; ++v) {
-      const Lateral& lv = r.laterals[v];
-      const double det = lu.nx * lv.ny - lv.nx * lu.ny;
-      if (std::abs(det) < 1e-12) continue;
-      const double x = (lu.dist * lv.ny - lv.dist * lu.ny) / det, y = (lu.nx * lv.dist - lv.nx * lu.dist) / det;
-      addRadius(x * x + y * y);
-    }
-  }
-  std::sort(sc.breaks.begin(), sc.breaks.end());
   const double tol = relTol * kTwoPi * bound * bound;
-  double error = 0.0;
-  auto piece = [&](double x0, double x1) {
-    error += integrateSmoothed(r, 0.5 * (x0 + x1), 0.5 * (x1 - x0), -1.0, 1.0, tol, 0, sc, m);
+  const BoundaryFrame f{r.alpha * (1.0 + r.alpha), std::sqrt(r.alpha * (1.0 + r.alpha)), std::abs(r.B),
+                        r.B > 0.0 ? 1.0 : -1.0, std::sqrt(std::max(0.0, r.beta))};
+  auto addM = [&](double weight, const Potentials& at, const Potentials& ref) {
+    m.area += weight * (at.area - ref.area);
+    m.flux += weight * (at.flux - ref.flux);
+    m.normal += weight * (at.axial - ref.axial) * r.a;
+    m.first += weight * (at.firstAxial - ref.firstAxial) * r.a;
   };
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  for (std::size_t b = 0; b + 1 < sc.breaks.size(); ++b) {
-    const double x0 = sc.breaks[b], x1 = sc.breaks[b + 1];
-    if (!(x1 > x0) || x1 <= lo || x0 >= hi) continue;
-    // A singularity at distance g beyond an end of a piece much longer than g (a side passing
-    // close to a tip: Φ falls by ~π within ρ ~ its distance, i.e. within h ~ g of the tip) is
-    // a feature of width ~g that a rule over the whole piece steps over without noticing.
-    // Grade the piece towards it: subpieces of lengths 3g, 12g, 48g, … each of whose ends is
-    // a few of its lengths from the singularity, where Gauss–Kronrod sees it.
-    const double gLeft = b > 0 ? x0 - sc.breaks[b - 1] : kInfinity;
-    const double gRight = b + 2 < sc.breaks.size() ? sc.breaks[b + 2] - x1 : kInfinity;
-    const double mid = 0.5 * (x0 + x1);
-    double from = x0;
-    if (gLeft > 0.0 && 8.0 * gLeft < x1 - x0)
-      for (double step = 3.0 * gLeft; from + step < mid; step *= 4.0) {
-        piece(from, from + step);
-        from += step;
+
+  // Sheets: [lo, hi] for β >= 0; for β < 0 its parts beyond the tips ±hTip, [1] above, [0] below.
+  bool axisInside = true;
+  for (const Lateral& l : r.laterals) axisInside = axisInside && l.dist >= 0.0;
+  const double hTip = r.beta < 0.0 ? std::sqrt(-r.beta / r.alpha) : 0.0;
+  std::array<Potentials, 2> anchors;
+  auto sheet = [&](int index, double from, double to, bool tipFrom, bool tipTo) {
+    if (!(to > from)) return;
+    // At a tip the anchor is the tip itself, so the tip's term vanishes: a side passing a
+    // distance d ~ 1e-13 from the tip turns Φ from 2π to π within ρ ~ d, a peak of dφ/dσ of that
+    // width that no quadrature resolves, but which M − M(tip) ~ d² then weighs to nothing.
+    anchors[index] = potentials(r, f, tipFrom ? from : tipTo ? to : 0.5 * (from + to));
+    for (const auto& [h, side, tip] : {std::tuple{from, -1.0, tipFrom}, std::tuple{to, 1.0, tipTo}}) {
+      double phi = tip && axisInside ? kTwoPi : 0.0;
+      if (!tip) {
+        glm::dvec2 unused;
+        circleInPolygonFast(r, h, std::sqrt(std::max(0.0, r.alpha * h * h + r.beta)), sc, phi, unused);
       }
-    double to = x1;
-    sc.tail.clear();
-    if (gRight > 0.0 && 8.0 * gRight < x1 - x0)
-      for (double step = 3.0 * gRight; to - step > std::max(from, mid); step *= 4.0) {
-        sc.tail.push_back(to);
-        to -= step;
+      if (phi > 0.0) addM(side * phi, potentials(r, f, h), anchors[index]);
+    }
+  };
+  if (r.beta >= 0.0) {
+    sheet(0, lo, hi, false, false);
+    anchors[1] = anchors[0];
+  } else {
+    sheet(0, lo, std::min(hi, -hTip), false, -hTip < hi);
+    sheet(1, std::max(lo, hTip), hi, hTip > lo, false);
+  }
+
+  double error = 0.0;
+  auto& pieces = sc.pieces;
+  for (std::size_t l = 0; l < r.laterals.size(); ++l) {
+    double t0, t1;
+    if (!sideExtent(r, l, t0, t1)) continue;
+    const Lateral& s = r.laterals[l];
+    double kk = s.dist * s.dist - r.beta;
+    // k = 0: the side touches the waist circle and the conic is two lines; any k of the order of
+    // rounding describes the same curve to rounding.
+    if (kk == 0.0) kk = 1e-30 * (s.dist * s.dist + std::abs(r.beta));
+    for (const double branch : {-1.0, 1.0}) {
+      ConicBranch q{kk < 0.0, 0.0, 0.0, branch, s.dist, s.dist * glm::dvec2(s.nx, s.ny), glm::dvec2(-s.ny, s.nx), {}};
+      pieces.clear();
+      if (kk > 0.0) {  // branch = the sign of h
+        const double c = std::sqrt(kk / r.alpha), sk = std::sqrt(kk);
+        q.tScale = sk;
+        q.hScale = branch * c;
+        q.ref = anchors[r.beta < 0.0 && branch > 0.0 ? 1 : 0];
+        const double a = branch > 0.0 ? lo / c : -hi / c, b = branch > 0.0 ? hi / c : -lo / c;
+        coshInterval(a, b, std::asinh(t0 / sk), std::asinh(t1 / sk), pieces);
+      } else {  // branch = the sign of t
+        const double c = std::sqrt(-kk / r.alpha), sk = std::sqrt(-kk);
+        q.tScale = branch * sk;
+        q.hScale = c;
+        q.ref = anchors[0];
+        const double a = branch > 0.0 ? t0 / sk : -t1 / sk, b = branch > 0.0 ? t1 / sk : -t0 / sk;
+        coshInterval(a, b, std::asinh(lo / c), std::asinh(hi / c), pieces);
       }
-    sc.tail.push_back(to);
-    for (std::size_t t = sc.tail.size(); t-- > 0;) {
-      piece(from, sc.tail[t]);
-      from = sc.tail[t];
+      auto fn = [&](double sigma) { return conicIntegrand(r, f, q, sigma); };
+      for (const auto& [x0, x1] : pieces) {
+        // Beside a tip (k > dist², two sheets) dφ/dσ peaks at σ = 0 with width ε = asin(dist/√k)
+        // (its poles are at ±iε): σ = ε sinh τ moves them to ±iπ/2 (the sinh transformation of
+        // Johnston and Elliott, for nearly singular integrands), so the peak needs no bisection.
+        if (!q.crossesWaist && kk > s.dist * s.dist) {
+          const double eps = std::asin(std::abs(s.dist) / std::sqrt(kk));
+          if (eps > 0.0) {
+            auto g = [&](double tau) {
+              const double e = std::exp(tau), ie = 1.0 / e;
+              return (eps * 0.5 * (e + ie)) * conicIntegrand(r, f, q, eps * 0.5 * (e - ie));
+            };
+            error += kronrodPieces(g, std::asinh(x0 / eps), std::asinh(x1 / eps), tol, m);
+          } else {
+            error += kronrodPieces(fn, x0, x1, tol, m);
+          }
+        } else {
+          error += kronrodPieces(fn, x0, x1, tol, m);
+        }
+      }
     }
   }
   return error;
@@ -553,7 +725,7 @@ MssAreas mssAreas(const PatchList& p, std::span<const glm::dvec3> centers, Hyper
 }  // namespace
 
 MssAreas computeMssAreas(const PatchList& p, std::span<const glm::dvec3> centers) {
-  return mssAreas(p, centers, hyperboloidMomentsSmoothed, 1e-10);
+  return mssAreas(p, centers, hyperboloidMomentsBoundary, 1e-10);
 }
 
 MssAreas computeMssAreasAdaptive(const PatchList& p, std::span<const glm::dvec3> centers, double relTol) {

@@ -21,9 +21,9 @@ struct MssAreas {
   }
   double volume = 0.0;         // Å³ enclosed by the skin (divergence theorem over the patches)
   // Estimated quadrature error of the hyperboloid areas (the spheres are closed form): the sum
-  // over all pieces of |Kronrod 15 − Gauss 7|, which bounds the 7-point rule's error on a smooth
-  // piece and so, in practice, the 15-point result's by a wide margin; plus, for every
-  // negligible patch (counted as 0), its area bound (mssThinPatchAreaBound).
+  // over all pieces of QUADPACK's estimate of the 15-point Gauss–Kronrod result's error (from
+  // |K15 − G7|; see mss_area.cpp); plus, for every negligible patch (counted as 0), its area
+  // bound (mssThinPatchAreaBound).
   double areaErrorEstimate = 0.0;
   double volumeErrorEstimate = 0.0;
   // |Σ ∫ n dA| over all patches, Å²: 0 for a closed surface (a hole or an overlap shows here).
@@ -53,13 +53,12 @@ double mssThinPatchAreaBound(const PatchList& patches, std::size_t k);
 bool mssPatchIsNegligible(const PatchList& patches, std::size_t k);
 
 // Spheres (convex and concave) exactly, by Gauss–Bonnet on the sphere minus the caps outside
-// the mixed cell; hyperboloids by Gauss–Kronrod quadrature along the axis of revolution between
-// breakpoints (the circle of radius ρ(h) meets the prism's cross-section polygon in arcs with
-// closed-form length), in a variable that makes the pieces' square-root ends smooth and graded
-// towards singularities just beyond them, to an estimated 1e-10·2π·bound² a piece, with the
-// summed error estimate reported. `centers` are the atoms' (for the per-atom shares). Each patch
-// is integrated on its own and the sums run in patch order: the result is the same bit for bit
-// for any thread count.
+// the mixed cell; hyperboloids by Green's theorem on their (h, φ) parametrisation: closed-form
+// terms at the caps and tips plus, along each conic where a lateral plane of the cell cuts the
+// surface, a 1-D integral in the conic's cosh/sinh parameter by Gauss–Kronrod quadrature, to an
+// estimated 1e-10·2π·bound² a piece, with the summed error estimate reported. `centers` are the
+// atoms' (for the per-atom shares). Each patch is integrated on its own and the sums run in patch
+// order: the result is the same bit for bit for any thread count.
 MssAreas computeMssAreas(const PatchList& patches, std::span<const glm::dvec3> centers);
 
 // The integration computeMssAreas did before issue 22, kept as its test oracle: adaptive
