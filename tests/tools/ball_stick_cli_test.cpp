@@ -71,6 +71,24 @@ TEST(BallStickCli, UnderATransparentSurfaceTheModelShows) {
   EXPECT_NE(a.rgba, b.rgba);
 }
 
+// GL peels the transparent surface over the model (its opaque layer) as Embree composites it:
+// the colours agree (compare --preset transparency), and the model shows through in both.
+TEST(BallStickCli, GlMatchesEmbreeUnderATransparentSurface) {
+  const fs::path dir = scratch("transparent_engines");
+  for (const std::string& surface : {std::string(""), std::string("--surface mss")}) {
+    const fs::path embree = dir / "embree.exr", gl = dir / "gl.exr", plain = dir / "plain.exr";
+    render("--ball-and-stick --opacity 0.4 " + surface, embree);
+    render("--ball-and-stick --opacity 0.4 --engine gl " + surface, gl);
+    render("--opacity 0.4 --engine gl " + surface, plain);
+    const Result c = runTool("compare " + gl.string() + " " + embree.string() + " --preset transparency");
+    EXPECT_EQ(c.status, 0) << "'" << surface << "':\n" << c.output;
+    std::printf("ball-and-stick under '%s' at opacity 0.4, GL vs Embree:\n%s", surface.c_str(), c.output.c_str());
+    // The comparison can fail: GL without the model is another picture.
+    const Result without = runTool("compare " + plain.string() + " " + embree.string() + " --preset transparency");
+    EXPECT_EQ(without.status, 2) << without.output;
+  }
+}
+
 TEST(BallStickCli, TrajectoryFramesGetTheModel) {
   const fs::path dir = scratch("trajectory");
   const std::string psf = kData + "/trajectories/adk_dims/adk.psf.gz", dcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
