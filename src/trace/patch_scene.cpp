@@ -45,9 +45,18 @@ template <class... Kind> struct GeometryDataOf<std::tuple<Kind...>> {
 // leave a hole; the intersectors promise finite boxes. Embree traverses with the float
 // rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
 // than the distance between the two (PatchScene's constructor) and rounded outward.
+// The box traversal culls with: the skin's is cut by its cell planes (cellBounds), the others'
+// is their own bounds(). The scene's box (enterBox) stays the union of bounds().
+template <class Patch> Bounds3d traversalBounds(const Patch& p) {
+  if constexpr (std::is_same_v<Patch, MssPatch>)
+    return cellBounds(p);
+  else
+    return bounds(p);
+}
+
 template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
   const auto* data = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr);
-  const Bounds3d b = bounds(data->patches[args->primID]);
+  const Bounds3d b = traversalBounds(data->patches[args->primID]);
   RTCBounds* o = args->bounds_o;
   o->lower_x = roundDown(b.lower.x - data->pad);
   o->lower_y = roundDown(b.lower.y - data->pad);
