@@ -87,9 +87,9 @@ bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
-std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax) {
-  const double len = glm::length(ray.dir);
-  const glm::dvec3 d = ray.dir / len;
+std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
   // Shift the origin to the ray's closest approach to the centre: o is then at most the
   // distance of the ray from the centre, and t = t0 + u.
   const glm::dvec3 oc = ray.org - p.center;

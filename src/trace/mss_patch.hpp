@@ -40,7 +40,10 @@ Bounds3d cellBounds(const MssPatch& p);
 // the cancellation-free form; a ray along an asymptote of a hyperboloid (quadratic term 0)
 // has one root, a tangent ray a double one. Normal ∇f/|∇f|, out of the body. Flags: grazing,
 // near a cell plane (a seam with the neighbouring patch).
-std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax);
+std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax);
+inline std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax) {
+  return intersect(p, UnitRay(ray), tMin, tMax);
+}
 
 // The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);

@@ -74,7 +74,7 @@ template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
 // other side of the trimming edge).
 struct HitContext {
   RTCIntersectContext embree;  // first member: Embree hands this pointer back to the callbacks
-  const Ray* rays = nullptr;
+  const UnitRay* rays = nullptr;  // with their unit directions, made once per ray
   PatchHit* hits = nullptr;    // null for occlusion queries
   // Transparency (PatchScene::intersectLayers16): every crossing goes into the ray's list.
   LayerList* layers = nullptr;
@@ -88,7 +88,7 @@ template <class Kind>
 void collectLayers(const typename Kind::Patch& patch, std::uint32_t primID, const HitContext& context, unsigned id,
                    float& tfar) {
   LayerList& layers = context.layers[id];
-  const Ray& ray = context.rays[id];
+  const Ray ray = context.rays[id].ray();
   const double tMax = layers.full() ? layers.back().hit.t : static_cast<double>(tfar);
   forEachRoot(patch, ray, 0.0, tMax, [&](const PatchHit& h) {
     if constexpr (std::is_same_v<Kind, SphereKind>)
@@ -403,7 +403,10 @@ void PatchScene::intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  context.rays = shifted;
+  UnitRay unitRays[16];
+  for (int i = 0; i < 16; ++i)
+    if (mask[i] != 0) unitRays[i] = UnitRay(shifted[i]);
+  context.rays = unitRays;
   context.layers = lanes;
   context.clip = &embree_->sphereClip(patches_);
   rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
@@ -436,7 +439,10 @@ void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], dou
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  context.rays = shifted;
+  UnitRay unitRays[16];
+  for (int i = 0; i < 16; ++i)
+    if (mask[i] != 0) unitRays[i] = UnitRay(shifted[i]);
+  context.rays = unitRays;
   context.hits = exact;
   rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
   for (int i = 0; i < 16; ++i) {
@@ -458,7 +464,8 @@ SceneHit PatchScene::intersect1(const Ray& ray, double tMin, double tMax) const 
   exact.t = tMax - shift;
   HitContext context;
   rtcInitIntersectContext(&context.embree);
-  context.rays = &shifted;
+  const UnitRay unitRay(shifted);
+  context.rays = &unitRay;
   context.hits = &exact;
   rtcIntersect1(embree_->scene, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
@@ -474,7 +481,8 @@ bool PatchScene::occluded(const Ray& ray, double tMin, double tMax) const {
   setFloatRay(r, shifted, tMax - shift, 0);
   HitContext context;
   rtcInitIntersectContext(&context.embree);
-  context.rays = &shifted;
+  const UnitRay unitRay(shifted);
+  context.rays = &unitRay;
   rtcOccluded1(embree_->scene, &context.embree, &r);
   return r.tfar == -kInfF;
 }
