@@ -41,10 +41,6 @@ template <class... Kind> struct GeometryDataOf<std::tuple<Kind...>> {
   using type = std::tuple<GeometryData<Kind>...>;
 };
 
-// Embree drops a primitive whose box is empty or not finite (accelset.h), which would
-// leave a hole; the intersectors promise finite boxes. Embree traverses with the float
-// rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
-// than the distance between the two (PatchScene's constructor) and rounded outward.
 // The box traversal culls with: the skin's is cut by its cell planes (cellBounds), the others'
 // is their own bounds(). The scene's box (enterBox) stays the union of bounds().
 template <class Patch> Bounds3d traversalBounds(const Patch& p) {
@@ -54,6 +50,10 @@ template <class Patch> Bounds3d traversalBounds(const Patch& p) {
     return bounds(p);
 }
 
+// Embree drops a primitive whose box is empty or not finite (accelset.h), which would
+// leave a hole; the intersectors promise finite boxes. Embree traverses with the float
+// rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
+// than the distance between the two (PatchScene's constructor) and rounded outward.
 template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
   const auto* data = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr);
   const Bounds3d b = traversalBounds(data->patches[args->primID]);
