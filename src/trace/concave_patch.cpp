@@ -111,11 +111,11 @@ bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
-std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double tMin, double tMax) {
+std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax) {
   // Unit direction internally (Embree's float directions are unit only to float
   // precision); t is converted back to the caller's parametrisation.
-  const double len = glm::length(ray.dir);
-  const glm::dvec3 d = ray.dir / len;
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
   const glm::dvec3 op = ray.org - p.probe;
   const double rp = p.probeRadius, rr = rp * rp;
   // ORACLES B.5: f is the ray's closest point to the probe centre; ρ² − |f|² keeps the

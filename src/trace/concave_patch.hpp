@@ -29,7 +29,10 @@ Bounds3d bounds(const ConcavePatch& p);
 // Both roots of the probe sphere in ascending t; the first in (tMin, tMax] inside the cone
 // and on the kept side of every clipping plane is the hit. Normal (p − x)/rp, pointing out
 // of the SES body. Flags: grazing, near a cone edge or a clipping plane.
-std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double tMin, double tMax);
+std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax);
+inline std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, double tMin, double tMax) {
+  return intersect(p, UnitRay(ray), tMin, tMax);
+}
 
 // The clip test intersect() applies to a point on the probe sphere. `slack` (Å, >= 0)
 // widens the patch by that distance from its cone faces and clipping planes.

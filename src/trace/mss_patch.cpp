@@ -48,6 +48,33 @@ Bounds3d bounds(const MssPatch& p) {
   return b;
 }
 
+Bounds3d cellBounds(const MssPatch& p) {
+  Bounds3d b = bounds(p);
+  // intersect() accepts points up to kCellSlack·scale beyond the ball and every plane: widen both
+  // by twice that, and pad each cap's box like bounds() (its extremes are a few roundings).
+  const double slack = 2.0 * kCellSlack * (p.boundRadius + 1.0);
+  const double R = p.boundRadius + slack;
+  for (const build::Plane& plane : p.cellPlanes) {
+    const glm::dvec3 n(plane);
+    const double h = glm::dot(n, p.center) + plane.w - slack;  // the centre's distance beyond the plane
+    if (!(std::abs(h) < R)) continue;  // the plane misses the ball (or NaN): no cut
+    const double circle = std::sqrt((R - h) * (R + h));  // radius of the plane's circle on the ball
+    for (int k = 0; k < 3; ++k) {
+      // Over the cap {|x − c| <= R, n·(x − c) <= −h}: the ball's pole c ± R e_k when the cap
+      // holds it, else the extreme of the plane's circle (centre c − h n).
+      const double across = circle * std::sqrt(std::max(0.0, 1.0 - n[k] * n[k]));
+      const double hi = n[k] * R <= -h ? R : -h * n[k] + across;
+      const double lo = -n[k] * R <= -h ? -R : -h * n[k] - across;
+      const double pad = kBoundsPadUlps * std::numeric_limits<double>::epsilon() * (std::abs(p.center[k]) + R) +
+                         1e-12 * R;
+      b.lower[k] = std::max(b.lower[k], p.center[k] + lo - pad);
+      b.upper[k] = std::min(b.upper[k], p.center[k] + hi + pad);
+    }
+  }
+  // A cell whose caps leave no common box holds no skin; keep the plain box (STYLE §3.6: never empty).
+  return b.empty() ? bounds(p) : b;
+}
+
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack) {
   const glm::dvec3 d = x - p.center;
   const double ball = p.boundRadius + slack;
@@ -60,9 +87,9 @@ bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
-std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax) {
-  const double len = glm::length(ray.dir);
-  const glm::dvec3 d = ray.dir / len;
+std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
   // Shift the origin to the ray's closest approach to the centre: o is then at most the
   // distance of the ray from the centre, and t = t0 + u.
   const glm::dvec3 oc = ray.org - p.center;

@@ -29,12 +29,21 @@ MssPatch mssPatch(const build::PatchList& patches, std::size_t index);
 // The box of the patch's extent cylinder within its bounding ball (build::mssExtent).
 Bounds3d bounds(const MssPatch& p);
 
+// A tighter box for traversal: bounds(p) cut by the box of every cap that one cell plane
+// cuts from the bounding ball (each cap holds the patch, so each of their boxes does). It
+// holds every point intersect() accepts, the cell slack included (both are widened by twice
+// that slack). The skin's hyperboloid boxes overlap much less so (1AON, s = 0.5).
+Bounds3d cellBounds(const MssPatch& p);
+
 // The first root in (tMin, tMax] whose point lies in the cell. The ray is shifted to its
 // closest approach to the centre before the quadratic is formed, and the roots are taken in
 // the cancellation-free form; a ray along an asymptote of a hyperboloid (quadratic term 0)
 // has one root, a tangent ray a double one. Normal ∇f/|∇f|, out of the body. Flags: grazing,
 // near a cell plane (a seam with the neighbouring patch).
-std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax);
+std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax);
+inline std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, double tMin, double tMax) {
+  return intersect(p, UnitRay(ray), tMin, tMax);
+}
 
 // The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);

@@ -42,13 +42,22 @@ template <class... Kind> struct GeometryDataOf<std::tuple<Kind...>> {
   using type = std::tuple<GeometryData<Kind>...>;
 };
 
+// The box traversal culls with: the skin's is cut by its cell planes (cellBounds), the others'
+// is their own bounds(). The scene's box (enterBox) stays the union of bounds().
+template <class Patch> Bounds3d traversalBounds(const Patch& p) {
+  if constexpr (std::is_same_v<Patch, MssPatch>)
+    return cellBounds(p);
+  else
+    return bounds(p);
+}
+
 // Embree drops a primitive whose box is empty or not finite (accelset.h), which would
 // leave a hole; the intersectors promise finite boxes. Embree traverses with the float
 // rounding of a ray whose callbacks then use the double ray: the boxes are padded by more
 // than the distance between the two (PatchScene's constructor) and rounded outward.
 template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
   const auto* data = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr);
-  const Bounds3d b = bounds(data->patches[args->primID]);
+  const Bounds3d b = traversalBounds(data->patches[args->primID]);
   RTCBounds* o = args->bounds_o;
   o->lower_x = roundDown(b.lower.x - data->pad);
   o->lower_y = roundDown(b.lower.y - data->pad);
@@ -66,7 +75,7 @@ template <class Kind> void boundsFn(const RTCBoundsFunctionArguments* args) {
 // other side of the trimming edge).
 struct HitContext {
   RTCIntersectContext embree;  // first member: Embree hands this pointer back to the callbacks
-  const Ray* rays = nullptr;
+  const UnitRay* rays = nullptr;  // with their unit directions, made once per ray
   PatchHit* hits = nullptr;    // null for occlusion queries
   // Transparency (PatchScene::intersectLayers16): every crossing goes into the ray's list.
   LayerList* layers = nullptr;
@@ -80,7 +89,7 @@ template <class Kind>
 void collectLayers(const typename Kind::Patch& patch, std::uint32_t primID, const HitContext& context, unsigned id,
                    float& tfar) {
   LayerList& layers = context.layers[id];
-  const Ray& ray = context.rays[id];
+  const Ray ray = context.rays[id].ray();
   const double tMax = layers.full() ? layers.back().hit.t : static_cast<double>(tfar);
   if constexpr (isModelRow<Kind>()) {
     // The model is opaque: only where a ray enters it matters (render.cpp stops there).
@@ -414,7 +423,10 @@ void PatchScene::intersectLayers16(const Ray (&rays)[16], const bool (&valid)[16
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  context.rays = shifted;
+  UnitRay unitRays[16];
+  for (int i = 0; i < 16; ++i)
+    if (mask[i] != 0) unitRays[i] = UnitRay(shifted[i]);
+  context.rays = unitRays;
   context.layers = lanes;
   context.clip = &embree_->sphereClip(patches_);
   rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
@@ -447,7 +459,10 @@ void PatchScene::intersect16(const Ray (&rays)[16], const bool (&valid)[16], dou
   HitContext context;
   rtcInitIntersectContext(&context.embree);
   context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  context.rays = shifted;
+  UnitRay unitRays[16];
+  for (int i = 0; i < 16; ++i)
+    if (mask[i] != 0) unitRays[i] = UnitRay(shifted[i]);
+  context.rays = unitRays;
   context.hits = exact;
   rtcIntersect16(mask, embree_->scene, &context.embree, &rh);
   for (int i = 0; i < 16; ++i) {
@@ -469,7 +484,8 @@ SceneHit PatchScene::intersect1(const Ray& ray, double tMin, double tMax) const 
   exact.t = tMax - shift;
   HitContext context;
   rtcInitIntersectContext(&context.embree);
-  context.rays = &shifted;
+  const UnitRay unitRay(shifted);
+  context.rays = &unitRay;
   context.hits = &exact;
   rtcIntersect1(embree_->scene, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {};
@@ -485,7 +501,8 @@ bool PatchScene::occluded(const Ray& ray, double tMin, double tMax) const {
   setFloatRay(r, shifted, tMax - shift, 0);
   HitContext context;
   rtcInitIntersectContext(&context.embree);
-  context.rays = &shifted;
+  const UnitRay unitRay(shifted);
+  context.rays = &unitRay;
   rtcOccluded1(embree_->scene, &context.embree, &r);
   return r.tfar == -kInfF;
 }

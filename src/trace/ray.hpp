@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "view/ray.hpp"
@@ -24,6 +25,18 @@ inline constexpr double kCuspFraction = 1e-6;
 // Relative (to the patch's scale) distance from a trimming edge below which the hit could
 // belong to the neighbouring patch instead: a seam.
 inline constexpr double kBoundaryTolerance = 1e-9;
+
+// A ray with its unit direction and that direction's length, where every intersector starts:
+// made once per ray for the Embree callbacks, which see one ray at many patches. The same
+// expressions the intersectors used on a plain Ray, so their answers are the same bit for bit.
+struct UnitRay {
+  glm::dvec3 org{0.0}, dir{0.0, 0.0, 1.0};
+  double length = 1.0;  // |dir|
+  glm::dvec3 unit{0.0, 0.0, 1.0};  // dir / |dir|
+  UnitRay() = default;
+  explicit UnitRay(const Ray& r) : org(r.org), dir(r.dir), length(glm::length(r.dir)), unit(r.dir / length) {}
+  Ray ray() const { return Ray{org, dir}; }
+};
 
 struct PatchHit {
   double t = std::numeric_limits<double>::infinity();

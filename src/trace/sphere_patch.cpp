@@ -26,11 +26,11 @@ Bounds3d bounds(const SpherePatch& s) {
   return b;
 }
 
-std::optional<PatchHit> intersect(const SpherePatch& s, const Ray& ray, double tMin, double tMax) {
+std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax) {
   // Work with a unit direction (Embree's float directions are unit only to float
   // precision) and convert t back at the end.
-  const double len = glm::length(ray.dir);
-  const glm::dvec3 d = ray.dir / len;
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
   const glm::dvec3 oc = ray.org - s.center;
   // ORACLES B.5: project the centre onto the ray; f is the ray's closest point to the
   // centre, so the discriminant ρ² − |f|² keeps the small term that b² − (|oc|² − ρ²) loses.

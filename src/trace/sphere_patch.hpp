@@ -18,7 +18,10 @@ Bounds3d bounds(const SpherePatch& s);
 
 // The first root in (tMin, tMax] (ORACLES B.5: perpendicular-distance form, stable roots).
 // A ray starting inside the sphere hits its far side. Normal (x − c)/r.
-std::optional<PatchHit> intersect(const SpherePatch& s, const Ray& ray, double tMin, double tMax);
+std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax);
+inline std::optional<PatchHit> intersect(const SpherePatch& s, const Ray& ray, double tMin, double tMax) {
+  return intersect(s, UnitRay(ray), tMin, tMax);
+}
 
 // The atom a hit at x belongs to: the sphere's own.
 inline std::uint32_t atomOf(const SpherePatch&, std::uint32_t atom, const glm::dvec3&) { return atom; }

@@ -400,11 +400,11 @@ Bounds3d bounds(const TorusPatch& p) {
   return b;
 }
 
-std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tMin, double tMax) {
+std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax) {
   const double S = p.bigRadius + p.probeRadius;
-  const double dirLength = glm::length(ray.dir);
+  const double dirLength = ray.length;
   if (!(dirLength > 0.0) || !std::isfinite(dirLength) || !(S > 0.0)) return std::nullopt;
-  const glm::dvec3 u = ray.dir / dirLength;
+  const glm::dvec3& u = ray.unit;
   const bool valid = derivedValid(p);
   const double invS = valid ? p.derived.invScale : 1.0 / S;
   const Normalised n = valid ? Normalised{p.derived.normBigRadius, p.derived.normProbeRadius}
@@ -503,7 +503,10 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack) {
 std::uint32_t atomOf(const TorusPatch& t, const glm::uvec2& atoms, const glm::dvec3& x) {
   // The saddle meets atom i at θ_i and atom j at θ_j; the axial coordinate decides.
   const double a = glm::dot(x - t.center, t.axis);
-  const double aI = t.probeRadius * std::sin(t.thetaI), aJ = t.probeRadius * std::sin(t.thetaJ);
+  // The prepared sines are these very values (sin(θ − 0) = sin θ), without two sin calls per hit.
+  const bool valid = derivedValid(t);
+  const double aI = t.probeRadius * (valid ? t.derived.thetaISin : std::sin(t.thetaI));
+  const double aJ = t.probeRadius * (valid ? t.derived.thetaJSin : std::sin(t.thetaJ));
   return a - aI <= aJ - a ? atoms.x : atoms.y;
 }
 

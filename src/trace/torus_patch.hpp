@@ -62,7 +62,10 @@ Bounds3d bounds(const TorusPatch& p);
 // isolate all real roots of the quartic in the interval, polish on the own-tube factor,
 // reject lemon roots, and take the first root inside the θ and φ limits. Normal
 // (P − x)/rp. Flags: grazing, cusp, near the trimming boundary.
-std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tMin, double tMax);
+std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax);
+inline std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, double tMin, double tMax) {
+  return intersect(p, UnitRay(ray), tMin, tMax);
+}
 
 // Outward SES normal at a point on (or near) the patch: (P(φ) − x)/rp.
 glm::dvec3 normalAt(const TorusPatch& p, const glm::dvec3& x);

@@ -137,6 +137,11 @@ void checkList(const build::PatchList& list, std::uint64_t seed, Stats& stats) {
       // The hit lies in the patch's box (what Embree culls with).
       const glm::dvec3 x = ray.org + static_cast<double>(*want) * ray.dir;
       EXPECT_TRUE(bounds(p).contains(x, 1e-9 * (R + 1.0))) << "patch " << k << " kind " << static_cast<int>(p.kind);
+      // And in the box cut by the cell's planes (what the scene traverses with), with no slack
+      // beyond the rounding of x: that box already holds the intersector's cell slack.
+      const double roundoff = 1e-12 * (glm::length(x) + R + 1.0);
+      EXPECT_TRUE(cellBounds(p).contains(x, roundoff)) << "patch " << k << " kind " << static_cast<int>(p.kind);
+      EXPECT_TRUE(cellBounds(p).contains(ray.org + got->t * ray.dir, roundoff)) << "patch " << k;
       const double err = static_cast<double>(std::abs(static_cast<Real>(got->t) - *want)) * len;
       EXPECT_LE(err, kHitTolerance) << "patch " << k << " kind " << static_cast<int>(p.kind);
       stats.worstT = std::max(stats.worstT, err);

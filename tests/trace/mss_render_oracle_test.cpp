@@ -138,6 +138,54 @@ TEST_P(RenderOnSkin, HitsAreCertifiedAndNoRayCrossesTheBody) {
   EXPECT_LT(undecided, checked / 100);
 }
 
+// The BVH, whose skin boxes are cut by the cell planes (cellBounds), finds what a plain loop
+// over every patch finds (same depth; another patch only at a tie), and a 16-ray packet finds
+// exactly, bit for bit, what each of its rays finds alone.
+TEST_P(RenderOnSkin, SceneMatchesAPlainLoopAndPacketsMatchSingleRays) {
+  const build::PatchList list = build::buildMss(molecule(GetParam().file).centers, molecule(GetParam().file).radii,
+                                                build::MssParams{GetParam().s});
+  const PatchScene scene(ScenePatches::fromPatchList(list));
+  const ScenePatches& patches = scene.patches();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::mt19937_64 rng(23);
+  int hits = 0, compared = 0;
+  for (int v = 0; v < 3; ++v) {
+    const Camera cam = framed(list, randomDirection(rng), 40, Projection::Perspective);
+    for (int y = 0; y + 4 <= cam.height; y += 4)
+      for (int x = 0; x + 4 <= cam.width; x += 4) {
+        Ray rays[16];
+        bool valid[16];
+        for (int j = 0; j < 16; ++j) {
+          valid[j] = true;
+          rays[j] = cam.ray(x + j % 4 + 0.5, y + j / 4 + 0.5);
+        }
+        SceneHit packet[16];
+        scene.intersect16(rays, valid, 0.0, packet);
+        for (int j = 0; j < 16; ++j) {
+          const SceneHit single = scene.intersect1(rays[j], 0.0, kInf);
+          const SceneHit loop = patches.intersectAll(rays[j], 0.0, kInf);
+          ++compared;
+          ASSERT_EQ(loop.valid(), packet[j].valid()) << "view " << v << " pixel " << x + j % 4 << "," << y + j / 4;
+          ASSERT_EQ(single.valid(), packet[j].valid());
+          if (!loop.valid()) continue;
+          ++hits;
+          EXPECT_EQ(single.hit.t, packet[j].hit.t);
+          EXPECT_EQ(single.kind, packet[j].kind);
+          EXPECT_EQ(single.patch, packet[j].patch);
+          EXPECT_EQ(single.hit.flags, packet[j].hit.flags);
+          const double scale = glm::length(rays[j].dir);
+          EXPECT_NEAR(loop.hit.t * scale, packet[j].hit.t * scale, 1e-9) << "view " << v;
+          if (loop.kind != packet[j].kind || loop.patch != packet[j].patch) {
+            const SceneHit other = patches.intersectPatch(packet[j].kind, packet[j].patch, rays[j], 0.0, kInf);
+            EXPECT_NEAR(other.hit.t * scale, loop.hit.t * scale, 1e-9);
+          }
+        }
+      }
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(compared, hits);
+}
+
 INSTANTIATE_TEST_SUITE_P(Molecules, RenderOnSkin,
                          testing::Values(SkinCase{"structures/1crn.pdb", 0.3}, SkinCase{"structures/1crn.pdb", 0.5},
                                          SkinCase{"paper/1grm.pdb.gz", 0.5}));
