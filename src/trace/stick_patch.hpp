@@ -21,6 +21,10 @@ Bounds3d bounds(const StickPatch& s);
 // |x⊥| = radius, h = (x − a)·u in [0, L] (u = (b − a)/L), or with a cap h = 0, h = L inside the
 // radius. Normal: radial on the side, ∓u on the caps. A ray starting inside leaves through it.
 std::optional<PatchHit> intersect(const StickPatch& s, const Ray& ray, double tMin, double tMax);
+// The same for a ray with its unit direction made (the scene's callbacks): a stick needs none of it.
+inline std::optional<PatchHit> intersect(const StickPatch& s, const UnitRay& ray, double tMin, double tMax) {
+  return intersect(s, ray.ray(), tMin, tMax);
+}
 // The atom a hit at x belongs to: a's on a's half of the axis, b's on the other (each half of a
 // stick takes its atom's colour).
 inline std::uint32_t atomOf(const StickPatch& s, const glm::uvec2& atoms, const glm::dvec3& x) {
