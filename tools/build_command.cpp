@@ -21,7 +21,8 @@ void runBuild(const BuildOptions& o) {
   build::prepareOutputPath(o.output, "-o");
   const auto limit = limitThreads(o.threads);
   const Built b = readAndBuild(o);
-  build::writePatchList(o.output, b.patches);
+  // The atoms go along: the file derives the skin's patches from them (patch_list.hpp, version 3).
+  build::writePatchList(o.output, b.patches, {b.molecule.centers, b.molecule.radii});
   const auto& p = b.patches;
   if (p.params.surface == build::SurfaceKind::Mss) {
     std::size_t count[build::kMssKindCount] = {};
