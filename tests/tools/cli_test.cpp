@@ -578,7 +578,8 @@ TEST(Cli, DropCavitiesChangesNoPixel) {
 // and the value, from `area` and `info` alike: not a crash, not a number.
 // The skin's patch list, whose file stores the patches by reference to the atoms (version 3)
 // and derives them again on reading, renders as the skin built in memory from the structure:
-// the same camera and every buffer bit for bit, on both engines.
+// every buffer bit for bit, on both engines, through the structure's camera (`render` frames a
+// skin's list without its structure otherwise: render_command.cpp, frameRender).
 TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
   const auto dir = std::filesystem::path(testing::TempDir());
   const std::string mol = data("paper/1grm.pdb.gz"), stp = (dir / "grm_mss.stp").string();
@@ -586,10 +587,12 @@ TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
   for (const std::string engine : {"embree", "gl"}) {
     const std::string a = (dir / ("skin_from_structure_" + engine + ".exr")).string();
     const std::string b = (dir / ("skin_from_patches_" + engine + ".exr")).string();
-    const std::string common = " --size 64x48 --quiet --view 1,-0.5,0.3 --engine " + engine + " --exr ";
-    const Result r1 = run("render " + mol + " --surface mss --shrink 0.5" + common + a);
+    const std::string camera = (dir / ("skin_camera_" + engine + ".json")).string();
+    const std::string common = " --size 64x48 --quiet --engine " + engine + " --exr ";
+    const Result r1 = run("render " + mol + " --surface mss --shrink 0.5 --view 1,-0.5,0.3 --camera-out " + camera +
+                          common + a);
     ASSERT_EQ(r1.status, 0) << r1.output;
-    const Result r2 = run("render " + stp + common + b);
+    const Result r2 = run("render " + stp + " --camera " + camera + common + b);
     ASSERT_EQ(r2.status, 0) << r2.output;
     surftrace::view::ImageMetadata ma, mb;
     const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
