@@ -27,7 +27,7 @@ seeds_for() {
     pqr) find tests/data tests/fuzz/seeds -type f -name '*.pqr' ;;
     xyzr) find tests/data tests/fuzz/seeds -type f -name '*.xyzr' ;;
     xyz) find tests/data tests/fuzz/seeds -type f -name '*.xyz' ;;
-    stp) find tests/fuzz/seeds/stp -type f -name '*.stp' ;;
+    stp) find tests/fuzz/seeds/stp tests/data/stp -type f -name '*.stp' ;;
     dcd) find tests/data -type f -name '*.dcd' -size -64k ;;
     xtc) find tests/data -type f -name '*.xtc' -size -64k ;;
     gro) find tests/data -type f -name '*.gro' -size -64k ;;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,9 +14,12 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <zlib.h>
 
 #include "build/io/output_file.hpp"
+#include "build/mss/skin_geometry.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/ses/surface_area.hpp"
 
@@ -49,22 +53,26 @@ constexpr char kMagic[8] = {'S', 'U', 'R', 'F', 'T', 'R', 'C', 'E'};
 constexpr std::uint32_t kEndianTag = 0x01020304u;
 constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8;
 
+// Fills a buffer of the file's exact size (counted first): one allocation, no copies.
 class Writer {
  public:
+  explicit Writer(std::size_t size) : bytes(size) {}
+  void raw(const void* p, std::size_t n) {
+    if (n > bytes.size() - pos) throw std::logic_error("patch list writer: the file outgrew its counted size");
+    if (n > 0) std::memcpy(bytes.data() + pos, p, n);
+    pos += n;
+  }
   template <class T> void pod(const T& v) {
     static_assert(std::is_trivially_copyable_v<T>);
-    const auto* b = reinterpret_cast<const unsigned char*>(&v);
-    bytes.insert(bytes.end(), b, b + sizeof(T));
+    raw(&v, sizeof(T));
   }
   void string(const std::string& s) {
     pod(static_cast<std::uint32_t>(s.size()));
-    bytes.insert(bytes.end(), s.begin(), s.end());
+    raw(s.data(), s.size());
   }
-  template <class T> void array(const std::vector<T>& v) {
-    const auto* b = reinterpret_cast<const unsigned char*>(v.data());
-    bytes.insert(bytes.end(), b, b + v.size() * sizeof(T));
-  }
+  template <class T> void array(const std::vector<T>& v) { raw(v.data(), v.size() * sizeof(T)); }
   std::vector<unsigned char> bytes;
+  std::size_t pos = 0;
 };
 
 class Reader {
@@ -171,13 +179,15 @@ std::string text(double v) {
   return buf;
 }
 std::string text(std::uint32_t v) { return std::to_string(v); }
-std::string text(const glm::dvec3& v) { return "(" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + ")"; }
-std::string text(const glm::dvec4& v) {
-  return "(" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + ", " + text(v.w) + ")";
+// (Built by appending: GCC 12 gives a false -Wrestrict for "x" + std::string chains.)
+template <class V> std::string textOfVector(const V& v, int n) {
+  std::string out("(");
+  for (int k = 0; k < n; ++k) out.append(k > 0 ? ", " : "").append(text(v[k]));
+  return out.append(")");
 }
-std::string text(const glm::uvec4& v) {
-  return "(" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + ", " + text(v.w) + ")";
-}
+std::string text(const glm::dvec3& v) { return textOfVector(v, 3); }
+std::string text(const glm::dvec4& v) { return textOfVector(v, 4); }
+std::string text(const glm::uvec4& v) { return textOfVector(v, 4); }
 
 // Throws "group.name[k] = value <what>": the messages of every field check below.
 template <class T>
@@ -358,6 +368,28 @@ void checkConcave(const PatchList& p) {
   checkPlanes(p.clipPlanes, "clipPlanes");
 }
 
+// The skin's kinds (grouped, in order) and simplices: kind + 1 ascending atoms below
+// atomCount, the unused slots ~0u.
+void checkSimplices(const MssQuadrics& q, std::uint32_t atomCount) {
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    if (q.kind[k] > static_cast<std::uint32_t>(MssKind::Concave))
+      badField("mss", "kind", k, q.kind[k], "is not an MSS kind (0 to 3)");
+    if (k > 0 && q.kind[k] < q.kind[k - 1])
+      badField("mss", "kind", k, q.kind[k], "follows kind " + text(q.kind[k - 1]) + ": the patches are not grouped by kind");
+  }
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const glm::uvec4& a = q.atoms[k];
+    for (std::uint32_t m = 0; m < 4; ++m) {
+      const bool used = m <= q.kind[k];
+      if (used ? a[m] >= atomCount || (m > 0 && a[m] <= a[m - 1]) : a[m] != ~0u)
+        badField("mss", "atoms", k, a,
+                 "is not a simplex of kind " + text(q.kind[k]) + ": " + text(q.kind[k] + 1) +
+                     " ascending atoms below " + std::to_string(atomCount) + ", then 4294967295 (slot " +
+                     std::to_string(m) + ")");
+    }
+  }
+}
+
 void checkMss(const PatchList& p) {
   const MssQuadrics& q = p.mss;
   const double s = p.params.shrinkFactor;
@@ -366,12 +398,12 @@ void checkMss(const PatchList& p) {
   checkLengths(q.boundRadius, false, "mss", "boundRadius");
   checkRange(q.cellBegin, q.cellCount, p.cellPlanes.size(), "mss", "cellBegin", "cellCount", "cellPlanes");
   checkPlanes(p.cellPlanes, "cellPlanes");
-  for (std::size_t k = 0; k < q.size(); ++k) {
-    if (q.kind[k] > static_cast<std::uint32_t>(MssKind::Concave))
-      badField("mss", "kind", k, q.kind[k], "is not an MSS kind (0 to 3)");
-    if (k > 0 && q.kind[k] < q.kind[k - 1])
-      badField("mss", "kind", k, q.kind[k], "follows kind " + text(q.kind[k - 1]) + ": the patches are not grouped by kind");
-  }
+  for (std::size_t k = 0; k < p.cellPlaneAtom.size(); ++k)
+    if (p.cellPlaneAtom[k] >= p.params.atomCount && p.cellPlaneAtom[k] != ~0u)
+      badField("cellPlanes", "atom", k, p.cellPlaneAtom[k],
+               "is neither an atom (the list was built from " + std::to_string(p.params.atomCount) +
+                   ") nor 4294967295 (not known)");
+  checkSimplices(q, p.params.atomCount);
   for (std::size_t k = 0; k < q.size(); ++k) {
     // The quadric's coefficients are fixed by its kind and s (patch_list.hpp's table).
     static constexpr double kAxial[4] = {0.0, -1.0, 1.0, 0.0};
@@ -385,16 +417,6 @@ void checkMss(const PatchList& p) {
     if (!(std::abs(q.constant[k]) <= kMaxLength * kMaxLength))
       badField("mss", "constant", k, q.constant[k],
                "is not in [-" + text(kMaxLength * kMaxLength) + ", " + text(kMaxLength * kMaxLength) + "] Å²");
-    // The simplex: kind + 1 ascending atoms, the unused slots ~0u.
-    const glm::uvec4& a = q.atoms[k];
-    for (std::uint32_t m = 0; m < 4; ++m) {
-      const bool used = m <= q.kind[k];
-      if (used ? a[m] >= p.params.atomCount || (m > 0 && a[m] <= a[m - 1]) : a[m] != ~0u)
-        badField("mss", "atoms", k, a,
-                 "is not a simplex of kind " + text(q.kind[k]) + ": " + text(q.kind[k] + 1) +
-                     " ascending atoms below " + std::to_string(p.params.atomCount) + ", then 4294967295 (slot " +
-                     std::to_string(m) + ")");
-    }
   }
 }
 
@@ -478,39 +500,197 @@ MssExtent mssExtent(const PatchList& list, std::size_t k) {
   return {hLo, hHi, std::sqrt(std::min(rho2, R * R))};
 }
 
-void writePatchList(const std::string& path, const PatchList& patches) {
+namespace {
+
+// ---- The file's arrays ----
+
+bool isSkinGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
+
+// Version 2: every array of forEachArray but cellPlanes.atom, which it predates.
+template <class Visit, class List>
+void version2Arrays(Visit&& visit, List& p) {
+  forEachArray([&](const char* group, const char* name, auto& v) {
+    if (std::strcmp(group, "cellPlanes") != 0 || std::strcmp(name, "atom") != 0) visit(std::string(group) + "." + name, v);
+  }, p);
+}
+
+// What version 3 stores of the skin besides the simplices (mss.atoms), the plane counts
+// (mss.cellCount) and the atom across each plane (cellPlanes.atom).
+struct SkinFile {
+  std::vector<glm::dvec3> atomCenter;  // z_i of every atom of the list, or none
+  std::vector<double> atomWeight;      // w_i = mss::skinWeight(r_i, s)
+  std::vector<std::uint32_t> cellBegin;  // empty: the running sum of mss.cellCount
+  // The patches stored whole (ascending) and their fields; the others are derived.
+  std::vector<std::uint32_t> wholePatch;
+  std::vector<glm::dvec3> center, axis;
+  std::vector<double> radialCoeff, axialCoeff, constant, boundRadius;
+  // The planes stored whole (ascending) and their values; the others are derived.
+  std::vector<std::uint32_t> wholePlane;
+  std::vector<Plane> plane;
+};
+
+// Version 3: the SES arrays as in version 2, then the skin (SkinFile).
+template <class Visit, class List, class Skin>
+void version3Arrays(Visit&& visit, List& p, Skin& f) {
+  forEachArray([&](const char* group, const char* name, auto& v) {
+    if (!isSkinGroup(group)) visit(std::string(group) + "." + name, v);
+  }, p);
+  visit("skin.center", f.atomCenter);
+  visit("skin.weight", f.atomWeight);
+  visit("mss.atoms", p.mss.atoms);
+  visit("mss.cellCount", p.mss.cellCount);
+  visit("mss.cellBegin", f.cellBegin);
+  visit("mss.whole", f.wholePatch);
+  visit("mss.center", f.center);
+  visit("mss.axis", f.axis);
+  visit("mss.radialCoeff", f.radialCoeff);
+  visit("mss.axialCoeff", f.axialCoeff);
+  visit("mss.constant", f.constant);
+  visit("mss.boundRadius", f.boundRadius);
+  visit("cellPlanes.atom", p.cellPlaneAtom);
+  visit("cellPlanes.whole", f.wholePlane);
+  visit("cellPlanes.plane", f.plane);
+}
+
+// The simplex of a patch's atoms (kind + 1 of them, then ~0u).
+mss::Simplex simplexOf(const glm::uvec4& atoms) {
+  mss::Simplex x;
+  while (x.size < 4 && atoms[x.size] != ~0u) {
+    x.atom[x.size] = atoms[x.size];
+    ++x.size;
+  }
+  return x;
+}
+
+// Whether the plane of X across atom a is mss::cellPlane's: a is an atom of X (which then has
+// two atoms or more) or another atom (and X has three or fewer).
+bool planeAcross(const mss::Simplex& x, std::uint32_t a, std::size_t atomCount) {
+  if (a >= atomCount) return false;
+  for (int k = 0; k < x.size; ++k)
+    if (x[k] == a) return x.size >= 2;
+  return x.size <= 3;
+}
+
+template <class T> bool sameBits(const T& a, const T& b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
+
+// Patches of a list whose planes lie in one run, each after the one before.
+bool runningCells(const MssQuadrics& q) {
+  std::uint64_t sum = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    if (q.cellBegin[k] != sum) return false;
+    sum += q.cellCount[k];
+  }
+  return true;
+}
+
+// Which patches and planes of a valid list derive back to their own bits from `atoms`.
+void markDerivable(const PatchList& p, const mss::WeightedPoints& w, std::vector<std::uint8_t>& patchWhole,
+                   std::vector<std::uint8_t>& planeWhole) {
+  const MssQuadrics& q = p.mss;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, q.size(), 512), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const mss::Simplex x = simplexOf(q.atoms[k]);
+      try {
+        const mss::SkinPatch d = mss::skinPatch(w, x);
+        patchWhole[k] = !(sameBits(d.quadric.center, q.center[k]) && sameBits(d.quadric.axis, q.axis[k]) &&
+                          sameBits(d.quadric.radial, q.radialCoeff[k]) && sameBits(d.quadric.axial, q.axialCoeff[k]) &&
+                          sameBits(d.quadric.constant, q.constant[k]) && sameBits(d.boundRadius, q.boundRadius[k]));
+        for (std::uint32_t m = q.cellBegin[k]; m < q.cellBegin[k] + q.cellCount[k]; ++m) {
+          const std::uint32_t a = p.cellPlaneAtom[m];
+          planeWhole[m] = !(planeAcross(x, a, w.z.size()) && sameBits(mss::cellPlane(w, x, d.quadric.center, a), p.cellPlanes[m]));
+        }
+      } catch (const std::invalid_argument&) {
+        // A degenerate simplex (not the builder's): the patch and its planes are stored whole.
+      }
+    }
+  });
+}
+
+SkinFile encodeSkin(const PatchList& p, const PatchListAtoms& atoms) {
+  SkinFile f;
+  const MssQuadrics& q = p.mss;
+  const bool running = runningCells(q);
+  if (!running) f.cellBegin = q.cellBegin;
+  std::vector<std::uint8_t> patchWhole(q.size(), 1), planeWhole(p.cellPlanes.size(), 1);
+  if (!atoms.centers.empty() && q.size() > 0) {
+    if (atoms.centers.size() != p.params.atomCount || atoms.radii.size() != atoms.centers.size())
+      throw std::invalid_argument("writePatchList: " + std::to_string(atoms.centers.size()) + " centres and " +
+                                  std::to_string(atoms.radii.size()) + " radii given for a list of " +
+                                  std::to_string(p.params.atomCount) + " atoms");
+    f.atomCenter.assign(atoms.centers.begin(), atoms.centers.end());
+    f.atomWeight.resize(atoms.radii.size());
+    for (std::size_t i = 0; i < atoms.radii.size(); ++i) f.atomWeight[i] = mss::skinWeight(atoms.radii[i], p.params.shrinkFactor);
+    // Only planes in one run are derived, each from the one patch whose run holds it (the
+    // builder's lists); the planes of scattered or overlapping ranges are stored whole.
+    if (running) markDerivable(p, {f.atomCenter, f.atomWeight, p.params.shrinkFactor}, patchWhole, planeWhole);
+  }
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    if (!patchWhole[k]) continue;
+    f.wholePatch.push_back(static_cast<std::uint32_t>(k));
+    f.center.push_back(q.center[k]);
+    f.axis.push_back(q.axis[k]);
+    f.radialCoeff.push_back(q.radialCoeff[k]);
+    f.axialCoeff.push_back(q.axialCoeff[k]);
+    f.constant.push_back(q.constant[k]);
+    f.boundRadius.push_back(q.boundRadius[k]);
+  }
+  for (std::size_t m = 0; m < p.cellPlanes.size(); ++m)
+    if (planeWhole[m]) {
+      f.wholePlane.push_back(static_cast<std::uint32_t>(m));
+      f.plane.push_back(p.cellPlanes[m]);
+    }
+  return f;
+}
+
+}  // namespace
+
+std::vector<unsigned char> encodePatchList(const PatchList& patches, const PatchListAtoms& atoms, std::uint32_t version) {
+  if (version != 2 && version != 3) throw std::invalid_argument("encodePatchList: version " + std::to_string(version));
   patches.validate();
-  Writer body;
-  body.pod(static_cast<std::uint32_t>(patches.params.surface));
-  body.pod(patches.params.probeRadius);
-  body.pod(patches.params.shrinkFactor);
-  body.string(patches.params.radiiSet);
-  body.pod(patches.params.inputCrc32);
-  body.pod(patches.params.atomCount);
-  body.pod(patches.componentCount);
+  SkinFile skin;
+  if (version == 3) skin = encodeSkin(patches, atoms);
+  auto table = [&](auto&& visit) {
+    if (version == 3) version3Arrays(visit, patches, skin);
+    else version2Arrays(visit, patches);
+  };
+  // The whole file in one buffer of its exact size, counted first.
   std::uint32_t arrays = 0;
-  forEachArray([&](const char*, const char*, const auto&) { ++arrays; }, patches);
-  body.pod(arrays);
-  forEachArray([&](const char* group, const char* name, const auto& v) {
-    using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
-    body.string(std::string(group) + "." + name);
-    body.pod(static_cast<std::uint32_t>(Info::kScalar));
-    body.pod(Info::kComponents);
-    body.pod(static_cast<std::uint64_t>(v.size()));
-    body.array(v);
-  }, patches);
-
-  Writer file;
-  file.bytes.insert(file.bytes.end(), kMagic, kMagic + sizeof kMagic);
-  file.pod(kPatchFileVersion);
+  std::size_t size = kHeaderSize + 4 + 8 + 8 + 4 + patches.params.radiiSet.size() + 4 + 4 + 4 + 4 + 4;
+  table([&](const std::string& name, const auto& v) {
+    ++arrays;
+    size += 4 + name.size() + 4 + 4 + 8 + v.size() * sizeof(v[0]);
+  });
+  Writer file(size);
+  file.raw(kMagic, sizeof kMagic);
+  file.pod(version);
   file.pod(kEndianTag);
-  file.pod(static_cast<std::uint64_t>(body.bytes.size()));
-  file.bytes.insert(file.bytes.end(), body.bytes.begin(), body.bytes.end());
-  file.pod(crc32Of(body.bytes.data(), body.bytes.size()));
+  file.pod(static_cast<std::uint64_t>(size - kHeaderSize - 4));
+  file.pod(static_cast<std::uint32_t>(patches.params.surface));
+  file.pod(patches.params.probeRadius);
+  file.pod(patches.params.shrinkFactor);
+  file.string(patches.params.radiiSet);
+  file.pod(patches.params.inputCrc32);
+  file.pod(patches.params.atomCount);
+  file.pod(patches.componentCount);
+  file.pod(arrays);
+  table([&](const std::string& name, const auto& v) {
+    using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
+    file.string(name);
+    file.pod(static_cast<std::uint32_t>(Info::kScalar));
+    file.pod(Info::kComponents);
+    file.pod(static_cast<std::uint64_t>(v.size()));
+    file.array(v);
+  });
+  file.pod(crc32Of(file.bytes.data() + kHeaderSize, size - kHeaderSize - 4));
+  if (file.pos != size) throw std::logic_error("patch list writer: the file is shorter than its counted size");
+  return std::move(file.bytes);
+}
 
+void writePatchList(const std::string& path, const PatchList& patches, const PatchListAtoms& atoms) {
+  const std::vector<unsigned char> bytes = encodePatchList(patches, atoms);
   // Beside the target, checked, then renamed: a full disk or a crash never leaves a
   // half-written file.
-  writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(file.bytes)));
+  writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(bytes)));
 }
 
 bool isPatchListFile(const std::string& path) {
@@ -520,11 +700,169 @@ bool isPatchListFile(const std::string& path) {
 }
 
 PatchList readPatchList(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::runtime_error(path + ": cannot open patch list");
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw std::runtime_error(path + ": cannot read patch list");
+  // One read of the whole file.
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), size)) throw std::runtime_error(path + ": cannot read patch list");
   return parsePatchList(bytes, path);
 }
+
+namespace {
+
+// Reads one named array of the table; the name and element type must be the expected ones.
+template <class T>
+void readArray(Reader& r, const std::string& want, std::vector<T>& v) {
+  using Info = ElementInfo<T>;
+  const std::string got = r.string("array name");
+  if (got != want) r.fail("expected array " + want + ", found " + got);
+  const auto scalar = r.pod<std::uint32_t>("array type");
+  const auto components = r.pod<std::uint32_t>("array width");
+  if (scalar != static_cast<std::uint32_t>(Info::kScalar) || components != Info::kComponents)
+    r.fail("array " + want + " has the wrong element type");
+  const auto count = r.pod<std::uint64_t>("array length");
+  r.array(v, count, want.c_str());
+}
+
+// Strictly ascending indices below `limit`, with `values` of one per index.
+void checkWhole(Reader& r, const std::vector<std::uint32_t>& index, std::size_t limit, const char* name, std::size_t values) {
+  for (std::size_t e = 0; e < index.size(); ++e)
+    if (index[e] >= limit || (e > 0 && index[e] <= index[e - 1]))
+      r.fail(std::string(name) + "[" + std::to_string(e) + "] = " + std::to_string(index[e]) +
+             " is not an index above the one before and below " + std::to_string(limit) + " (the file is damaged)");
+  if (values != index.size())
+    r.fail(std::string(name) + " lists " + std::to_string(index.size()) + " entries stored whole, their values " +
+           std::to_string(values) + " (the file is damaged)");
+}
+
+// The derived fields of patch k and its planes not stored whole; an empty string, or what is
+// wrong with them.
+std::string derivePatch(PatchList& p, const mss::WeightedPoints& w, const std::vector<std::uint8_t>& patchWhole,
+                        const std::vector<std::uint8_t>& planeWhole, std::size_t k) {
+  MssQuadrics& q = p.mss;
+  const mss::Simplex x = simplexOf(q.atoms[k]);
+  bool derived = !patchWhole[k];
+  for (std::uint32_t m = q.cellBegin[k]; m < q.cellBegin[k] + q.cellCount[k]; ++m) derived = derived || !planeWhole[m];
+  if (!derived) return {};
+  if (w.z.empty()) return "mss patch " + std::to_string(k) + " is stored by reference, but the file holds no atoms";
+  for (int a = 0; a < x.size; ++a)
+    if (x[a] >= w.z.size()) return "mss.atoms[" + std::to_string(k) + "] names atom " + std::to_string(x[a]) + " of " + std::to_string(w.z.size());
+  try {
+    const mss::SkinPatch d = mss::skinPatch(w, x);
+    if (!patchWhole[k]) {
+      q.center[k] = d.quadric.center;
+      q.axis[k] = d.quadric.axis;
+      q.radialCoeff[k] = d.quadric.radial;
+      q.axialCoeff[k] = d.quadric.axial;
+      q.constant[k] = d.quadric.constant;
+      q.boundRadius[k] = d.boundRadius;
+    }
+    for (std::uint32_t m = q.cellBegin[k]; m < q.cellBegin[k] + q.cellCount[k]; ++m) {
+      if (planeWhole[m]) continue;
+      const std::uint32_t a = p.cellPlaneAtom[m];
+      if (!planeAcross(x, a, w.z.size()))
+        return "cellPlanes.atom[" + std::to_string(m) + "] = " + std::to_string(a) + " is not an atom across a face of mss patch " +
+               std::to_string(k) + " (its own atoms when it has 2 or more, others when it has 3 or fewer)";
+      p.cellPlanes[m] = mss::cellPlane(w, x, d.quadric.center, a);
+    }
+  } catch (const std::invalid_argument& e) {
+    return "mss.atoms[" + std::to_string(k) + "] = " + text(q.atoms[k]) + " is " + e.what() + ": no skin patch";
+  }
+  return {};
+}
+
+// Version 3's skin: the arrays of `f` (read) expanded into the patch list's.
+void expandSkin(Reader& r, PatchList& p, const SkinFile& f) {
+  MssQuadrics& q = p.mss;
+  const std::size_t n = q.atoms.size();
+  if (q.cellCount.size() != n) r.fail("mss.cellCount has " + std::to_string(q.cellCount.size()) + " entries, expected " + std::to_string(n));
+  if (!f.cellBegin.empty() && f.cellBegin.size() != n)
+    r.fail("mss.cellBegin has " + std::to_string(f.cellBegin.size()) + " entries, expected 0 or " + std::to_string(n));
+  if (f.atomCenter.size() != f.atomWeight.size() || (!f.atomCenter.empty() && f.atomCenter.size() != p.params.atomCount))
+    r.fail("the skin's atoms hold " + std::to_string(f.atomCenter.size()) + " centres and " + std::to_string(f.atomWeight.size()) +
+           " weights for a list of " + std::to_string(p.params.atomCount) + " atoms");
+  for (std::size_t i = 0; i < f.atomCenter.size(); ++i) {
+    if (!finite(f.atomCenter[i]) || !inCube(f.atomCenter[i]))
+      r.fail("skin.center[" + std::to_string(i) + "] = " + text(f.atomCenter[i]) + " is not a point within " + text(kMaxLength) + " Å (the file is damaged)");
+    if (!(f.atomWeight[i] >= 0.0 && f.atomWeight[i] <= kMaxLength * kMaxLength))
+      r.fail("skin.weight[" + std::to_string(i) + "] = " + text(f.atomWeight[i]) + " is not in [0, " + text(kMaxLength * kMaxLength) + "] (the file is damaged)");
+  }
+  // The simplices, kinds and plane ranges, checked before anything is derived from them.
+  q.kind.resize(n);
+  for (std::size_t k = 0; k < n; ++k) q.kind[k] = static_cast<std::uint32_t>(std::max(simplexOf(q.atoms[k]).size, 1) - 1);
+  try {
+    checkSimplices(q, p.params.atomCount);
+  } catch (const std::runtime_error& e) {
+    r.fail(std::string(e.what()) + " (the file is damaged, or was not written by surftrace)");
+  }
+  const std::uint64_t planeCount = p.cellPlaneAtom.size();
+  if (f.cellBegin.empty()) {
+    q.cellBegin.resize(n);
+    std::uint64_t sum = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      q.cellBegin[k] = static_cast<std::uint32_t>(std::min<std::uint64_t>(sum, ~0u));
+      sum += q.cellCount[k];
+      if (sum > planeCount)
+        r.fail("mss.cellCount[" + std::to_string(k) + "] = " + std::to_string(q.cellCount[k]) + " runs past the " +
+               std::to_string(planeCount) + " planes (the file is damaged)");
+    }
+  } else {
+    q.cellBegin = f.cellBegin;
+    if (f.wholePlane.size() != planeCount) r.fail("a list with its own mss.cellBegin must store every plane whole (the file is damaged)");
+    try {
+      checkRange(q.cellBegin, q.cellCount, planeCount, "mss", "cellBegin", "cellCount", "cellPlanes");
+    } catch (const std::runtime_error& e) {
+      r.fail(std::string(e.what()) + " (the file is damaged)");
+    }
+  }
+  checkWhole(r, f.wholePatch, n, "mss.whole", f.center.size());
+  for (const auto* v : {&f.radialCoeff, &f.axialCoeff, &f.constant, &f.boundRadius})
+    if (v->size() != f.center.size() || f.axis.size() != f.center.size()) r.fail("the arrays of the mss patches stored whole differ in length");
+  checkWhole(r, f.wholePlane, planeCount, "cellPlanes.whole", f.plane.size());
+  // Whole ones in place; then the rest derived, patch by patch in parallel.
+  std::vector<std::uint8_t> patchWhole(n, 0), planeWhole(planeCount, 0);
+  q.center.resize(n);
+  q.axis.resize(n);
+  q.radialCoeff.resize(n);
+  q.axialCoeff.resize(n);
+  q.constant.resize(n);
+  q.boundRadius.resize(n);
+  for (std::size_t e = 0; e < f.wholePatch.size(); ++e) {
+    const std::uint32_t k = f.wholePatch[e];
+    patchWhole[k] = 1;
+    q.center[k] = f.center[e];
+    q.axis[k] = f.axis[e];
+    q.radialCoeff[k] = f.radialCoeff[e];
+    q.axialCoeff[k] = f.axialCoeff[e];
+    q.constant[k] = f.constant[e];
+    q.boundRadius[k] = f.boundRadius[e];
+  }
+  p.cellPlanes.resize(planeCount);
+  for (std::size_t e = 0; e < f.wholePlane.size(); ++e) {
+    planeWhole[f.wholePlane[e]] = 1;
+    p.cellPlanes[f.wholePlane[e]] = f.plane[e];
+  }
+  // A plane outside every patch's run has nothing to be derived from.
+  const std::uint64_t covered = n == 0 ? 0 : std::uint64_t{q.cellBegin[n - 1]} + q.cellCount[n - 1];
+  for (std::uint64_t m = f.cellBegin.empty() ? covered : planeCount; m < planeCount; ++m)
+    if (!planeWhole[m]) r.fail("cellPlanes.atom[" + std::to_string(m) + "] belongs to no mss patch (the file is damaged)");
+  const mss::WeightedPoints w{f.atomCenter, f.atomWeight, p.params.shrinkFactor};
+  std::atomic<std::size_t> firstBad{n};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k)
+      if (!derivePatch(p, w, patchWhole, planeWhole, k).empty()) {
+        std::size_t seen = firstBad.load();
+        while (k < seen && !firstBad.compare_exchange_weak(seen, k)) {}
+        return;
+      }
+  });
+  if (firstBad.load() < n) r.fail(derivePatch(p, w, patchWhole, planeWhole, firstBad.load()) + " (the file is damaged)");
+}
+
+}  // namespace
 
 PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string& path) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
@@ -550,9 +888,10 @@ PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string
                              " is newer than this SurfTrace reads (up to " + std::to_string(kPatchFileVersion) +
                              "); rebuild it with `surftrace build` or upgrade SurfTrace");
   if (version == 0) throw std::runtime_error(path + ": corrupt patch list (version 0)");
-  if (version < kPatchFileVersion)
+  if (version < 2)
     throw std::runtime_error(path + ": patch list version " + std::to_string(version) +
-                             " was written by an older SurfTrace; rebuild it with `surftrace build`");
+                             " was written by an older SurfTrace (this one reads versions 2 to " +
+                             std::to_string(kPatchFileVersion) + "); rebuild it with `surftrace build`");
   const std::size_t available = bytes.size() - kHeaderSize;
   if (bodySize > available || available - bodySize < 4)
     throw std::runtime_error(path + ": truncated patch list: header announces " + std::to_string(bodySize) +
@@ -579,24 +918,29 @@ PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string
   p.params.atomCount = r.pod<std::uint32_t>("atom count");
   p.componentCount = r.pod<std::uint32_t>("component count");
   const auto arrays = r.pod<std::uint32_t>("array count");
+  SkinFile skin;
+  auto table = [&](auto&& visit) {
+    if (version == 3) version3Arrays(visit, p, skin);
+    else version2Arrays(visit, p);
+  };
   std::uint32_t expected = 0;
-  forEachArray([&](const char*, const char*, auto&) { ++expected; }, p);
+  table([&](const std::string&, auto&) { ++expected; });
   if (arrays != expected)
     r.fail("holds " + std::to_string(arrays) + " arrays, version " + std::to_string(version) + " has " +
            std::to_string(expected));
-  forEachArray([&](const char* group, const char* name, auto& v) {
-    using Info = ElementInfo<typename std::decay_t<decltype(v)>::value_type>;
-    const std::string want = std::string(group) + "." + name;
-    const std::string got = r.string("array name");
-    if (got != want) r.fail("expected array " + want + ", found " + got);
-    const auto scalar = r.pod<std::uint32_t>("array type");
-    const auto components = r.pod<std::uint32_t>("array width");
-    if (scalar != static_cast<std::uint32_t>(Info::kScalar) || components != Info::kComponents)
-      r.fail("array " + want + " has the wrong element type");
-    const auto count = r.pod<std::uint64_t>("array length");
-    r.array(v, count, want.c_str());
-  }, p);
+  table([&](const std::string& name, auto& v) { readArray(r, name, v); });
   if (!r.atEnd()) r.fail("unexpected bytes after the last array");
+  if (version == 2) {
+    p.cellPlaneAtom.assign(p.cellPlanes.size(), ~0u);  // not stored: unknown
+  } else {
+    // The derived skin must be that of a sane list: its parameters first.
+    try {
+      checkParams(p);
+    } catch (const std::runtime_error& e) {
+      r.fail(std::string(e.what()) + " (the file is damaged, or was not written by surftrace)");
+    }
+    expandSkin(r, p, skin);
+  }
   try {
     checkList(p);
   } catch (const std::runtime_error& e) {

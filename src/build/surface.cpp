@@ -139,6 +139,8 @@ void restoreAtomIndices(PatchList& list, std::span<const std::uint32_t> kept, st
   for (glm::uvec4& simplex : list.mss.atoms)
     for (int k = 0; k < 4; ++k)
       if (simplex[k] != ~0u) simplex[k] = kept[simplex[k]];
+  for (std::uint32_t& a : list.cellPlaneAtom)
+    if (a != ~0u) a = kept[a];
 }
 
 // Culls m for request r; throws on a cluster that remains.

@@ -16,6 +16,7 @@
 
 #include "build/io/molecule.hpp"
 #include "build/surface.hpp"
+#include "patch_compare.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -112,7 +113,10 @@ PatchList randomMssList(std::uint32_t seed) {
     p.mss.atoms.push_back(simplex[kind]);
     p.mss.cellBegin.push_back(static_cast<std::uint32_t>(p.cellPlanes.size()));
     p.mss.cellCount.push_back(kind);
-    for (std::uint32_t c = 0; c < kind; ++c) p.cellPlanes.emplace_back(glm::normalize(v3()), u(rng));
+    for (std::uint32_t c = 0; c < kind; ++c) {
+      p.cellPlanes.emplace_back(glm::normalize(v3()), u(rng));
+      p.cellPlaneAtom.push_back(c == 0 ? ~0u : 50u + c);  // unknown, or an atom whose plane it is not
+    }
   }
   return p;
 }
@@ -317,11 +321,14 @@ TEST(PatchListValidate, RealListsLoadAndRoundTrip) {
                                std::to_string(r.probeRadius) + " s " + std::to_string(r.shrinkFactor);
       const PatchList p = buildSurface(m, r);
       ASSERT_GT(p.patchCount(), 0u) << what;
+      // With the atoms, as `surftrace build` writes it: the skin is stored by reference.
+      const PatchListAtoms atoms{m.centers, m.radii};
       const std::string path = tempPath("real.stp"), again = tempPath("real-again.stp");
-      ASSERT_NO_THROW(writePatchList(path, p)) << what;
+      ASSERT_NO_THROW(writePatchList(path, p, atoms)) << what;
       PatchList q;
       ASSERT_NO_THROW(q = readPatchList(path)) << what;
-      writePatchList(again, q);
+      test::expectSamePatchLists(q, p, what);
+      writePatchList(again, q, atoms);
       EXPECT_EQ(slurp(path), slurp(again)) << what;
     }
   }
@@ -447,8 +454,9 @@ TEST(PatchListValidate, ImpossibleMssFieldsAreRejectedOnLoad) {
   const auto [edges, edgesEnd] = mssKindRange(p.mss, MssKind::Edge);
   ASSERT_LT(edges, edgesEnd);
   ASSERT_GT(p.mss.cellCount[edges], 0u);
+  // A version-2 file, which stores every field (version 3 derives them: see below).
   const std::string good = tempPath("1crn-mss.stp"), bad = tempPath("1crn-mss-bad.stp");
-  writePatchList(good, p);
+  spit(good, encodePatchList(p, {}, 2));
   const std::string e = std::to_string(edges);
   struct Case {
     std::function<void()> damage;
@@ -500,6 +508,151 @@ TEST(PatchListValidate, WriteRefusesAnImpossibleList) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("patch list: tori.axis[1] = (0, 0, 0) is not a unit vector"), std::string::npos)
         << e.what();
+  }
+}
+
+// Version 3 derives the skin's quadrics and planes from the atoms with the builder's own
+// functions: the lists of 1CRN, 1GRM and 1VIS come back bit for bit, array for array, in a
+// file that stores no patch or plane whole (its size is that of the references alone) and is
+// under a fifth of version 2's. Without the atoms every patch is stored whole, bit for bit too.
+TEST(PatchListFile, SkinByReferenceRoundTripsBitExact) {
+  for (const char* file : {"structures/1crn.pdb", "paper/1grm.pdb.gz", "paper/1vis.pdb.gz"}) {
+    const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file);
+    for (const double s : {0.3, 0.5, 0.9}) {
+      const std::string what = std::string(file) + " s " + std::to_string(s);
+      const PatchList p = buildSurface(m, {SurfaceKind::Mss, 1.4, s, false});
+      ASSERT_GT(p.mss.size(), 0u) << what;
+      const std::vector<unsigned char> v3 = encodePatchList(p, {m.centers, m.radii});
+      const std::vector<unsigned char> whole = encodePatchList(p), v2 = encodePatchList(p, {}, 2);
+      test::expectSamePatchLists(parsePatchList(v3, "v3.stp"), p, what + " by reference");
+      test::expectSamePatchLists(parsePatchList(whole, "whole.stp"), p, what + " whole");
+      // References only: the atoms (32 bytes), per patch its simplex and plane count (20), per
+      // plane its atom (4), and the table's names and lengths.
+      const std::size_t references = 32 * m.size() + 20 * p.mss.size() + 4 * p.cellPlanes.size();
+      EXPECT_LE(v3.size(), references + 4096) << what;
+      EXPECT_LT(5 * v3.size(), v2.size()) << what;
+      // Version 2 holds everything but the atoms across the planes, which read as not known.
+      PatchList old = parsePatchList(v2, "v2.stp");
+      EXPECT_EQ(old.cellPlaneAtom, std::vector<std::uint32_t>(p.cellPlanes.size(), ~0u)) << what;
+      old.cellPlaneAtom = p.cellPlaneAtom;
+      test::expectSamePatchLists(old, p, what + " version 2");
+    }
+  }
+}
+
+// Files written by the version-2 writer before version 3 existed (tests/data/stp, MANIFEST.md)
+// read as the lists built now from the same structures, every array bit for bit (the atoms
+// across the planes, which version 2 did not store, read as not known).
+TEST(PatchListFile, Version2FilesStillRead) {
+  const std::string dir = std::string(SURFTRACE_TEST_DATA) + "/";
+  const Molecule m = readMolecule(dir + "small/tiny.pdb");
+  const struct {
+    const char* file;
+    SurfaceRequest request;
+  } cases[] = {{"stp/tiny_ses_v2.stp", {SurfaceKind::Ses, 1.4, 0.5, false}},
+               {"stp/tiny_mss_v2.stp", {SurfaceKind::Mss, 1.4, 0.5, false}}};
+  for (const auto& c : cases) {
+    const std::vector<unsigned char> bytes = slurp(dir + c.file);
+    ASSERT_GT(bytes.size(), 12u) << c.file;
+    std::uint32_t version;
+    std::memcpy(&version, bytes.data() + 8, 4);
+    EXPECT_EQ(version, 2u) << c.file;
+    PatchList old = readPatchList(dir + c.file);
+    PatchList now = buildSurface(m, c.request);
+    ASSERT_GT(now.patchCount(), 0u) << c.file;
+    EXPECT_EQ(old.cellPlaneAtom, std::vector<std::uint32_t>(now.cellPlanes.size(), ~0u)) << c.file;
+    old.cellPlaneAtom = now.cellPlaneAtom;
+    test::expectSamePatchLists(old, now, c.file);
+  }
+  // Version 1 is refused with the file, its version and what to do.
+  auto bytes = slurp(dir + cases[0].file);
+  const std::uint32_t one = 1;
+  std::memcpy(bytes.data() + 8, &one, 4);
+  const std::string path = tempPath("v1.stp");
+  spit(path, bytes);
+  try {
+    readPatchList(path);
+    FAIL() << "version 1 accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": patch list version 1 was written by an older SurfTrace"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("rebuild it with `surftrace build`"), std::string::npos) << e.what();
+  }
+}
+
+// A version-3 skin cut anywhere is a clear error, as an SES list is.
+TEST(PatchListFile, EveryTruncationOfASkinIsAClearError) {
+  const PatchList p = buildSurface(crambin(), {SurfaceKind::Mss, 1.4, 0.5, false});
+  const auto bytes = encodePatchList(p, {crambin().centers, crambin().radii});
+  const std::string cut = tempPath("cut-mss.stp");
+  for (std::size_t n = 0; n < bytes.size(); n += 1 + n / 8) {
+    spit(cut, {bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(n)});
+    try {
+      readPatchList(cut);
+      ADD_FAILURE() << "a file cut to " << n << " of " << bytes.size() << " bytes was accepted";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(cut), std::string::npos) << what;
+      EXPECT_TRUE(what.find("truncated") != std::string::npos || what.find("bad magic") != std::string::npos)
+          << "cut at " << n << ": " << what;
+    }
+  }
+}
+
+// The references of a version-3 skin damaged behind a valid checksum: each is an error that
+// names the file and the entry, never a crash, an abort in the exact arithmetic or a wrong list.
+TEST(PatchListValidate, DamagedSkinReferencesAreRejectedOnLoad) {
+  const Molecule& m = crambin();
+  const PatchList p = buildSurface(m, {SurfaceKind::Mss, 1.4, 0.5, false});
+  const auto [edges, edgesEnd] = mssKindRange(p.mss, MssKind::Edge);
+  const auto [faces, facesEnd] = mssKindRange(p.mss, MssKind::Face);
+  const auto [tets, tetsEnd] = mssKindRange(p.mss, MssKind::Concave);
+  ASSERT_LT(edges, edgesEnd);
+  ASSERT_LT(faces, facesEnd);
+  ASSERT_LT(tets, tetsEnd);
+  ASSERT_GT(p.mss.cellCount[tets], 0u);
+  const std::string good = tempPath("1crn-mss-v3.stp"), bad = tempPath("1crn-mss-v3-bad.stp");
+  writePatchList(good, p, {m.centers, m.radii});
+  // An atom that is not one of the first tetrahedron's: its plane is no face of that cell.
+  const glm::uvec4 t = p.mss.atoms[tets];
+  std::uint32_t stranger = 0;
+  while (stranger == t[0] || stranger == t[1] || stranger == t[2] || stranger == t[3]) ++stranger;
+  const std::uint32_t plane = p.mss.cellBegin[tets];
+  const glm::uvec4 f = p.mss.atoms[faces];
+  const std::string e = std::to_string(edges), tp = std::to_string(plane);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    std::function<void()> damage;
+    std::string field, value;
+  };
+  const Case cases[] = {
+      {[&] { overwrite(bad, "mss.atoms", edges, glm::uvec4(5, 5, ~0u, ~0u)); }, "mss.atoms[" + e + "]", "(5, 5, "},
+      {[&] { overwrite(bad, "mss.atoms", 0, glm::uvec4(~0u, ~0u, ~0u, ~0u)); }, "mss.atoms[", ""},
+      {[&] { overwrite(bad, "skin.center", 3, glm::dvec3(nan, 0, 0)); }, "skin.center[3]", "(nan, 0, 0)"},
+      {[&] { overwrite(bad, "skin.center", 3, glm::dvec3(2e9, 0, 0)); }, "skin.center[3]", "(2000000000, 0, 0)"},
+      {[&] { overwrite(bad, "skin.weight", 4, -1.0); }, "skin.weight[4]", "-1"},
+      {[&] { overwrite(bad, "cellPlanes.atom", plane, stranger); }, "cellPlanes.atom[" + tp + "]",
+       std::to_string(stranger) + " is not an atom across a face of mss patch " + std::to_string(tets)},
+      {[&] { overwrite(bad, "cellPlanes.atom", plane, p.params.atomCount); }, "cellPlanes.atom[" + tp + "]",
+       std::to_string(p.params.atomCount)},
+      {[&] { overwrite(bad, "mss.cellCount", 0, 0xFFFFFFFFu); }, "mss.cellCount[0]", "4294967295 runs past"},
+      // The face's third atom moved onto its first: a degenerate triangle, whose exact
+      // orthocentre divides by zero. Some patch with that atom is refused first.
+      {[&] { overwrite(bad, "skin.center", f[2], m.centers[f[0]]); }, "", ""},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.field + " = " + c.value);
+    std::filesystem::copy_file(good, bad, std::filesystem::copy_options::overwrite_existing);
+    c.damage();
+    try {
+      readPatchList(bad);
+      ADD_FAILURE() << c.field << " = " << c.value << " was accepted";
+    } catch (const std::runtime_error& err) {
+      const std::string what = err.what();
+      EXPECT_NE(what.find(bad + ": corrupt patch list: "), std::string::npos) << what;
+      EXPECT_NE(what.find(c.field + (c.value.empty() ? "" : " = " + c.value)), std::string::npos) << what;
+      EXPECT_NE(what.find("damaged"), std::string::npos) << what;
+    }
   }
 }
 

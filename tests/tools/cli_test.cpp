@@ -583,6 +583,39 @@ TEST(Cli, DropCavitiesChangesNoPixel) {
 // A .stp whose checksum is right but whose content is impossible (a component index of
 // 0xFFFFFFFF, which `area` once used as a vector index) is an error naming the file, the field
 // and the value, from `area` and `info` alike: not a crash, not a number.
+// The skin's patch list, whose file stores the patches by reference to the atoms (version 3)
+// and derives them again on reading, renders as the skin built in memory from the structure:
+// every buffer bit for bit, on both engines, through the structure's camera (`render` frames a
+// skin's list without its structure otherwise: render_command.cpp, frameRender).
+TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
+  const auto dir = std::filesystem::path(testing::TempDir());
+  const std::string mol = data("paper/1grm.pdb.gz"), stp = (dir / "grm_mss.stp").string();
+  ASSERT_EQ(run("build " + mol + " --surface mss --shrink 0.5 -o " + stp).status, 0);
+  for (const std::string engine : {"embree", "gl"}) {
+    const std::string a = (dir / ("skin_from_structure_" + engine + ".exr")).string();
+    const std::string b = (dir / ("skin_from_patches_" + engine + ".exr")).string();
+    const std::string camera = (dir / ("skin_camera_" + engine + ".json")).string();
+    const std::string common = " --size 64x48 --quiet --engine " + engine + " --exr ";
+    const Result r1 = run("render " + mol + " --surface mss --shrink 0.5 --view 1,-0.5,0.3 --camera-out " + camera +
+                          common + a);
+    ASSERT_EQ(r1.status, 0) << r1.output;
+    const Result r2 = run("render " + stp + " --camera " + camera + common + b);
+    ASSERT_EQ(r2.status, 0) << r2.output;
+    surftrace::view::ImageMetadata ma, mb;
+    const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
+    EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
+    std::size_t covered = 0;
+    for (auto k : fa.kind) covered += k != 0;
+    EXPECT_GT(covered, fa.pixels() / 10) << engine;
+    EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
+    EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
+    EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
+    EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
+    EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
+    EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
+  }
+}
+
 TEST(Cli, DamagedStpBehindAValidChecksumIsAnErrorNotACrash) {
   const std::string stp = (std::filesystem::path(testing::TempDir()) / "1crn-damaged.stp").string();
   const Result b = run("build " + data("structures/1crn.pdb") + " -o " + stp);

@@ -132,17 +132,23 @@ bool holdsSkin(const WeightedPoints& p, const Simplex& x, const mss::Orthocentre
 
 void emitPatch(const WeightedPoints& p, const Simplex& x, std::span<const std::uint32_t> ups, Chunk& chunk) {
   MssQuadrics& out = chunk.mss;
-  const mss::SkinQuadric q = mss::skinQuadric(p, x, mss::orthocentre(p, x));
-  const double bound = mss::skinBoundRadius(p, x, q.weight);
+  const mss::SkinPatch patch = mss::skinPatch(p, x);
+  const mss::SkinQuadric& q = patch.quadric;
+  const double bound = patch.boundRadius;
   std::vector<Plane>& planes = chunk.cellPlanes;
   const auto begin = static_cast<std::uint32_t>(planes.size());
-  // A plane is kept unless the whole ball of the patch's skin lies on its inner side.
+  // A plane is kept unless the whole ball of the patch's skin lies on its inner side. Each
+  // plane keeps the atom across it, from which the file derives it again (mss::cellPlane).
   const double cull = -(bound * (1.0 + 1e-9) + 1e-12);
-  auto keep = [&](const glm::dvec4& plane) {
-    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) planes.push_back(plane);
+  auto keep = [&](std::uint32_t a) {
+    const glm::dvec4 plane = mss::cellPlane(p, x, q.center, a);
+    if (glm::dot(glm::dvec3(plane), q.center) + plane.w >= cull) {
+      planes.push_back(plane);
+      chunk.cellPlaneAtom.push_back(a);
+    }
   };
-  for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(-mss::facetPlane(p, x.without(k), x[k], q.center));
-  for (std::uint32_t a : ups) keep(mss::facetPlane(p, x, a));
+  for (int k = 0; x.size >= 2 && k < x.size; ++k) keep(x[k]);
+  for (std::uint32_t a : ups) keep(a);
   glm::uvec4 atoms(~0u);
   for (int k = 0; k < x.size; ++k) atoms[k] = x[k];
   out.kind.push_back(static_cast<std::uint32_t>(x.size - 1));
@@ -429,7 +435,7 @@ const PatchList& MssBuilder::build(std::span<const glm::dvec3> centers, std::spa
     const glm::dvec3& c = centers[i];
     if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || !std::isfinite(radii[i]) || radii[i] < 0.0)
       throw std::invalid_argument("MSS: atom " + std::to_string(i) + " has a non-finite centre or a bad radius");
-    s.weights[i] = radii[i] * radii[i] / params.shrink;
+    s.weights[i] = mss::skinWeight(radii[i], params.shrink);
     s.geometry.wMax = std::max(s.geometry.wMax, s.weights[i]);
   }
   s.setGeometry();

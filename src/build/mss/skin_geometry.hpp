@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -25,6 +26,10 @@ struct WeightedPoints {
   std::span<const double> w;
   double s = 0.5;
 };
+
+// The weight of an atom of radius r at shrink factor s, w = fl(fl(r²)/s): the one expression the
+// builder and the patch-list file (which derives the skin's patches from these weights) share.
+inline double skinWeight(double r, double s) { return r * r / s; }
 
 // A Delaunay simplex: 1 to 4 atoms, ascending.
 struct Simplex {
@@ -79,7 +84,8 @@ struct Orthocentre {
 inline constexpr double kFlatSimplex = 1e-6;
 
 // The orthocentre and the unnormalised direction of facetNormal in rational arithmetic from
-// the input doubles, rounded once (skin_geometry.cpp).
+// the input doubles, rounded once (skin_geometry.cpp). The builder never makes a simplex of
+// dependent points; for one (from a damaged file) they throw std::invalid_argument.
 Orthocentre exactOrthocentre(const WeightedPoints& p, const Simplex& x);
 glm::dvec3 exactFacetDirection(const WeightedPoints& p, const Simplex& x, std::uint32_t a);
 
@@ -195,6 +201,26 @@ inline double skinBoundRadius(const WeightedPoints& p, const Simplex& x, double 
   double wMax = p.w[x[0]];
   for (int k = 1; k < x.size; ++k) wMax = std::max(wMax, p.w[x[k]]);
   return std::sqrt(std::max(0.0, (1.0 - p.s) * wMax + (1.0 - 2.0 * p.s) * wX));
+}
+
+// What the builder stores of the patch of simplex X: its quadric and its bounding radius. The
+// patch-list file derives them again with this same function, so they come back bit for bit.
+struct SkinPatch {
+  SkinQuadric quadric;
+  double boundRadius;
+};
+inline SkinPatch skinPatch(const WeightedPoints& p, const Simplex& x) {
+  const SkinQuadric q = skinQuadric(p, x, orthocentre(p, x));
+  return {q, skinBoundRadius(p, x, q.weight)};
+}
+
+// The plane of μ_X's cell (centre zX = z_X) across from the cell of X ∖ {a} when a ∈ X (that
+// facet's plane negated; X has 2 atoms or more), or of X ∪ {a} when a ∉ X (X has 3 atoms or
+// fewer). The builder's planes and the file's derived planes are both this function.
+inline glm::dvec4 cellPlane(const WeightedPoints& p, const Simplex& x, const glm::dvec3& zX, std::uint32_t a) {
+  for (int k = 0; k < x.size; ++k)
+    if (x[k] == a) return -facetPlane(p, x.without(k), a, zX);
+  return facetPlane(p, x, a);
 }
 
 }  // namespace surftrace::build::mss
