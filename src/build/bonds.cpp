@@ -62,8 +62,11 @@ std::vector<glm::uvec2> moleculeBonds(const Molecule& molecule, double tolerance
     const auto i = bySerial.find(a), j = bySerial.find(b);
     if (i == bySerial.end() || j == bySerial.end()) continue;
     records.push_back({std::min(i->second, j->second), std::max(i->second, j->second)});
-    for (std::uint32_t k : {i->second, j->second})
-      if (molecule.atoms[k].hetatm) recorded[k] = 1;
+    // PDB CONECT lists every bond of a hetero group; mmCIF's _struct_conn only the links between
+    // residues, whose own bonds come from the chemical component dictionary: distance then.
+    if (molecule.format == MoleculeFormat::Pdb)
+      for (std::uint32_t k : {i->second, j->second})
+        if (molecule.atoms[k].hetatm) recorded[k] = 1;
   }
   std::vector<glm::uvec2> bonds = distanceBonds(molecule.centers, radii, altLocs, tolerance);
   std::erase_if(bonds, [&](const glm::uvec2& b) { return recorded[b.x] && recorded[b.y]; });

@@ -34,7 +34,8 @@ std::vector<glm::uvec2> distanceBonds(std::span<const glm::dvec3> centers, std::
 // The molecule's bonds, pairs of atom indices i < j, ascending. Where the file has bond records
 // (PDB CONECT: wwPDB writes them for hetero groups, their links and disulfides, never for the
 // bonds inside standard residues), a pair of two HETATM atoms that the records name bonds iff a
-// record says so; every other pair bonds by distance (distanceBonds) or by a record. Records
+// record says so; every other pair bonds by distance (distanceBonds) or by a record. mmCIF's
+// _struct_conn links (between residues only) are added to the distance bonds. Records
 // naming atoms the selection left out are dropped. Throws std::invalid_argument for a tolerance
 // outside [0, 2] Å.
 std::vector<glm::uvec2> moleculeBonds(const Molecule& molecule, double tolerance = kBondTolerance);

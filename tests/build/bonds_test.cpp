@@ -80,6 +80,34 @@ TEST(Bonds, ConectRecordsOfHeteroGroupsMatchMdanalysisOn1grm) {
   }
 }
 
+TEST(Bonds, MmcifStructConnLinksAreReadAndBonded) {
+  const std::string path = std::string(SURFTRACE_TEST_DATA) + "/paper/1grm.cif.gz";
+  const Molecule m = readMolecule(path);
+  const test::OracleRun run = test::runOracleScript("mda_bonds.py", {"structconn", path}, tempDir());
+  ASSERT_TRUE(run.ok()) << run.describe();
+  // The oracle names each partner by author chain, residue number and atom name.
+  auto find = [&](const std::string& chain, int seq, const std::string& name) {
+    for (std::uint32_t i = 0; i < m.size(); ++i)
+      if (m.atoms[i].chain == chain && m.atoms[i].residueNumber == seq && m.atoms[i].name == name) return i;
+    return ~0u;
+  };
+  std::set<Pair> want;
+  std::istringstream in(run.out);
+  std::string c1, a1, c2, a2;
+  int s1 = 0, s2 = 0;
+  while (in >> c1 >> s1 >> a1 >> c2 >> s2 >> a2) {
+    const std::uint32_t i = find(c1, s1, a1), j = find(c2, s2, a2);
+    ASSERT_TRUE(i != ~0u && j != ~0u) << c1 << s1 << a1 << " " << c2 << s2 << a2;
+    want.insert({std::min(i, j), std::max(i, j)});
+  }
+  ASSERT_EQ(want.size(), 28u);
+  EXPECT_EQ(m.bondRecords.size(), 28u);
+  const std::set<Pair> got = asSet(moleculeBonds(m));
+  for (const Pair& p : want) EXPECT_TRUE(got.count(p)) << p.first << "-" << p.second;
+  // mmCIF links add to the distance rule (residues' own bonds are not in the file).
+  EXPECT_GT(got.size(), m.size());
+}
+
 TEST(Bonds, DistanceRuleAtItsThresholdAndAlternateLocations) {
   // Two carbons (r_cov 0.76 Å each): bonded below 0.76 + 0.76 + 0.4 = 1.92 Å, not above.
   const double r = covalentRadius("C");

@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -503,6 +504,52 @@ Molecule readMmcifWithGemmi(const std::string& text, const std::string& path, in
 
 namespace {
 
+// The covalent links of _struct_conn (conn_type_id covale*, disulf; both partners in the
+// asymmetric unit, symmetry 1_555) as serial pairs into molecule.bondRecords. Partners are found
+// by the names the atoms were read with: author chain and residue number where _atom_site has
+// them (as the reader takes them), else the label ones; atom name, insertion code, alternate
+// location. Links to atoms not read (another model, a selection) are left out.
+void readStructConn(gemmi::cif::Block& block, Molecule& molecule, bool authAsym, bool authSeq) {
+  gemmi::cif::Table conn = block.find(
+      "_struct_conn.", {"conn_type_id", "?ptnr1_auth_asym_id", "?ptnr1_label_asym_id", "?ptnr1_auth_seq_id",
+                        "?ptnr1_label_seq_id", "?ptnr1_label_atom_id", "?pdbx_ptnr1_PDB_ins_code",
+                        "?pdbx_ptnr1_label_alt_id", "?ptnr1_symmetry", "?ptnr2_auth_asym_id", "?ptnr2_label_asym_id",
+                        "?ptnr2_auth_seq_id", "?ptnr2_label_seq_id", "?ptnr2_label_atom_id",
+                        "?pdbx_ptnr2_PDB_ins_code", "?pdbx_ptnr2_label_alt_id", "?ptnr2_symmetry"});
+  if (!conn.ok()) return;
+  auto key = [](const std::string& chain, const std::string& seq, char ins, const std::string& name, char alt) {
+    return chain + '|' + seq + '|' + ins + '|' + name + '|' + alt;
+  };
+  std::unordered_map<std::string, int> serials;
+  for (const AtomRecord& a : molecule.atoms)
+    serials.emplace(key(a.chain, std::to_string(a.residueNumber), a.insertionCode, a.name, a.altLoc), a.serial);
+  for (std::size_t r = 0; r < conn.length(); ++r) {
+    gemmi::cif::Table::Row row = conn[static_cast<int>(r)];
+    auto str = [&](int column) {
+      return row.has2(static_cast<std::size_t>(column)) ? gemmi::cif::as_string(row[static_cast<std::size_t>(column)])
+                                                        : std::string();
+    };
+    auto letter = [&](int column) {
+      const std::string v = str(column);
+      return v.empty() ? ' ' : v[0];
+    };
+    const std::string type = str(0);
+    if (type.rfind("covale", 0) != 0 && type != "disulf") continue;
+    int partner[2] = {0, 0};
+    for (int p = 0; p < 2; ++p) {
+      const int base = 1 + 8 * p;  // the columns of ptnr1, then of ptnr2
+      const std::string symmetry = str(base + 7);
+      if (!symmetry.empty() && symmetry != "1_555") break;
+      const auto it = serials.find(key(str(authAsym ? base : base + 1), str(authSeq ? base + 2 : base + 3),
+                                       letter(base + 5), str(base + 4), letter(base + 6)));
+      if (it == serials.end()) break;
+      partner[p] = it->second;
+    }
+    if (partner[0] > 0 && partner[1] > 0 && partner[0] != partner[1])
+      molecule.bondRecords.push_back({std::min(partner[0], partner[1]), std::max(partner[0], partner[1])});
+  }
+}
+
 Molecule readMmcifTable(const std::string& text, const std::string& path, int model) {
   gemmi::cif::Document document;
   try {
@@ -690,6 +737,7 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
   if (models.empty()) throw InputError(path, 0, "no atoms in the _atom_site table");
   if (model > molecule.modelCount) throwNoSuchModel(path, model, models.size());
   countMoreElementNotes(molecule, unknownElements);
+  readStructConn(block, molecule, table.has_column(kAuthAsym), table.has_column(kAuthSeq));
   return molecule;
 }
 

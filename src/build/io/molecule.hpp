@@ -98,8 +98,8 @@ struct Molecule {
   std::optional<double> beadRadius;     // the --bead-radius every particle got, when given
   std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
   SkipReport skipped;
-  // Bonds the file states (PDB CONECT), as pairs of serial numbers (AtomRecord::serial), lower
-  // first; atoms the selection left out may appear. build/bonds.hpp turns them into bonds.
+  // Bonds the file states (PDB CONECT, mmCIF _struct_conn links), pairs of serials (AtomRecord::serial),
+  // lower first; atoms the selection left out may appear. build/bonds.hpp turns them into bonds.
   std::vector<std::array<int, 2>> bondRecords;
   // What the reader assumed where the file was odd but readable (an element column that
   // names no element, ...), each naming the line: the commands print them as notes.
