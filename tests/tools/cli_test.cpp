@@ -423,6 +423,25 @@ bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+// Two EXRs of one view: the same camera, a tenth of the image covered, and every buffer
+// equal bit for bit.
+void expectSameImage(const std::string& a, const std::string& b, const std::string& engine) {
+  surftrace::view::ImageMetadata ma, mb;
+  const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
+  EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
+  std::size_t covered = 0;
+  for (auto k : fa.kind) covered += k != 0;
+  EXPECT_GT(covered, fa.pixels() / 10) << engine;
+  EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
+  EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
+  EXPECT_TRUE(sameBytes(fa.viewZ, fb.viewZ)) << engine;
+  EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
+  EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
+  EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
+  EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
+  EXPECT_TRUE(sameBytes(fa.flags, fb.flags)) << engine;
+}
+
 // `build`'s patch list rendered as FILE (named without .stp: it is told by its magic) gives
 // the image the structure gives, buffer for buffer and bit for bit, on both engines, with
 // the same camera; `area` of it gives the structure's areas.
@@ -438,20 +457,7 @@ TEST(Cli, PatchListRendersAsTheStructureDoes) {
     ASSERT_EQ(r1.status, 0) << r1.output;
     const Result r2 = run("render " + stp + common + b);
     ASSERT_EQ(r2.status, 0) << r2.output;
-    surftrace::view::ImageMetadata ma, mb;
-    const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
-    EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
-    std::size_t covered = 0;
-    for (auto k : fa.kind) covered += k != 0;
-    EXPECT_GT(covered, fa.pixels() / 10) << engine;
-    EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
-    EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
-    EXPECT_TRUE(sameBytes(fa.viewZ, fb.viewZ)) << engine;
-    EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
-    EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
-    EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
-    EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
-    EXPECT_TRUE(sameBytes(fa.flags, fb.flags)) << engine;
+    expectSameImage(a, b, engine);
   }
   const Result areaMol = run("area --format json " + mol), areaStp = run("area --format json " + stp);
   ASSERT_EQ(areaStp.status, 0) << areaStp.output;
@@ -601,18 +607,7 @@ TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
     ASSERT_EQ(r1.status, 0) << r1.output;
     const Result r2 = run("render " + stp + " --camera " + camera + common + b);
     ASSERT_EQ(r2.status, 0) << r2.output;
-    surftrace::view::ImageMetadata ma, mb;
-    const auto fa = surftrace::view::readExr(a, &ma), fb = surftrace::view::readExr(b, &mb);
-    EXPECT_EQ(ma.at("surftrace:camera"), mb.at("surftrace:camera")) << engine;
-    std::size_t covered = 0;
-    for (auto k : fa.kind) covered += k != 0;
-    EXPECT_GT(covered, fa.pixels() / 10) << engine;
-    EXPECT_TRUE(sameBytes(fa.rgba, fb.rgba)) << engine;
-    EXPECT_TRUE(sameBytes(fa.depth, fb.depth)) << engine;
-    EXPECT_TRUE(sameBytes(fa.normal, fb.normal)) << engine;
-    EXPECT_TRUE(sameBytes(fa.kind, fb.kind)) << engine;
-    EXPECT_TRUE(sameBytes(fa.patchId, fb.patchId)) << engine;
-    EXPECT_TRUE(sameBytes(fa.atomId, fb.atomId)) << engine;
+    expectSameImage(a, b, engine);
   }
 }
 
