@@ -1,11 +1,14 @@
 // `surftrace compare`: two renderings of one view, pixel by pixel, with pass/fail limits; the
 // rendering under test may be SurfTrace's EXR or another renderer's depth and normal buffers.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "build/io/output_file.hpp"
 #include "commands.hpp"
@@ -14,6 +17,7 @@
 #include "view/foreign_buffers.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
+#include "render_settings.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -22,6 +26,7 @@ struct CompareOptions {
   std::string test, reference, report, diff, preset;
   std::optional<double> maxCoverage, maxDepthP99, minKind, minPatch, maxNormalP99, maxColorP99;
   bool ignoreCamera = false;
+  bool ignoreSettings = false;
   // Another renderer's buffers (empty: not given; the defaults are foreignOptions').
   std::string depthChannel, depthConvention, testNormal, normalSpace, normalEncoding, testOrigin;
   bool foreignFlags() const {
@@ -81,31 +86,42 @@ std::string sizeMismatch(const std::string& test, int tw, int th, const std::str
          std::to_string(rh);
 }
 
-// Another renderer's buffers (TEST and --test-normal) along the reference camera's rays.
-TestImage readForeign(const CompareOptions& o, const view::ForeignBufferOptions& f, const view::FrameBuffers& ref,
-                      const std::optional<view::Camera>& camera) {
-  const view::ImageChannels depth = view::readImageChannels(o.test);
+// Another renderer's files (TEST and --test-normal), read once: the hints read them again in
+// other conventions.
+struct ForeignFiles {
+  view::ImageChannels depth;
   std::optional<view::ImageChannels> normals;
-  if (!o.testNormal.empty()) normals = view::readImageChannels(o.testNormal);
-  const view::ImageChannels* normalImage = normals ? &*normals : nullptr;
-  for (const view::ImageChannels* image : {&depth, normalImage})
+  const view::ImageChannels* normalImage() const { return normals ? &*normals : nullptr; }
+};
+
+ForeignFiles readForeignFiles(const CompareOptions& o, const view::FrameBuffers& ref,
+                              const std::optional<view::Camera>& camera) {
+  ForeignFiles files{view::readImageChannels(o.test), std::nullopt};
+  if (!o.testNormal.empty()) files.normals = view::readImageChannels(o.testNormal);
+  for (const view::ImageChannels* image : {static_cast<const view::ImageChannels*>(&files.depth), files.normalImage()})
     if (image && (image->width != ref.width || image->height != ref.height))
       throw std::invalid_argument(sizeMismatch(image->path, image->width, image->height, o.reference, ref.width, ref.height));
   if (!camera)
     throw std::invalid_argument(o.reference + " records no camera (surftrace:camera metadata), and another renderer's "
                                 "buffers are compared along the reference camera's rays: render the reference with "
                                 "surftrace render --exr");
+  return files;
+}
+
+// Another renderer's buffers along the reference camera's rays.
+TestImage readForeign(const CompareOptions& o, const ForeignFiles& files, const view::ForeignBufferOptions& f,
+                      const view::Camera& camera) {
   try {
-    view::ForeignFrame foreign = view::foreignFrame(depth, normalImage, f, *camera);
+    view::ForeignFrame foreign = view::foreignFrame(files.depth, files.normalImage(), f, camera);
     TestImage t{std::move(foreign.frame), foreign.carried, {}, {}, {}};
     char range[96] = "";
     if (f.depthConvention == view::DepthConvention::Window)
-      std::snprintf(range, sizeof range, " for near %.6g, far %.6g Å", camera->zNear, camera->zFar);
+      std::snprintf(range, sizeof range, " for near %.6g, far %.6g Å", camera.zNear, camera.zFar);
     t.description = "another renderer's buffers, compared in Å along the reference's rays";
     t.details = "          depth   channel " + foreign.depthChannel + ", " + view::conventionName(f.depthConvention) +
                 " depth" + range + ", rows from the " + view::originName(f.origin) + "\n          normals " +
-                (normals ? o.testNormal + ", " + view::spaceName(f.normalSpace) + " space, " + view::encodingName(f.normalEncoding)
-                         : std::string("none (no --test-normal)")) +
+                (files.normals ? o.testNormal + ", " + view::spaceName(f.normalSpace) + " space, " + view::encodingName(f.normalEncoding)
+                               : std::string("none (no --test-normal)")) +
                 "\n";
     return t;
   } catch (const std::invalid_argument& e) {
@@ -113,12 +129,138 @@ TestImage readForeign(const CompareOptions& o, const view::ForeignBufferOptions&
   }
 }
 
+// The nearest and farthest view depth of the reference's hits (Å).
+std::pair<double, double> viewDepthRange(const view::FrameBuffers& ref) {
+  double lo = HUGE_VAL, hi = 0.0;
+  for (std::size_t p = 0; p < ref.pixels(); ++p)
+    if (ref.kind[p] != 0 && std::isfinite(ref.viewZ[p])) lo = std::min(lo, double(ref.viewZ[p])), hi = std::max(hi, double(ref.viewZ[p]));
+  return {lo, hi};
+}
+
+// The buffers read with `f` and compared; nothing when `f` cannot read them (values its depth
+// convention cannot hold, window depth without near and far).
+std::optional<view::FrameComparison> tryForeign(const CompareOptions& o, const ForeignFiles& files,
+                                                const view::ForeignBufferOptions& f, const view::FrameBuffers& ref,
+                                                const view::Camera& camera) {
+  const auto [nearest, farthest] = viewDepthRange(ref);
+  try {
+    if (!view::impossibleDepths(files.depth, f, camera, nearest, farthest).empty()) return std::nullopt;
+    const TestImage t = readForeign(o, files, f, camera);
+    return view::compareFrames(t.frame, ref, &camera, t.carried);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// Coverage mismatch plus relative depth p99: how far a reading of the depth is from the reference.
+double depthMisfit(const view::FrameComparison& c) {
+  if (c.depthSamples == 0) return HUGE_VAL;
+  return c.coverageFraction + (c.sceneSize > 0 ? c.depthP99 / c.sceneSize : c.depthP99);
+}
+
+// The other depth conventions that read the buffer within the limits on coverage and depth (or,
+// when `anyFit`, the best of those whose values fit): "\n  hint: ..." or "".
+std::string conventionHint(const CompareOptions& o, const ForeignFiles& files, const view::ForeignBufferOptions& f,
+                           const view::FrameBuffers& ref, const view::Camera& camera, const view::CompareThresholds& limits,
+                           const view::FrameComparison* current) {
+  std::optional<view::FrameComparison> best;
+  view::DepthConvention bestConvention = f.depthConvention;
+  for (const view::DepthConvention c : {view::DepthConvention::Window, view::DepthConvention::ViewZ, view::DepthConvention::Ray}) {
+    if (c == f.depthConvention) continue;
+    view::ForeignBufferOptions g = f;
+    g.depthConvention = c;
+    const auto other = tryForeign(o, files, g, ref, camera);
+    if (other && (!best || depthMisfit(*other) < depthMisfit(*best))) best = other, bestConvention = c;
+  }
+  if (!best || best->depthSamples == 0) return "";
+  view::CompareThresholds depthLimits;
+  depthLimits.maxCoverageFraction = limits.maxCoverageFraction;
+  depthLimits.maxDepthP99Relative = limits.maxDepthP99Relative;
+  const bool fits = depthLimits.violations(*best).empty();
+  char text[320];
+  if (!current) {  // the declared convention cannot hold the values at all
+    std::snprintf(text, sizeof text, "\n  hint: read as --depth-convention %s they %s (coverage mismatch %.4g%%, depth p99 %.3g Å)",
+                  view::conventionName(bestConvention), fits ? "fit" : "fit best", 100 * best->coverageFraction,
+                  best->depthP99);
+    return text;
+  }
+  if (!fits || depthMisfit(*best) >= 0.25 * depthMisfit(*current)) return "";
+  std::snprintf(text, sizeof text,
+                "\n  hint: with --depth-convention %s the depth p99 would be %.3g Å and the coverage mismatch %.4g%% "
+                "(they are %.3g Å and %.4g%%): is the depth %s?",
+                view::conventionName(bestConvention), best->depthP99, 100 * best->coverageFraction, current->depthP99,
+                100 * current->coverageFraction,
+                bestConvention == view::DepthConvention::Window ? "GL window depth"
+                : bestConvention == view::DepthConvention::ViewZ ? "view z (along the view direction, not the ray)"
+                                                                 : "distance along the ray (not view z)");
+  return text;
+}
+
+// Whether every component of the normals at covered pixels is in [0, 1]: unorm normals, since a
+// visible closed surface faces left and right, up and down somewhere.
+bool normalsLookUnorm(const view::ForeignFrame& frame) {
+  bool any = false;
+  for (std::size_t p = 0; p < frame.frame.pixels(); ++p) {
+    if (!std::isfinite(frame.frame.depth[p])) continue;
+    any = true;
+    for (int k = 0; k < 3; ++k)
+      if (frame.frame.normal[3 * p + static_cast<std::size_t>(k)] < 0.0f) return false;
+  }
+  return any;
+}
+
+// The reading of the normals (encoding, space, sign) that fits the reference within the normal
+// limit, when the one declared does not: "\n  hint: ..." or "".
+std::string normalHint(const CompareOptions& o, const ForeignFiles& files, const view::ForeignBufferOptions& f,
+                       const view::FrameBuffers& ref, const view::Camera& camera, const view::CompareThresholds& limits,
+                       const view::FrameComparison& current) {
+  if (!files.normals || !limits.maxNormalP99Degrees || current.normalSamples == 0 ||
+      current.normalP99Degrees <= *limits.maxNormalP99Degrees)
+    return "";
+  std::optional<view::FrameComparison> best;
+  view::ForeignBufferOptions bestOptions = f;
+  for (const auto encoding : {view::NormalEncoding::Signed, view::NormalEncoding::Unorm})
+    for (const auto space : {view::NormalSpace::View, view::NormalSpace::World})
+      for (const bool negate : {false, true}) {
+        view::ForeignBufferOptions g = f;
+        g.normalEncoding = encoding, g.normalSpace = space, g.negateNormals = negate;
+        if (encoding == f.normalEncoding && space == f.normalSpace && negate == f.negateNormals) continue;
+        const auto other = tryForeign(o, files, g, ref, camera);
+        if (other && other->normalSamples > 0 && (!best || other->normalP99Degrees < best->normalP99Degrees))
+          best = other, bestOptions = g;
+      }
+  if (!best || best->normalP99Degrees > *limits.maxNormalP99Degrees) return "";
+  std::string flags, why;
+  if (bestOptions.normalEncoding != f.normalEncoding) {
+    flags += std::string(" --normal-encoding ") + view::encodingName(bestOptions.normalEncoding);
+    const bool unorm = bestOptions.normalEncoding == view::NormalEncoding::Unorm;
+    view::ForeignBufferOptions raw = f;
+    raw.normalEncoding = view::NormalEncoding::Signed, raw.normalSpace = view::NormalSpace::World, raw.negateNormals = false;
+    const bool allPositive = unorm && normalsLookUnorm(view::foreignFrame(files.depth, files.normalImage(), raw, camera));
+    why += unorm ? std::string("unorm normals ((n + 1)/2) read as signed") + (allPositive ? " (every component is in [0, 1])" : "")
+                 : "signed normals read as unorm";
+  }
+  if (bestOptions.normalSpace != f.normalSpace) {
+    flags += std::string(" --normal-space ") + view::spaceName(bestOptions.normalSpace);
+    why += std::string(why.empty() ? "" : "; ") +
+           (bestOptions.normalSpace == view::NormalSpace::World ? "world normals read as view ones" : "view normals read as world ones");
+  }
+  if (bestOptions.negateNormals)
+    why += std::string(why.empty() ? "" : "; ") +
+           "the normals point into the surface, against the depth's gradient: write outward ones";
+  char figures[160];
+  std::snprintf(figures, sizeof figures, "the normal p99 would be %.3g° (it is %.3g°)", best->normalP99Degrees,
+                current.normalP99Degrees);
+  const std::string how = flags.empty() ? "negated," : "with" + flags + (bestOptions.negateNormals ? ", negated," : "");
+  return "\n  hint: " + how + " " + figures + ": " + why + "?";
+}
+
 // On a failure with another renderer's buffers: whether their rows might be upside down (the
 // most common slip: glReadPixels' rows come bottom first), from the same buffers read the other way.
-std::string originHint(const CompareOptions& o, view::ForeignBufferOptions f, const view::FrameBuffers& ref,
-                       const view::Camera& camera, const view::FrameComparison& c) {
+std::string originHint(const CompareOptions& o, const ForeignFiles& files, view::ForeignBufferOptions f,
+                       const view::FrameBuffers& ref, const view::Camera& camera, const view::FrameComparison& c) {
   f.origin = f.origin == view::RowOrigin::BottomLeft ? view::RowOrigin::TopLeft : view::RowOrigin::BottomLeft;
-  const TestImage flipped = readForeign(o, f, ref, camera);
+  const TestImage flipped = readForeign(o, files, f, camera);
   const view::FrameComparison other = view::compareFrames(flipped.frame, ref, &camera, flipped.carried);
   if (!(c.coverageFraction > 1e-3 && other.coverageFraction < 0.25 * c.coverageFraction)) return "";
   char text[256];
@@ -127,6 +269,16 @@ std::string originHint(const CompareOptions& o, view::ForeignBufferOptions f, co
                 "down?",
                 view::originName(f.origin), 100 * other.coverageFraction, 100 * c.coverageFraction);
   return text;
+}
+
+// Whether the camera's view frame is the world's (no rotation): view and world normals are then
+// the same numbers, and a normal-space mix-up cannot show.
+bool viewIsUnrotated(const view::Camera& camera) {
+  const glm::dmat4 v = camera.viewMatrix();
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (std::abs(v[c][r] - (c == r ? 1.0 : 0.0)) > 1e-9) return false;
+  return true;
 }
 
 // Without --preset, the limits for another renderer's buffers. Says which.
@@ -139,10 +291,16 @@ std::string foreignPreset() {
 // The image under test: SurfTrace's own EXR, or another renderer's buffers when a flag says
 // so or TEST lacks SurfTrace's channels.
 TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const std::optional<view::Camera>& camera,
-                   bool foreign, const view::ForeignBufferOptions& foreignOpts) {
+                   const ForeignFiles* files, const view::ForeignBufferOptions& foreignOpts) {
   TestImage testImage;
-  if (foreign) {
-    testImage = readForeign(o, foreignOpts, ref, camera);
+  if (files) {
+    // Values the declared depth convention cannot hold are an error, not background.
+    const auto [nearest, farthest] = viewDepthRange(ref);
+    const std::string impossible = view::impossibleDepths(files->depth, foreignOpts, *camera, nearest, farthest);
+    if (!impossible.empty())
+      throw std::invalid_argument(impossible + conventionHint(o, *files, foreignOpts, ref, *camera,
+                                                              view::CompareThresholds::preset("foreign"), nullptr));
+    testImage = readForeign(o, *files, foreignOpts, *camera);
   } else {
     testImage.frame = view::readExr(o.test, &testImage.meta);
     testImage.description = testImage.meta.count("surftrace:renderer") ? testImage.meta.at("surftrace:renderer") : "?";
@@ -191,6 +349,35 @@ view::CompareThresholds limitsOf(const CompareOptions& o, const std::string& pre
   return limits;
 }
 
+// The two SurfTrace images' render settings: an error when a setting that changes pixels
+// differs (unless --ignore-settings), and what was not recorded. Returns whether the colour may
+// be judged by the preset (made with the same settings).
+bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, const view::ImageMetadata& ref) {
+  const SettingsComparison s = compareSettings(test, ref);
+  if (!s.differences.empty() && !o.ignoreSettings)
+    throw std::invalid_argument(o.test + " and " + o.reference + " were rendered with different settings (their surftrace: "
+                                "metadata): " + describe(s.differences) +
+                                ". Compare renderings made with the same settings, or pass --ignore-settings (the "
+                                "preset's colour limit is then not applied)");
+  if (!s.differences.empty())
+    std::printf("settings  differ (--ignore-settings): %s\n", describe(s.differences).c_str());
+  auto list = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const auto& n : names) {
+      if (!text.empty()) text += ", ";
+      text += n;
+    }
+    return text;
+  };
+  if (!s.notRecordedInTest.empty())
+    std::printf("settings  not recorded in %s: %s (an older image; taken as the same)\n", o.test.c_str(),
+                list(s.notRecordedInTest).c_str());
+  if (!s.notRecordedInReference.empty())
+    std::printf("settings  not recorded in %s: %s (an older image; taken as the same)\n", o.reference.c_str(),
+                list(s.notRecordedInReference).c_str());
+  return s.differences.empty();
+}
+
 void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
@@ -200,7 +387,10 @@ void runCompare(const CompareOptions& o) {
   if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
   const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
   const view::ForeignBufferOptions foreignOpts = foreignOptions(o);
-  const TestImage testImage = readTest(o, ref, camera, foreign, foreignOpts);
+  std::optional<ForeignFiles> files;
+  if (foreign) files = readForeignFiles(o, ref, camera);
+  const TestImage testImage = readTest(o, ref, camera, files ? &*files : nullptr, foreignOpts);
+  const bool sameSettings = foreign || checkSettings(o, testImage.meta, refMeta);
   const view::FrameComparison c = view::compareFrames(testImage.frame, ref, camera ? &*camera : nullptr, testImage.carried);
   std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
               testImage.details.c_str(), o.reference.c_str(),
@@ -208,7 +398,15 @@ void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
   if (!o.diff.empty()) writeDifference(o.diff, testImage, ref);
   const std::string preset = !o.preset.empty() ? o.preset : foreign ? foreignPreset() : defaultPreset(testImage.meta, refMeta);
-  const view::CompareThresholds limits = limitsOf(o, preset);
+  view::CompareThresholds limits = limitsOf(o, preset);
+  if (!sameSettings && !o.maxColorP99 && limits.maxColorP99) {
+    std::printf("not compared: colour p99 < %.3g (the images were made with different settings)\n", *limits.maxColorP99);
+    limits.maxColorP99.reset();
+  }
+  if (foreign && testImage.carried.normal && viewIsUnrotated(*camera))
+    std::printf("note      the reference camera's view is not rotated (its axes are the world's): view and world normals "
+                "are the same numbers here, so a wrong --normal-space cannot show; render the reference from a rotated "
+                "view (e.g. --view 1,0.3,-1) to check the normals' space\n");
   // A limit on a buffer the test does not carry is neither passed nor failed.
   const auto unjudged = limits.notCompared(c);
   for (const auto& line : unjudged) std::printf("not compared: %s\n", line.c_str());
@@ -220,7 +418,11 @@ void runCompare(const CompareOptions& o) {
   }
   std::string text = "FAIL (" + preset + scope + "):";
   for (const auto& v : violations) text += "\n  " + v;
-  if (foreign) text += originHint(o, foreignOpts, ref, *camera, c);
+  if (foreign) {
+    text += originHint(o, *files, foreignOpts, ref, *camera, c);
+    text += conventionHint(o, *files, foreignOpts, ref, *camera, limits, &c);
+    text += normalHint(o, *files, foreignOpts, ref, *camera, limits, c);
+  }
   throw LimitsExceeded(text);
 }
 
@@ -295,6 +497,9 @@ void addCompareCommand(CLI::App& app) {
                   "Largest colour-difference p99 (largest of |dR|, |dG|, |dB| in [0, 1]) outside silhouettes and seams")
       ->check(numberIn(0, 1));
   cmd->add_flag("--ignore-camera", o->ignoreCamera, "Compare even if the images' recorded cameras differ");
+  cmd->add_flag("--ignore-settings", o->ignoreSettings,
+                "Compare even if the images' recorded render settings differ (colour scheme, background, lighting, "
+                "samples, opacity, effects, ball and stick); the preset's colour limit is then not applied");
   addForeignBufferOptions(*cmd, *o);
   cmd->callback([o] {
     try {

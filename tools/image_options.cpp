@@ -374,6 +374,23 @@ view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& came
   if (r.frame) meta["surftrace:frame"] = std::to_string(*r.frame);
   if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
   meta["surftrace:color"] = r.color;
+  // Every setting that changes pixels is recorded, so that `compare` can tell two images made
+  // alike from two made differently (tools/image_settings.hpp reads them back).
+  auto triple = [](const glm::dvec3& v) {
+    return detail::shortNumber(v.x) + "," + detail::shortNumber(v.y) + "," + detail::shortNumber(v.z);
+  };
+  if (r.color == "uniform") meta["surftrace:uniform_color"] = triple(r.uniformColor);
+  meta["surftrace:background"] = triple(r.background);
+  meta["surftrace:lighting"] = nlohmann::json{{"model", "Blinn-Phong headlight"},
+                                              {"ambient", r.lighting.ambient},
+                                              {"diffuse", r.lighting.diffuse},
+                                              {"specular", r.lighting.specular},
+                                              {"shininess", r.lighting.shininess},
+                                              {"shadows", r.shadows},
+                                              {"ao_samples", r.aoSamples},
+                                              {"ao_distance", r.aoDistance}}
+                                   .dump();
+  meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);
   meta["surftrace:command"] = r.commandLine;
   if (r.opacity < 1.0) {
     meta["surftrace:opacity"] = std::to_string(r.opacity);

@@ -117,6 +117,13 @@ struct ImageRecord {
   std::optional<std::size_t> frame;
   std::optional<double> timePs;
   std::string color;
+  glm::dvec3 uniformColor{0.8};        // recorded with --color uniform
+  glm::dvec3 background{1.0};
+  view::Lighting lighting;             // the headlight's terms; recorded with shadows and AO
+  bool shadows = false;
+  int aoSamples = 0;
+  double aoDistance = 8.0;
+  int samplesPerPixel = 1;
   std::string commandLine;
   double opacity = 1.0;  // recorded (with maxLayers) only when below 1
   int maxLayers = 16;

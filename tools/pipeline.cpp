@@ -148,6 +148,12 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   if (build::parseSurfaceKind(surface.surface) == build::SurfaceKind::Mss) record.shrinkFactor = surface.shrink;
   record.input = input;
   record.color = image.color;
+  record.uniformColor = parseVector("--uniform-color", image.uniformColor);
+  record.background = parseVector("--background", image.background);
+  record.shadows = image.shadows;
+  record.aoSamples = image.ao;
+  record.aoDistance = image.aoDistance;
+  record.samplesPerPixel = image.spp;
   record.commandLine = commandLine;
   record.opacity = image.opacity;
   record.maxLayers = image.maxLayers;

@@ -1,11 +1,13 @@
 // Another renderer's depth and normal buffers turned into FrameBuffers along the reference's rays.
 #include "view/foreign_buffers.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -83,7 +85,8 @@ DepthToRay::DepthToRay(const Camera& camera, DepthConvention convention) : frame
 }
 
 bool DepthToRay::background(double value) const {
-  if (!std::isfinite(value)) return true;
+  if (std::isnan(value)) return false;
+  if (std::isinf(value)) return true;
   return convention_ == DepthConvention::Window ? value >= 1.0 : value <= 0.0;
 }
 
@@ -105,6 +108,7 @@ double DepthToRay::viewZ(int x, int y, double value) const {
 
 double DepthToRay::rayDistance(int x, int y, double value) const {
   if (background(value)) return kInf;
+  if (std::isnan(value)) return value;
   if (convention_ == DepthConvention::Ray) return value;
   // The ray leaves org (the eye, or its plane) with unit dir: its view z grows by dir·forward per Å.
   const Ray r = frame_.ray(x + 0.5, y + 0.5);
@@ -145,11 +149,52 @@ ForeignFrame foreignFrame(const ImageChannels& depth, const ImageChannels* norma
       if (!normals) continue;
       glm::dvec3 n(normals->at(src, nc[0]), normals->at(src, nc[1]), normals->at(src, nc[2]));
       if (options.normalEncoding == NormalEncoding::Unorm) n = 2.0 * n - 1.0;
+      if (options.negateNormals) n = -n;
       if (options.normalSpace == NormalSpace::View) n = n.x * f.right + n.y * f.up + n.z * back;
       for (int k = 0; k < 3; ++k) frame.normal[3 * p + static_cast<std::size_t>(k)] = static_cast<float>(n[k]);
     }
   }
   return out;
+}
+
+std::string impossibleDepths(const ImageChannels& depth, const ForeignBufferOptions& options, const Camera& camera,
+                             double nearest, double farthest) {
+  const int dc = depthChannelOf(depth, options.depthChannel);
+  const DepthConvention convention = options.depthConvention;
+  // What the convention holds, with room for float rounding.
+  double lo = 0.0, hi = 1.0;
+  std::string holds = "window depth is in [0, 1] (background 1.0)";
+  if (convention != DepthConvention::Window) {
+    if (!camera.hasDepthRange()) return "";
+    lo = std::min(camera.zNear, nearest) * (1.0 - 1e-4);
+    hi = std::max(camera.zFar, farthest);
+    if (convention == DepthConvention::Ray && camera.projection == Projection::Perspective) {
+      // The widest ray leaves through a corner: it reaches the far plane after far / cos.
+      const Camera::Frame f = camera.frame();
+      double cosine = 1.0;
+      for (const auto& [sx, sy] : {std::pair{0.0, 0.0}, std::pair{1.0, 0.0}, std::pair{0.0, 1.0}, std::pair{1.0, 1.0}})
+        cosine = std::min(cosine, glm::dot(f.ray(sx * camera.width, sy * camera.height).dir, f.forward));
+      hi /= cosine;
+    }
+    hi *= 1.0 + 1e-4;
+    holds = std::string(conventionName(convention)) + " depth lies between the reference camera's near " +
+            shortNumber(camera.zNear) + " and far " + shortNumber(camera.zFar) + " Å (background +inf or <= 0)";
+  }
+  std::size_t count = 0;
+  double vMin = kInf, vMax = -kInf;
+  for (std::size_t p = 0; p < depth.pixels(); ++p) {
+    const double v = depth.at(p, dc);
+    if (!std::isfinite(v)) continue;  // +inf: background; NaN: counted by compare
+    const bool bad = convention == DepthConvention::Window ? (v < 0.0 || v > 1.0) : (v > 0.0 && (v < lo || v > hi));
+    if (!bad) continue;
+    ++count;
+    vMin = std::min(vMin, v), vMax = std::max(vMax, v);
+  }
+  if (count == 0) return "";
+  return depth.path + ": channel " + depth.names[static_cast<std::size_t>(dc)] + " holds " + shortNumber(vMin) +
+         (vMax > vMin ? " to " + shortNumber(vMax) : std::string()) + " in " + std::to_string(count) + " of " +
+         std::to_string(depth.pixels()) + " px, which --depth-convention " + conventionName(convention) +
+         " cannot: " + holds;
 }
 
 }  // namespace surftrace::view

@@ -12,7 +12,8 @@
 namespace surftrace::view {
 
 // How a depth buffer measures distance (README "Validating your renderer"). Background is
-// whatever no surface can have: 1.0 (and above) in window depth; +inf, NaN or <= 0 otherwise.
+// whatever no surface can have: 1.0 in window depth; +inf or <= 0 otherwise. NaN is never
+// background: it is carried into the frame, where compare counts it as a mismatch.
 enum class DepthConvention {
   Window,  // GL window depth in [0, 1] under glDepthRange(0, 1), for the camera's near and far
   ViewZ,   // distance from the eye's plane along the view direction (−z of the view frame), Å
@@ -38,6 +39,8 @@ struct ForeignBufferOptions {
   RowOrigin origin = RowOrigin::BottomLeft;
   NormalSpace normalSpace = NormalSpace::View;
   NormalEncoding normalEncoding = NormalEncoding::Signed;
+  // The normals negated (no flag: compare tries it for its hints, e.g. inward normals).
+  bool negateNormals = false;
 };
 
 // The ray distance a depth value means at a pixel of `camera`. Window depth is taken back to
@@ -53,7 +56,7 @@ class DepthToRay {
   double rayDistance(int x, int y, double value) const;
   // The view-frame depth (Å along −z) of a value that is not background.
   double viewZ(int x, int y, double value) const;
-  bool background(double value) const;
+  bool background(double value) const;  // false for NaN
 
  private:
   Camera::Frame frame_;
@@ -73,5 +76,14 @@ struct ForeignFrame {
 // depth sits in an integer channel, or when window depth meets a camera without near and far.
 ForeignFrame foreignFrame(const ImageChannels& depth, const ImageChannels* normals, const ForeignBufferOptions& options,
                           const Camera& camera);
+
+// The values of the depth channel that its convention cannot hold, for `camera` and a reference
+// whose hits lie at view depths nearest..farthest (Å): window depth outside [0, 1]; view-z or
+// ray depth nearer than the camera's near plane (and the reference's nearest hit) or farther
+// than its far plane (ray: along the widest ray). Empty when every value fits (or, for view-z
+// and ray, the camera has no depth range); else one sentence naming the file, the channel, how
+// many pixels, their range and what the convention holds.
+std::string impossibleDepths(const ImageChannels& depth, const ForeignBufferOptions& options, const Camera& camera,
+                             double nearest, double farthest);
 
 }  // namespace surftrace::view

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -124,8 +125,9 @@ TEST(CompareForeign, WindowDepthFromAnOrthographicCamera) {
   oracle::writePfm(pfm, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.window[p]); }));
   const Result ok = run("compare " + pfm + " " + s.reference + " --depth-convention window --test-origin bottom-left");
   EXPECT_EQ(ok.status, 0) << ok.output;
+  // Window depths in [0, 1] lie nearer than near (2 Å): no view z can be that.
   const Result asViewZ = run("compare " + pfm + " " + s.reference + " --depth-convention view-z --test-origin bottom-left");
-  EXPECT_EQ(asViewZ.status, 2) << asViewZ.output;
+  EXPECT_EQ(asViewZ.status, 1) << asViewZ.output;
 }
 
 // View z in an EXR's Z channel (beside colour) and ray distance in a float TIFF, rows top first.
@@ -277,6 +279,120 @@ TEST(CompareForeign, SurftraceBuffersThroughTheForeignDoor) {
   EXPECT_TRUE(has(r, "coverage mismatch 0 of")) << r.output;
   r = run("compare " + vdw + " " + ses + " --test-depth-channel depth.t --depth-convention ray --test-origin top-left");
   EXPECT_EQ(r.status, 2) << r.output;
+}
+
+// Values the declared depth convention cannot hold are an error (exit 1) naming the convention
+// that fits them: view z declared as window depth, window depth declared as view z.
+TEST(CompareForeign, DepthsTheConventionCannotHoldAreAnErrorWithTheOneThatFits) {
+  const Scene s = frustumScene();
+  const std::string viewZ = temp("impossible_viewz.pfm"), window = temp("impossible_window.pfm");
+  oracle::writePfm(viewZ, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.viewZ[p]); }));
+  oracle::writePfm(window, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.window[p]); }));
+  Result r = run("compare " + viewZ + " " + s.reference + " --depth-convention window");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(has(r, viewZ + ": channel Y holds ")) << r.output;
+  EXPECT_TRUE(has(r, "which --depth-convention window cannot: window depth is in [0, 1]")) << r.output;
+  EXPECT_TRUE(has(r, "hint: read as --depth-convention view-z they fit (coverage mismatch 0%")) << r.output;
+  r = run("compare " + window + " " + s.reference + " --depth-convention view-z");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_TRUE(has(r, "which --depth-convention view-z cannot: view-z depth lies between the reference camera's near 3 "
+                     "and far 40 Å"))
+      << r.output;
+  EXPECT_TRUE(has(r, "hint: read as --depth-convention window they fit (coverage mismatch 0%")) << r.output;
+}
+
+// The usual slips, each failing with a hint that names the reading that fits: unorm normals
+// read as signed, world normals read as view ones, normals pointing inwards, ray distance read
+// as view z.
+TEST(CompareForeign, UsualMistakesFailWithAHint) {
+  const Scene s = frustumScene();
+  const std::string depth = temp("slips_depth.pfm"), ray = temp("slips_ray.pfm"), world = temp("slips_world.pfm"),
+                    inward = temp("slips_inward.pfm"), unorm = temp("slips_unorm.png");
+  oracle::writePfm(depth, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.window[p]); }));
+  oracle::writePfm(ray, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.ray[p]); }));
+  oracle::writePfm(world, kWidth, kHeight, 3, stored(s.gl, 3, true, [&](std::size_t p) { return s.gl.worldNormal[p]; }));
+  oracle::writePfm(inward, kWidth, kHeight, 3, stored(s.gl, 3, true, [&](std::size_t p) { return -s.gl.viewNormal[p]; }));
+  writeImage(unorm, kWidth, kHeight, {"R", "G", "B"},
+             stored(s.gl, 3, true, [&](std::size_t p) { return 0.5 * s.gl.viewNormal[p] + 0.5; }), OIIO::TypeDesc::UINT16);
+  const std::string base = "compare " + depth + " " + s.reference + " --test-origin bottom-left --test-normal ";
+
+  Result r = run(base + unorm + " --normal-space view");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(has(r, "hint: with --normal-encoding unorm the normal p99 would be")) << r.output;
+  EXPECT_TRUE(has(r, "unorm normals ((n + 1)/2) read as signed (every component is in [0, 1])")) << r.output;
+  r = run(base + world + " --normal-space view");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(has(r, "hint: with --normal-space world the normal p99 would be")) << r.output;
+  EXPECT_TRUE(has(r, "world normals read as view ones")) << r.output;
+  r = run(base + inward + " --normal-space view");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(has(r, "hint: negated, the normal p99 would be")) << r.output;
+  EXPECT_TRUE(has(r, "the normals point into the surface, against the depth's gradient")) << r.output;
+  r = run("compare " + ray + " " + s.reference + " --depth-convention view-z");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(has(r, "hint: with --depth-convention ray the depth p99 would be")) << r.output;
+  // A failure no other reading mends gives no hint: the rows one off.
+  std::vector<float> shifted = stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.window[p]); });
+  shifted.erase(shifted.begin(), shifted.begin() + kWidth);
+  shifted.insert(shifted.end(), kWidth, 1.0f);
+  const std::string oneRowOff = temp("slips_shifted.pfm");
+  oracle::writePfm(oneRowOff, kWidth, kHeight, 1, shifted);
+  r = run("compare " + oneRowOff + " " + s.reference);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_FALSE(has(r, "hint:")) << r.output;
+}
+
+// With a view that has no rotation, view and world normals are the same numbers: compare says
+// that it cannot check the normals' space; with a rotated view it says nothing.
+TEST(CompareForeign, AnUnrotatedViewCannotCheckTheNormalSpace) {
+  const glm::dmat4 projection = glm::perspective(glm::radians(40.0), double(kWidth) / kHeight, 5.0, 40.0);
+  const glm::dmat4 front = glm::lookAt(glm::dvec3(1.0, 2.0, 20.0), glm::dvec3(1.0, 2.0, -2.0), glm::dvec3(0.0, 1.0, 0.0));
+  const std::string xyzr = temp("front.xyzr"), cam = temp("front_camera.json"), ref = temp("front_ref.exr");
+  std::ofstream atoms(xyzr);
+  for (const glm::dvec4& a : kAtoms) atoms << a.x << " " << a.y << " " << a.z << " " << a.w << "\n";
+  atoms.close();
+  std::ofstream(cam) << nlohmann::json{{"width", kWidth}, {"height", kHeight}, {"view_matrix", matrixJson(front)},
+                                       {"projection_matrix", matrixJson(projection)}}
+                            .dump();
+  ASSERT_EQ(run("render " + xyzr + " --input-format xyzr --surface vdw --quiet --exr " + ref + " --camera " + cam).status, 0);
+  const oracle::GlSphereBuffers gl = oracle::drawSpheresGl(kWidth, kHeight, front, projection, kAtoms);
+  const std::string depth = temp("front_depth.pfm"), normal = temp("front_normal.pfm");
+  oracle::writePfm(depth, kWidth, kHeight, 1, stored(gl, 1, true, [&](std::size_t p) { return glm::dvec3(gl.window[p]); }));
+  oracle::writePfm(normal, kWidth, kHeight, 3, stored(gl, 3, true, [&](std::size_t p) { return gl.worldNormal[p]; }));
+  const std::string note = "note      the reference camera's view is not rotated";
+  Result r = run("compare " + depth + " " + ref + " --test-normal " + normal + " --normal-space view");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(has(r, note)) << r.output;
+  EXPECT_TRUE(has(r, "a wrong --normal-space cannot show")) << r.output;
+  r = run("compare " + depth + " " + ref);  // no normals judged: nothing to say
+  EXPECT_FALSE(has(r, note)) << r.output;
+
+  const Scene s = frustumScene();
+  const std::string rotatedDepth = temp("rotated_depth.pfm"), rotatedNormal = temp("rotated_normal.pfm");
+  oracle::writePfm(rotatedDepth, kWidth, kHeight, 1, stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.window[p]); }));
+  oracle::writePfm(rotatedNormal, kWidth, kHeight, 3, stored(s.gl, 3, true, [&](std::size_t p) { return s.gl.viewNormal[p]; }));
+  r = run("compare " + rotatedDepth + " " + s.reference + " --test-normal " + rotatedNormal + " --normal-space view");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(has(r, note)) << r.output;
+}
+
+// NaN in another renderer's depth is counted and judged a mismatch, never taken as background.
+TEST(CompareForeign, NanDepthIsAMismatch) {
+  const Scene s = frustumScene();
+  std::vector<float> depth = stored(s.gl, 1, true, [&](std::size_t p) { return glm::dvec3(s.gl.viewZ[p]); });
+  std::size_t made = 0;
+  for (std::size_t p = 0; p < depth.size() && made < 7; p += 13)
+    if (std::isfinite(depth[p])) depth[p] = std::numeric_limits<float>::quiet_NaN(), ++made;
+  ASSERT_EQ(made, 7u);
+  const std::string pfm = temp("nan_viewz.pfm"), json = temp("nan_viewz.json");
+  oracle::writePfm(pfm, kWidth, kHeight, 1, depth);
+  const Result r = run("compare " + pfm + " " + s.reference + " --depth-convention view-z --report " + json);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(has(r, "NaN in 7 px of the test (depth 7, normal 0, colour 0)")) << r.output;
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["nan"]["test"]["depth"].get<int>(), 7);
+  EXPECT_EQ(j["coverage"]["mismatch"].get<int>(), 0) << "a NaN is not a miss";
 }
 
 }  // namespace
