@@ -72,12 +72,18 @@ std::string engineOf(const view::ImageMetadata& meta) {
 }
 
 // Without --preset, the strict limits for the pair of engines: `exact` for two images of one
-// engine, `gl-vs-embree` otherwise (different engines, or one not recorded). Says which.
+// engine; otherwise (different engines, or one not recorded) `effects` when the reference has
+// image-space effects, `transparency` when its surface is transparent, else `gl-vs-embree`.
+// Says which.
 std::string defaultPreset(const view::ImageMetadata& test, const view::ImageMetadata& ref) {
   const std::string a = engineOf(test), b = engineOf(ref);
-  const std::string preset = !a.empty() && a == b ? "exact" : "gl-vs-embree";
-  std::printf("limits    --preset %s (engines: test %s, reference %s; pass --preset to choose)\n", preset.c_str(),
-              a.empty() ? "not recorded" : a.c_str(), b.empty() ? "not recorded" : b.c_str());
+  std::string preset = !a.empty() && a == b                ? "exact"
+                       : ref.count("surftrace:effects") > 0 ? "effects"
+                       : ref.count("surftrace:opacity") > 0 ? "transparency"
+                                                            : "gl-vs-embree";
+  std::printf("limits    --preset %s (engines: test %s, reference %s%s; pass --preset to choose)\n", preset.c_str(),
+              a.empty() ? "not recorded" : a.c_str(), b.empty() ? "not recorded" : b.c_str(),
+              preset == "effects" ? "; image-space effects" : preset == "transparency" ? "; transparent surface" : "");
   return preset;
 }
 

@@ -105,7 +105,8 @@ TEST(Reference, ComparisonFailsOnADifferentImage) {
   EXPECT_NE(cameras.output.find("different cameras"), std::string::npos) << cameras.output;
 }
 
-// The colour is compared too: the same geometry without the silhouettes fails.
+// The colour is compared too: the same geometry without the silhouettes is refused for its
+// settings (the reference records its effects), and fails on its colour when they are set aside.
 TEST(Reference, ComparisonFailsOnADifferentColour) {
   const std::string out = (fs::path(testing::TempDir()) / "no_silhouettes.exr").string();
   std::string args = recipe("crambin-silhouettes-darkening");
@@ -114,7 +115,11 @@ TEST(Reference, ComparisonFailsOnADifferentColour) {
   args.erase(args.find(flag), flag.size());
   const Result r = run("render " + args + " --quiet --exr " + out);
   ASSERT_EQ(r.status, 0) << r.output;
-  const Result c = run("compare " + out + " reference/crambin-silhouettes-darkening/image.exr --preset exact" + kExactColor);
+  const std::string ref = " reference/crambin-silhouettes-darkening/image.exr --preset exact" + std::string(kExactColor);
+  const Result settings = run("compare " + out + ref);
+  EXPECT_EQ(settings.status, 1) << settings.output;
+  EXPECT_NE(settings.output.find("effects: test {"), std::string::npos) << settings.output;
+  const Result c = run("compare " + out + ref + " --ignore-settings");
   EXPECT_EQ(c.status, 2) << c.output;
   EXPECT_NE(c.output.find("colour p99"), std::string::npos) << c.output;
 }

@@ -2,7 +2,7 @@
 // renderer that shares no code with SurfTrace (examples/validate_renderer/sphere_caster.py, a
 // numpy ray caster that knows only the atoms and the camera's two matrices) passes `compare`
 // for the vdW surface and fails it, with the error in Å, against the SES. The commands are the
-// README's.
+// README's; its view is rotated, so that a normal-space mix-up shows.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -56,7 +56,7 @@ TEST(CompareExample, NumpyRayCasterPassesTheVdwSurfaceAndFailsTheSes) {
   const std::filesystem::path dir = freshDir("validate_renderer");
   test::Result r = runIn(dir, "info " + kMolecule + " --xyzr atoms.xyzr");
   ASSERT_EQ(r.status, 0) << r.output;
-  r = runIn(dir, "render " + kMolecule + " --surface vdw --size 256x256 --exr vdw.exr --camera-out cam.json");
+  r = runIn(dir, "render " + kMolecule + " --surface vdw --size 256x256 --view 1,0.3,-1 --exr vdw.exr --camera-out cam.json");
   ASSERT_EQ(r.status, 0) << r.output;
   const oracle::OracleRun caster = runCaster(dir);
   ASSERT_TRUE(caster.ok()) << caster.describe();
@@ -67,6 +67,13 @@ TEST(CompareExample, NumpyRayCasterPassesTheVdwSurfaceAndFailsTheSes) {
   const double vdwP99 = depthP99(pass.output);
   EXPECT_GE(vdwP99, 0.0) << pass.output;
   EXPECT_LT(vdwP99, 1e-3) << pass.output;
+  // The view is rotated, so the normals' space is checked too: world normals read as view ones
+  // would fail (here the other way round: view normals declared as world ones).
+  EXPECT_EQ(pass.output.find("view is not rotated"), std::string::npos) << pass.output;
+  const test::Result space = runIn(dir, "compare depth.pfm vdw.exr --depth-convention window --test-origin bottom-left "
+                                        "--test-normal normal.pfm --normal-space world");
+  EXPECT_EQ(space.status, 2) << space.output;
+  EXPECT_NE(space.output.find("hint: with --normal-space view the normal p99 would be"), std::string::npos) << space.output;
 
   r = runIn(dir, "render " + kMolecule + " --surface ses --camera cam.json --exr ses.exr");
   ASSERT_EQ(r.status, 0) << r.output;

@@ -203,9 +203,10 @@ TEST(CompareForeignBuffers, NormalsInEitherSpaceAndEncoding) {
     EXPECT_FALSE(none.compared.patchId);
     const CompareThresholds exactLimits = CompareThresholds::preset("exact");
     const auto unjudged = exactLimits.notCompared(none);
-    ASSERT_EQ(unjudged.size(), 3u);
+    ASSERT_EQ(unjudged.size(), 4u);
     EXPECT_NE(unjudged[0].find("normal"), std::string::npos) << unjudged[0];
     EXPECT_NE(unjudged[1].find("patch-kind"), std::string::npos) << unjudged[1];
+    EXPECT_NE(unjudged[3].find("colour"), std::string::npos) << unjudged[3];
     for (const std::string& v : exactLimits.violations(none))
       EXPECT_EQ(v.find("patch"), std::string::npos) << "a limit on what the test lacks was judged: " << v;
     EXPECT_NE(none.summary().find("patch kind       not compared"), std::string::npos) << none.summary();
