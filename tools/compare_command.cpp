@@ -475,8 +475,9 @@ void addCompareCommand(CLI::App& app) {
       "compare",
       "Compare a rendering (TEST.exr, or another renderer's depth and normal buffers) with a reference of the same "
       "view (REFERENCE.exr, usually the Embree image) pixel by pixel: coverage, depth, normal, patch kind and id, "
-      "masking the reference's silhouette band, seams and flagged pixels. Exit status 0 within the limits, 2 outside "
-      "them, 1 on an error");
+      "colour (covered pixels and background apart), masking the reference's silhouette band, occlusion edges, seams "
+      "and flagged pixels, with a table per patch kind. The images' recorded cameras and render settings must agree. "
+      "Exit status 0 within the limits, 2 outside them, 1 on an error");
   cmd->add_option("TEST", o->test,
                   "Image under test: an EXR from surftrace render (e.g. --engine gl), or another renderer's depth "
                   "buffer in any format OpenImageIO reads (EXR, PFM, float TIFF, 16-bit PNG; see --depth-convention)")
@@ -486,13 +487,16 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--report", o->report, "Write the metrics as JSON here");
   cmd->add_option("--diff", o->diff, "Write a false-colour difference PNG here");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
-                                         "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
-                                         "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
-                                         "< 1°), effects (gl-vs-embree and colour p99 < 0.02: two engines' images with the "
-                                         "same image-space effects), transparency (gl-vs-embree and colour p99 < 1e-3: GL's depth peeling "
-                                         "against Embree's layers at --opacity < 1), or none (report the metrics, judge nothing). Default: foreign for another "
+                                         "kinds > 99.9%, colour p99 < 1e-3), exact (a re-render by the same engine; "
+                                         "colour p99 < 1e-5), foreign (another renderer's buffers: coverage < 0.1%, depth "
+                                         "p99 < 1e-3 of the scene, normal p99 < 1°), effects (gl-vs-embree with colour p99 "
+                                         "< 0.02: two engines' images with the same image-space effects), transparency "
+                                         "(gl-vs-embree with colour p99 < 1e-3: GL's depth peeling against Embree's layers "
+                                         "at --opacity < 1), or none (report the metrics, judge nothing). Every preset "
+                                         "fails on NaN and on a limit over no pixels. Default: foreign for another "
                                          "renderer's buffers, exact when the two images' metadata name the same engine, "
-                                         "else gl-vs-embree")
+                                         "else effects or transparency when the reference has effects or a transparent "
+                                         "surface, else gl-vs-embree")
       ->check(CLI::IsMember({"gl-vs-embree", "exact", "foreign", "effects", "transparency", "none"}));
   cmd->add_option("--max-coverage", o->maxCoverage, "Largest coverage-mismatch fraction outside silhouettes")->check(numberIn(0, 1));
   cmd->add_option("--max-depth-p99", o->maxDepthP99, "Largest depth-error p99 relative to the scene size")->check(numberIn(0, HUGE_VAL));

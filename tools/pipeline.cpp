@@ -153,7 +153,9 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.shadows = image.shadows;
   record.aoSamples = image.ao;
   record.aoDistance = image.aoDistance;
-  record.samplesPerPixel = image.spp;
+  // The samples a pixel's colour averages: --spp rounded up to a k×k grid (2 and 4 alike).
+  const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(image.spp))));
+  record.samplesPerPixel = side * side;
   record.commandLine = commandLine;
   record.opacity = image.opacity;
   record.maxLayers = image.maxLayers;
