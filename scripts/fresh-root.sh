@@ -35,6 +35,7 @@ else
   die "found no Debian package sources on this machine (/etc/apt/sources.list.d/debian.sources or /etc/apt/sources.list)"
 fi
 
+log=$repo/build/fresh-root/demo.log
 work=$(mktemp -d /tmp/surftrace-fresh-root.XXXXXX)
 trap 'rm -rf --one-file-system "$work"' EXIT   # the clone and what came out of the root; never a root
 git -C "$repo" rev-parse --verify -q HEAD >/dev/null || die "$repo is not a git repository with a commit"
@@ -48,26 +49,32 @@ mkdir -p "$cache" "$work/out"
 if [ "$(du -sm "$cache" | cut -f1)" -gt 3000 ]; then say "the package cache passed 3 GB; emptying it"; rm -rf --one-file-system "${cache:?}"/*; fi
 
 say "making a minimal Debian 12 root (mmdebstrap --variant=minbase, sources from $sources) and running"
-say "bash scripts/demo.sh in a clone of $commit there; the demo's output follows"
+say "bash scripts/demo.sh in a clone of $commit there (its output: $log)"
 start=$(date +%s)
 # The demo's exit status is written out rather than failing the hook, so that the packages it
 # downloaded reach the cache and its outputs are copied out either way.
 status=0
-mmdebstrap --variant=minbase --mode=root --format=null --skip=essential/unlink \
+mmdebstrap --quiet --variant=minbase --mode=root --format=null --skip=essential/unlink \
   --setup-hook="mkdir -p \"\$1\"/var/cache/apt/archives/" \
   --setup-hook="sync-in $cache /var/cache/apt/archives/" \
   --customize-hook="copy-in $work/surftrace /root" \
-  --customize-hook='chroot "$1" env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 CI=true bash -c "cd /root/surftrace && { bash scripts/demo.sh; echo \$? > /root/demo.status; }" </dev/null 1>&2' \
+  --customize-hook='chroot "$1" env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 CI=true bash -c "cd /root/surftrace && { bash scripts/demo.sh > /root/demo.log 2>&1; echo \$? > /root/demo.status; mkdir -p out; }" </dev/null' \
   --customize-hook="sync-out /var/cache/apt/archives $cache" \
-  --customize-hook="copy-out /root/demo.status $work" \
+  --customize-hook="copy-out /root/demo.status /root/demo.log $work" \
   --customize-hook="sync-out /root/surftrace/out $work/out" \
   bookworm /dev/null "$sources" || status=$?
 minutes=$(( ($(date +%s) - start + 30) / 60 ))
 if [ "$status" -ne 0 ]; then
   die "mmdebstrap could not make or run the root (exit $status, after $minutes min); see its messages above (no network to Debian's mirrors? no root?)"
 fi
+mkdir -p "$(dirname "$log")"
+cp "$work/demo.log" "$log" 2>/dev/null || true
 demo=$(cat "$work/demo.status" 2>/dev/null || echo missing)
-[ "$demo" = 0 ] || die "bash scripts/demo.sh failed in a fresh Debian 12 root (exit $demo, after $minutes min); its output is above"
+if [ "$demo" != 0 ]; then
+  echo "fresh-root: the last 40 lines of the demo's output ($log):" >&2
+  tail -n 40 "$log" >&2 || true
+  die "bash scripts/demo.sh failed in a fresh Debian 12 root (exit $demo, after $minutes min); its whole output: $log"
+fi
 for image in 1vis.png 1vis.exr; do
   [ -s "$work/out/$image" ] || die "the demo exited 0 but wrote no out/$image"
   info=$(iinfo "$work/out/$image") || die "out/$image is not an image iinfo can read"
