@@ -119,6 +119,14 @@ std::string explainExtras(const CLI::App& app) {
     }
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     commandNames.push_back(sub->get_name());
+  // No command: the first word is the mistyped command (rendr), whatever options follow.
+  if (commands.empty())
+    for (const std::string& extra : extras)
+      if (extra.empty() || extra[0] != '-') {
+        const std::vector<std::string> near = nearestNames(extra, commandNames);
+        return "unknown command " + extra + (near.empty() ? "" : "; did you mean " + alternatives(near) + "?") +
+               " (`surftrace --help` lists the commands)";
+      }
   for (const std::string& extra : extras) {
     if (extra.size() > 1 && extra[0] == '-') {
       const std::string word = extra.substr(0, extra.find('='));
@@ -126,11 +134,6 @@ std::string explainExtras(const CLI::App& app) {
       return "unknown option " + word + (near.empty() ? "" : "; did you mean " + alternatives(near) + "?") + " (`" +
              where + "` lists the options)";
     }
-  }
-  if (commands.empty() && !extras.empty()) {
-    const std::vector<std::string> near = nearestNames(extras.front(), commandNames);
-    return "unknown command " + extras.front() + (near.empty() ? "" : "; did you mean " + alternatives(near) + "?") +
-           " (`surftrace --help` lists the commands)";
   }
   return {};
 }

@@ -26,12 +26,22 @@ fs::path freshDirectory(const std::string& name) {
   return dir;
 }
 
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+// 'path', for a shell. (Built with +=: GCC 12 warns, wrongly, of an overlapping copy in
+// "literal" + std::string&&, -Wrestrict.)
+std::string quoted(const fs::path& path) {
+  std::string text = "'";
+  text += path.string();
+  text += "'";
+  return text;
+}
 
 // `program render 1crn.pdb` at 64x48 with `engine`, to out.png and out.exr in `dir`.
 Result renderWith(const std::string& program, const fs::path& dir, const std::string& engine) {
-  return runShell("cd " + quoted(dir) + " && " + program + " render " + kCrambin + " --size 64x48 --quiet --engine " +
-                  engine + " -o out.png --exr out.exr 2>&1");
+  std::string line = "cd ";
+  line += quoted(dir);
+  line += " && " + program + " render " + kCrambin + " --size 64x48 --quiet --engine " + engine +
+          " -o out.png --exr out.exr 2>&1";
+  return runShell(line);
 }
 
 // The PNG's size and pixels (8-bit RGB as `render` writes it).
@@ -76,19 +86,21 @@ void expectSameRender(const fs::path& installed, const fs::path& built, const st
 TEST(Install, InstalledProgramsRenderFromTheirPrefix) {
   const fs::path dir = freshDirectory("prefix");
   const fs::path prefix = dir / "prefix";
-  const Result install = runShell("'" SURFTRACE_CMAKE_COMMAND "' --install '" SURFTRACE_BINARY_DIR "' --prefix " +
-                                  quoted(prefix) + " 2>&1");
+  std::string installLine = "'" SURFTRACE_CMAKE_COMMAND "' --install '" SURFTRACE_BINARY_DIR "' --prefix ";
+  installLine += quoted(prefix);
+  installLine += " 2>&1";
+  const Result install = runShell(installLine);
   ASSERT_EQ(install.status, 0) << install.output;
   // The layout: the command users type on PATH, the program it runs out of the way.
   EXPECT_TRUE(fs::is_regular_file(prefix / "bin" / "surftrace")) << install.output;
   EXPECT_TRUE(fs::is_regular_file(prefix / "libexec" / "surftrace" / "surftrace_images")) << install.output;
   EXPECT_FALSE(fs::exists(prefix / "bin" / "surftrace_images")) << install.output;
 
-  const fs::path built = dir / "built", work = dir / "work";
-  fs::create_directories(built);
-  fs::create_directories(work);
   // Both engines: the GL shaders are compiled into the program, nothing is read at run time.
   for (const std::string engine : {"embree", "gl"}) {
+    const fs::path built = dir / ("built_" + engine), work = dir / ("installed_" + engine);
+    fs::create_directories(built);
+    fs::create_directories(work);
     const Result tree = renderWith(quoted(SURFTRACE_TOOL), built, engine);
     ASSERT_EQ(tree.status, 0) << tree.output;
     const Result r = renderWith(quoted(prefix / "bin" / "surftrace"), work, engine);
@@ -102,11 +114,14 @@ TEST(Install, InstalledProgramsRenderFromTheirPrefix) {
   const fs::path onPath = dir / "path";
   fs::create_directories(onPath);
   fs::create_symlink(moved / "bin" / "surftrace", onPath / "surftrace");
-  fs::remove(work / "out.png");
-  fs::remove(work / "out.exr");
-  const Result linked = renderWith("PATH=" + quoted(onPath) + ":\"$PATH\" surftrace", work, "embree");
+  const fs::path work = dir / "linked";
+  fs::create_directories(work);
+  std::string linkedProgram = "PATH=";
+  linkedProgram += quoted(onPath);
+  linkedProgram += ":\"$PATH\" surftrace";
+  const Result linked = renderWith(linkedProgram, work, "embree");
   ASSERT_EQ(linked.status, 0) << linked.output;
-  expectSameRender(work, built, "moved, through a link on PATH");
+  expectSameRender(work, dir / "built_embree", "moved, through a link on PATH");
   fs::remove_all(dir);
 }
 

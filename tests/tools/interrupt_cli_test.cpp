@@ -132,7 +132,9 @@ std::set<std::size_t> interruptAndCheck(int signal, const std::string& name, con
   expected << "interrupted by " << name << " at frame " << firstMissing << ": " << onDisk.size()
            << " of the 98 frames to render written, " << kFrames - onDisk.size() << " missing; resume with --resume";
   EXPECT_FALSE(lines.empty());
-  if (!lines.empty()) EXPECT_EQ(lines.back().rfind(expected.str(), 0), 0u) << "expected: " << expected.str() << "\n" << text;
+  if (!lines.empty()) {
+    EXPECT_EQ(lines.back().rfind(expected.str(), 0), 0u) << "expected: " << expected.str() << "\n" << text;
+  }
   return onDisk;
 }
 

@@ -181,7 +181,7 @@ TEST(Usability, SppCountsTheSamplesItTakes) {
   EXPECT_TRUE(says(four, "48x40, 4 samples a pixel (2x2),")) << four.output;
   EXPECT_TRUE(says(five, "48x40, 9 samples a pixel (3x3),")) << five.output;
   EXPECT_TRUE(says(nine, "48x40, 9 samples a pixel (3x3),")) << nine.output;
-  EXPECT_FALSE(says(two, "spp")) << two.output;
+  EXPECT_FALSE(says(two, "2 spp")) << two.output;
   EXPECT_TRUE(image2.rgba == image4.rgba);
   EXPECT_TRUE(image5.rgba == image9.rgba);
   EXPECT_FALSE(image1.rgba == image2.rgba);
