@@ -104,11 +104,19 @@ std::set<std::size_t> interruptAndCheck(int signal, const std::string& name, con
                                          "-o", (frames / "%05d.png").string()};
   const pid_t pid = start(args, log);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (std::chrono::steady_clock::now() < deadline &&
-         (!fs::exists(frames) || framesOnDisk(frames).empty()) && waitpid(pid, nullptr, WNOHANG) == 0)
+  int status = 0;
+  bool ended = false;  // before the signal: a failure (the log says why) or a run too quick to stop
+  while (std::chrono::steady_clock::now() < deadline && (!fs::exists(frames) || framesOnDisk(frames).empty())) {
+    if (waitpid(pid, &status, WNOHANG) == pid) {
+      ended = true;
+      break;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  kill(pid, signal);
-  const int status = waitFor(pid, 120);
+  }
+  if (!ended) {
+    kill(pid, signal);
+    status = waitFor(pid, 120);
+  }
   const std::vector<std::string> lines = linesOf(log);
   std::string text;
   for (const std::string& line : lines) text += line + "\n";
