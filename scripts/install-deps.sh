@@ -6,13 +6,18 @@
 #   bash scripts/install-deps.sh --list [--tests]   print the package names and install nothing
 #
 # Idempotent: installs only what is missing; runs `apt-get update` at most once.
-# Works as root or through sudo; prints what it does.
+# Works as root or through sudo; prints what it does. When another apt-get or dpkg holds the
+# package lock (a fresh cloud machine running its unattended upgrades), it waits for it, saying
+# so, for up to SURFTRACE_APT_LOCK_WAIT seconds (default 900), then fails naming the holder.
 set -euo pipefail
 
 # Building the library and the `surftrace` program, and running it (GL through Mesa's EGL).
 run_packages=(
   build-essential cmake ninja-build ccache pkg-config
   libembree-dev libtbb-dev libglm-dev libopenimageio-dev
+  # Debian's OpenImageIOTargets.cmake names the programs of openimageio-tools (iconvert, ...)
+  # and stops the configure when they are missing, though nothing here runs them.
+  openimageio-tools
   gemmi-dev tao-pegtl-dev zlib1g-dev libgmp-dev libboost-dev
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   nlohmann-json3-dev libcli11-dev
@@ -21,12 +26,13 @@ run_packages=(
 # checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer.
 test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
-  glslang-tools openimageio-tools
+  glslang-tools
   libcgal-dev
   freesasa
   python3-mdanalysis python3-numpy
   slurm-wlm munge
   clang libclang-rt-14-dev
+  mmdebstrap
 )
 
 list=0
@@ -68,7 +74,37 @@ if [ "$(id -u)" -ne 0 ]; then
   fi
 fi
 
+# Runs apt-get with the given arguments; while it fails because another process holds one of
+# apt's or dpkg's locks, waits and tries again, up to $lock_wait seconds in all.
+lock_wait=${SURFTRACE_APT_LOCK_WAIT:-900}
+lock_poll=${SURFTRACE_APT_LOCK_POLL:-10}
+waited=0
+apt_get() {
+  local log status
+  log=$(mktemp)
+  while true; do
+    status=0
+    $SUDO apt-get "$@" 2>"$log" || status=$?
+    cat "$log" >&2
+    if [ "$status" -eq 0 ]; then rm -f "$log"; return 0; fi
+    if ! grep -q "Could not get lock\|Unable to acquire the dpkg frontend lock\|is another process using it" "$log"; then
+      rm -f "$log"; return "$status"
+    fi
+    local holder
+    holder=$(grep -o "held by process [0-9]* ([^)]*)" "$log" | head -1 || true)
+    if [ "$waited" -ge "$lock_wait" ]; then
+      echo "install-deps: apt's lock is still ${holder:-held by another process} after ${waited} s;" \
+           "wait for it to finish (or stop it) and run this again" >&2
+      rm -f "$log"; return "$status"
+    fi
+    echo "install-deps: another apt-get or dpkg holds the package lock${holder:+ (${holder#held by })};" \
+         "waiting for it (${waited} s of at most ${lock_wait} s)" >&2
+    sleep "$lock_poll"
+    waited=$((waited + lock_poll))
+  done
+}
+
 echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+apt_get update -qq
+apt_get install -y -qq --no-install-recommends "${missing[@]}"

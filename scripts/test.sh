@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Quick start, part 2: install what is missing, then build and run every test twice:
 # a Release build with warnings as errors, and an AddressSanitizer + UBSan build; then fuzz
-# the file readers for about a minute (libFuzzer, ASan+UBSan; scripts/fuzz.sh).
+# the file readers for about a minute (libFuzzer, ASan+UBSan; scripts/fuzz.sh); then run the
+# README's first command, scripts/demo.sh, in a fresh minimal Debian 12 root (scripts/fresh-root.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --tests
@@ -33,3 +34,6 @@ ctest --preset asan -j "$jobs"
 
 echo "== Fuzzing the readers (libFuzzer, ASan+UBSan, 10 s per format) =="
 bash scripts/fuzz.sh 10
+
+echo "== The README's first command in a fresh Debian 12 root (mmdebstrap) =="
+bash scripts/fresh-root.sh

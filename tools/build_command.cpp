@@ -1,5 +1,7 @@
 // `surftrace build`: the analytic patch list, written to a .stp file.
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -15,10 +17,26 @@ struct BuildOptions : SurfaceInputOptions {
   std::string output;
 };
 
+// A patch list is SurfTrace's own format, and a file named like a mesh (.obj, .ply) or
+// anything else would be taken for what it is not: the name must say .stp.
+void checkPatchListName(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".stp") return;
+  std::filesystem::path suggestion = path;
+  suggestion.replace_extension(".stp");
+  throw std::invalid_argument(
+      "-o " + path + ": `build` writes a patch list (.stp), SurfTrace's own file of the surface's analytic patches " +
+      "(spheres, tori, concave triangles, hyperboloids, with their clipping planes) that `render`, `area` and `info` " +
+      "read; it is no mesh or other format" + (extension.empty() ? "" : " (" + extension + ")") + ". Name it " +
+      suggestion.string());
+}
+
 void runBuild(const BuildOptions& o) {
   if (isPatchListInput(o.path))
     throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
                                 "take it as it is");
+  checkPatchListName(o.output);
   build::prepareOutputPath(o.output, "-o");
   const auto limit = limitThreads(o.threads);
   const Built b = readAndBuild(o);
@@ -55,7 +73,8 @@ void addBuildCommand(CLI::App& app) {
                                  "with --surface mss, the molecular skin (spheres and hyperboloids with their mixed "
                                  "cells)");
   addSurfaceInputOptions(*cmd, *o);
-  cmd->add_option("-o,--output", o->output, "Patch-list file to write (.stp)")->required();
+  cmd->add_option("-o,--output", o->output, "Patch-list file to write: FILE.stp, SurfTrace's own format (the analytic patches), read by `render`, "
+                 "`area` and `info`")->required();
   cmd->callback([o] { runBuild(*o); });
 }
 

@@ -386,6 +386,7 @@ bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, con
 
 void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
+  if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
   if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
   view::ImageMetadata refMeta;
   const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);

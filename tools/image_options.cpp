@@ -190,7 +190,9 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--uniform-color", o.uniformColor, "Colour r,g,b in [0,1] for --color uniform")
       ->default_val("0.8,0.8,0.8");
   cmd.add_option("--background", o.background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
-  cmd.add_option("--spp", o.spp, "Samples per pixel for anti-aliasing (a k×k grid; buffers use the pixel centre)")
+  cmd.add_option("--spp", o.spp,
+                 "Anti-aliasing: colour samples per pixel, rounded up to a k×k grid (2 to 4 take 2×2 = 4 samples, 5 "
+                 "to 9 take 3×3 = 9); the buffers (depth, normal, ids) keep the pixel centre's")
       ->check(wholeIn(1, 1024))
       ->default_val(1);
   cmd.add_flag("--shadows", o.shadows, "Ray-traced shadows from a key light above-left of the eye");

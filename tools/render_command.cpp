@@ -15,6 +15,7 @@
 #include "option_checks.hpp"
 #include "pipeline.hpp"
 #include "view/atom_colors.hpp"
+#include "view/image_io.hpp"
 #include "view/patch_kind.hpp"
 
 namespace surftrace::tools {
@@ -40,6 +41,8 @@ struct RenderCommandOptions {
 void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
   if (o.output.empty() && o.exr.empty()) throw std::invalid_argument("nothing to write: give -o OUT.png and/or --exr OUT.exr");
   checkEngineCanDraw(o.engine, o.image);
+  if (!o.output.empty()) view::checkImageOutputName(o.output, "-o", view::ImageContent::Colour);
+  if (!o.exr.empty()) view::checkImageOutputName(o.exr, "--exr", view::ImageContent::Buffers);
   if (!o.output.empty()) build::prepareOutputPath(o.output, "-o");
   if (!o.exr.empty()) build::prepareOutputPath(o.exr, "--exr");
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
@@ -138,6 +141,16 @@ void printLayerSummary(std::vector<std::uint32_t> layers, int maxLayers) {
               at(0.5), at(0.99), layers.back(), capped, maxLayers);
 }
 
+// "1 sample a pixel", "4 samples a pixel (2x2)": what the colour averages, as --spp is rounded
+// up to a square grid (--spp 2 takes 4).
+std::string samplesText(int spp) {
+  view::RenderOptions options;
+  options.samplesPerPixel = spp;
+  const int k = options.sampleGridSide();
+  if (k == 1) return "1 sample a pixel";
+  return std::to_string(k * k) + " samples a pixel (" + std::to_string(k) + "x" + std::to_string(k) + ")";
+}
+
 void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& list, const view::FrameBuffers& frame,
                         double readSeconds, double buildSeconds, double sceneSeconds) {
   std::size_t covered = 0;
@@ -151,9 +164,9 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
               static_cast<std::size_t>(list.params.atomCount), build::surfaceKindName(list.params.surface),
               list.patchCount(), counts.c_str(), o.engine.engine.c_str());
   if (!o.trajectory.empty()) std::printf("frame %d of %s\n", o.frame, o.trajectory.c_str());
-  std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %d spp, %.2f Mrays/s), %.1f%% covered\n",
+  std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %s, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
-              frame.height, o.image.spp, static_cast<double>(frame.rays) / frame.seconds * 1e-6,
+              frame.height, samplesText(o.image.spp).c_str(), static_cast<double>(frame.rays) / frame.seconds * 1e-6,
               100.0 * static_cast<double>(covered) / static_cast<double>(frame.pixels()));
   if (!frame.layers.empty()) printLayerSummary(frame.layers, o.image.maxLayers);
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());

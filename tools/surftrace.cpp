@@ -2,7 +2,8 @@
 //
 // `info`, `build` and `area` run in this program, which links no image library; every other
 // command line (render, trajectory, compare, --help, --version, a mistyped command) is handed
-// unchanged to surftrace_images beside it, which has every command. Loading OpenImageIO (with
+// unchanged to surftrace_images (beside it in the build tree, in libexec/surftrace/ once
+// installed), which has every command. Loading OpenImageIO (with
 // OpenCV, FFmpeg, GDAL behind it), Embree and EGL, about 250 libraries, took 0.25 s of CPU
 // before any command ran; `info` on a small protein now starts in a few milliseconds (README,
 // Benchmarks). A second program rather than a dlopen()ed module: no interface to keep stable
@@ -16,6 +17,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -26,17 +28,36 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs surftrace_images from this program's own folder with the same arguments (argv[0]
-// included, so that the command line recorded in images is the one typed). Returns only when
-// it could not: the reason, naming the path.
+// Where surftrace_images may lie, relative to this program's own file: beside it (the build
+// tree, build/release/tools/), then where `cmake --install` puts it (PREFIX/libexec/surftrace
+// for PREFIX/bin/surftrace; the relative path comes from tools/CMakeLists.txt). /proc/self/exe
+// is the real file, so a symbolic link to surftrace elsewhere on PATH finds it too.
+std::vector<fs::path> imageProgramCandidates(const fs::path& self) {
+  const fs::path folder = self.parent_path();
+  return {folder / surftrace::tools::kImageProgram,
+          (folder / SURFTRACE_IMAGE_PROGRAM_FROM_BIN / surftrace::tools::kImageProgram).lexically_normal()};
+}
+
+// Runs surftrace_images with the same arguments (argv[0] included, so that the command line
+// recorded in images is the one typed). Returns only when it could not: each place looked in,
+// with the reason.
 std::string runImageProgram(char** argv) {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   if (ec) return "cannot find this program's own folder (/proc/self/exe: " + ec.message() + ")";
-  const fs::path program = self.parent_path() / surftrace::tools::kImageProgram;
-  execv(program.c_str(), argv);
-  return program.string() + ": " + std::strerror(errno);
+  std::string tried;
+  for (const fs::path& program : imageProgramCandidates(self)) {
+    execv(program.c_str(), argv);
+    tried += (tried.empty() ? "" : "; ") + program.string() + ": " + std::strerror(errno);
+  }
+  return tried;
 }
+
+// What to do when surftrace_images is missing: the two layouts in which surftrace finds it.
+constexpr const char* kHowToInstall =
+    "Run surftrace from its build folder (build/release/tools/, where both programs are built), or install both "
+    "with `cmake --install build/release --prefix PREFIX` (PREFIX/bin/surftrace and "
+    "PREFIX/" SURFTRACE_IMAGE_PROGRAM_DIR "/surftrace_images); copying surftrace alone is not enough";
 
 bool isImageCommand(std::string_view command) {
   return command == "render" || command == "trajectory" || command == "compare";
@@ -51,9 +72,9 @@ int main(int argc, char** argv) {
     missing = runImageProgram(argv);
     if (isImageCommand(command)) {
       std::fprintf(stderr,
-                   "surftrace: error: `surftrace %s` runs in the program %s, which must lie beside surftrace "
-                   "(building surftrace builds both), but it cannot be run: %s\n",
-                   argv[1], surftrace::tools::kImageProgram, missing.c_str());
+                   "surftrace: error: `surftrace %s` runs in the program %s, which could not be run from where "
+                   "surftrace looks for it (%s). %s\n",
+                   argv[1], surftrace::tools::kImageProgram, missing.c_str(), kHowToInstall);
       return 1;
     }
   }
@@ -62,7 +83,7 @@ int main(int argc, char** argv) {
   surftrace::tools::describeApp(app);
   if (!missing.empty())
     app.footer(std::string("render, trajectory and compare are not available: they run in ") +
-               surftrace::tools::kImageProgram + ", which cannot be run (" + missing + ").");
+               surftrace::tools::kImageProgram + ", which could not be run (" + missing + "). " + kHowToInstall + ".");
   surftrace::tools::addInfoCommand(app);
   surftrace::tools::addBuildCommand(app);
   surftrace::tools::addAreaCommand(app);

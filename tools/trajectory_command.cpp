@@ -2,15 +2,18 @@
 // one camera for the whole run, partial updates for the atoms declared flexible, the build of
 // frame k+1 overlapped with the drawing of frame k, and frames shared out over processes
 // (--shard, Slurm job arrays).
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <atomic>
 #include <exception>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -191,6 +194,44 @@ view::SphereFraming frameEveryFrame(build::Trajectory& trajectory, const std::st
   return framing;
 }
 
+// SIGINT and SIGTERM (Ctrl-C; a Slurm time limit, which sends SIGTERM and SIGKILL KillWait
+// seconds later, 30 s by default) during the frames: the run takes no new frame, writes those already drawn, says
+// where it stopped, and then dies of the signal, as a shell or a job script expects. A second
+// signal kills at once (SA_RESETHAND). The handler only records the signal, the one thing it
+// may do (nothing else is async-signal-safe); this is the program's one global, because a
+// signal handler reaches nothing else.
+std::atomic<int> interruptSignal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "read and written in a signal handler");
+
+void recordInterrupt(int signal) { interruptSignal.store(signal); }
+
+// Catches SIGINT and SIGTERM while it lives.
+class InterruptHandler {
+ public:
+  InterruptHandler() {
+    struct sigaction action {};
+    action.sa_handler = recordInterrupt;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART | SA_RESETHAND;
+    sigaction(SIGINT, &action, &previousInt_);
+    sigaction(SIGTERM, &action, &previousTerm_);
+    // A signal ignored on entry stays ignored (a background job of a script, nohup).
+    if (previousInt_.sa_handler == SIG_IGN) sigaction(SIGINT, &previousInt_, nullptr);
+    if (previousTerm_.sa_handler == SIG_IGN) sigaction(SIGTERM, &previousTerm_, nullptr);
+  }
+  ~InterruptHandler() {
+    sigaction(SIGINT, &previousInt_, nullptr);
+    sigaction(SIGTERM, &previousTerm_, nullptr);
+  }
+  InterruptHandler(const InterruptHandler&) = delete;
+  InterruptHandler& operator=(const InterruptHandler&) = delete;
+
+  static int signal() { return interruptSignal.load(); }
+
+ private:
+  struct sigaction previousInt_ {}, previousTerm_ {};
+};
+
 // zlib's level for the frames' PNGs: level 1 encodes AdK's 512x512 frames in about two thirds
 // of the time of the default 6 (the conversion to 8 bits and OpenImageIO's share stay) for files
 // 7% larger, and the pixels are the same (README, Benchmarks). A movie's frames are many and are
@@ -215,12 +256,26 @@ struct Outputs {
   std::optional<fs::path> ffmpeg;
 };
 
+// ffmpeg chooses the container by the extension, after every frame is rendered: a name it
+// cannot place is refused before the first frame.
+void checkMovieName(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".mp4" && extension != ".m4v" && extension != ".mov" && extension != ".mkv")
+    throw std::invalid_argument("--mp4 " + path + ": " +
+                                (extension.empty() ? std::string("the name has no extension") : extension) +
+                                " is no container for the H.264 movie ffmpeg makes; name it .mp4 (or .mov, .mkv)");
+}
+
 Outputs checkOutputs(const TrajectoryOptions& o, const Shard& shard) {
   if (o.output.empty() && o.exr.empty())
     throw std::invalid_argument("nothing to write: give -o frames/%05d.png and/or --exr frames/%05d.exr");
   Outputs out;
   out.png = o.output.empty() ? FramePattern() : FramePattern("-o", o.output);
   out.exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
+  if (!out.png.empty()) view::checkImageOutputName(out.png(0), "-o", view::ImageContent::Colour);
+  if (!out.exr.empty()) view::checkImageOutputName(out.exr(0), "--exr", view::ImageContent::Buffers);
+  if (!o.mp4.empty()) checkMovieName(o.mp4);
   if (!out.png.empty()) build::prepareOutputPath(out.png(0), "-o");
   if (!out.exr.empty()) build::prepareOutputPath(out.exr(0), "--exr");
   if (!o.timings.empty()) build::prepareOutputPath(o.timings, "--timings");
@@ -345,6 +400,7 @@ class FrameLoop {
   std::vector<double> readMs, buildMs, sceneMs, renderMs, encodeMs, writeMs;
   double rigidDrift = 0.0;  // how far atoms held rigid actually moved in the trajectory
   std::size_t written = 0;
+  std::vector<std::size_t> writtenFrames;  // in the order they were written
 
  private:
   std::shared_ptr<Work> readAndBuild(std::size_t frame);
@@ -424,9 +480,13 @@ void FrameLoop::write(Work& w, ProgressBar& bar, std::size_t total) {
   readMs.push_back(w.readMs), buildMs.push_back(w.buildMs), sceneMs.push_back(w.sceneMs);
   renderMs.push_back(w.renderMs), encodeMs.push_back(w.encodeMs), writeMs.push_back(w.writeMs);
   timings_.row(w);
-  // One line per frame when nobody watches a bar (the logs of batch jobs).
-  if (!o_.quiet && !isatty(STDERR_FILENO))
+  writtenFrames.push_back(w.frame);
+  // One line per frame when nobody watches a bar (the logs of batch jobs), flushed: a log in a
+  // file is block-buffered, and a job killed at its time limit would lose every line.
+  if (!o_.quiet && !isatty(STDERR_FILENO)) {
     std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w.frame, w.buildMs, w.renderMs);
+    std::fflush(stdout);
+  }
   bar.items(++written, total, "frames");
 }
 
@@ -453,23 +513,23 @@ void FrameLoop::run(const std::vector<std::size_t>& todo) {
       tbb::make_filter<void, Item>(tbb::filter_mode::serial_in_order,
                                    [&](tbb::flow_control& fc) -> Item {
                                      Item w;
-                                     if (next == todo.size() || failed.load() ||
+                                     if (next == todo.size() || failed.load() || InterruptHandler::signal() ||
                                          !guarded([&] { w = readAndBuild(todo[next++]); }))
                                        fc.stop();
                                      return w;
                                    }) &
           tbb::make_filter<Item, Item>(tbb::filter_mode::serial_in_order,
                                        [&](Item w) -> Item {
-                                         if (!w || failed.load() || !guarded([&] { render(*w); })) return nullptr;
+                                         if (!w || failed.load() || InterruptHandler::signal() ||
+                                             !guarded([&] { render(*w); }))
+                                           return nullptr;
                                          return w;
                                        }) &
           tbb::make_filter<Item, void>(tbb::filter_mode::parallel, [&](Item w) {
             if (w && !failed.load()) guarded([&] { write(*w, bar, todo.size()); });
           }));
-  if (failure) {
-    bar.clear();
-    std::rethrow_exception(failure);
-  }
+  if (failure || InterruptHandler::signal()) bar.clear();
+  if (failure) std::rethrow_exception(failure);
 }
 
 // ffmpeg's image sequences must be numbered without gaps: the frames are linked as 0, 1, 2, ...
@@ -511,6 +571,25 @@ void printTimings(const FrameLoop& loop, double loopSeconds, double setupMs, dou
               median(loop.renderMs), median(loop.encodeMs), median(loop.writeMs));
 }
 
+// The last line of an interrupted run: where it stopped and how to go on; then the process dies
+// of `signal` (status 128 + signal in a shell: 130 for SIGINT, 143 for SIGTERM).
+[[noreturn]] void stopInterrupted(int signal, const std::vector<std::size_t>& todo, std::vector<std::size_t> written) {
+  std::sort(written.begin(), written.end());
+  const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+  const auto missing = std::find_if(todo.begin(), todo.end(),
+                                    [&](std::size_t k) { return !std::binary_search(written.begin(), written.end(), k); });
+  if (missing == todo.end())
+    std::printf("interrupted by %s after the last frame: all %zu frames to render written\n", name, todo.size());
+  else
+    std::printf("interrupted by %s at frame %zu: %zu of the %zu frames to render written, %zu missing; resume with "
+                "--resume (the same command with --resume renders only the missing frames)\n",
+                name, *missing, written.size(), todo.size(), todo.size() - written.size());
+  std::fflush(stdout);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+  std::_Exit(128 + signal);  // not reached: the signal's default action ends the process
+}
+
 void runTrajectory(const TrajectoryOptions& o) {
   // Every option is checked before the slow work starts.
   const Shard shard = shardFromEnvironment(o.shard);
@@ -546,7 +625,11 @@ void runTrajectory(const TrajectoryOptions& o) {
   FrameLoop loop(o, trajectory, reference, flexible, setup,
                  view::atomColors(reference, setup.render.color, setup.uniformColor), out);
   const auto loopStart = std::chrono::steady_clock::now();
+  // From the first frame on (before it, a signal ends the process as it always does: there is
+  // nothing to keep).
+  const InterruptHandler interrupts;
   loop.run(todo);
+  if (const int signal = InterruptHandler::signal()) stopInterrupted(signal, todo, loop.writtenFrames);
   printTimings(loop, millisecondsSince(loopStart) * 1e-3, setupMs, framingMs);
   if (!flexible.atoms.empty())
     std::printf("atoms outside --flexible were held at frame %zu; in the trajectory they moved up to %.3f Å\n",

@@ -16,8 +16,34 @@ PFM stores its bottom row first, so glReadPixels' buffer is written as it is. Ch
 """
 import argparse
 import json
+import os
+import subprocess
+import sys
 
-import numpy as np
+
+def import_numpy():
+    """numpy, from this interpreter or, when it has none (a pyenv or venv python3 first on PATH),
+    by running this script again under /usr/bin/python3, where Debian's python3-numpy installs:
+    the interpreter SurfTrace's own tests choose first (cmake/OraclePython.cmake)."""
+    try:
+        import numpy
+        return numpy
+    except ModuleNotFoundError:
+        pass
+    system = "/usr/bin/python3"
+    retried = os.environ.get("SURFTRACE_EXAMPLE_RETRIED") == "1"
+    if not retried and os.access(system, os.X_OK) and \
+            subprocess.run([system, "-c", "import numpy"], capture_output=True).returncode == 0:
+        print(f"{os.path.basename(__file__)}: this python3 ({sys.executable}) cannot import numpy; running again "
+              f"under {system}", file=sys.stderr)
+        os.environ["SURFTRACE_EXAMPLE_RETRIED"] = "1"
+        os.execv(system, [system, os.path.abspath(__file__)] + sys.argv[1:])
+    sys.exit(f"{os.path.basename(__file__)}: needs numpy, which neither {sys.executable} nor {system} imports: "
+             "install it (Debian: apt-get install python3-numpy; else pip install numpy) or run this script with "
+             "a python3 that has it")
+
+
+np = import_numpy()
 
 
 def read_camera(path):

@@ -145,7 +145,7 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
   FrameBuffers fb;
   fb.reset(cam.width, cam.height);
   fb.layers.assign(fb.pixels(), 0u);
-  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.samplesPerPixel))));
+  const int k = o.sampleGridSide();
   const int extraSamples = k > 1 ? k * k : 0;
   const Shader shader(scene, o, atomColors);
   const glm::dvec3 forward = cam.forward();
@@ -216,7 +216,7 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   fb.reset(cam.width, cam.height);
   const std::size_t n = fb.pixels();
 
-  const int k = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(o.samplesPerPixel))));
+  const int k = o.sampleGridSide();
   const int extraSamples = k > 1 ? k * k : 0;  // centre ray always; a k×k grid on top when spp > 1
   const Shader shader(scene, o, atomColors);
   const glm::dvec3 forward = cam.forward();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <span>
 #include <stdexcept>
 
@@ -48,6 +49,28 @@ void writeEncoded(const std::string& path, const EncodedImage& bytes) {
 }
 
 }  // namespace
+
+void checkImageOutputName(const std::string& path, const std::string& option, ImageContent content) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return;  // build::prepareOutputPath says what is wrong
+  const std::string extension = std::filesystem::path(path).extension().string();
+  const std::string named = option + " " + path + ": ";
+  // The writer that encode() will ask for, chosen by the extension as it will be.
+  auto out = oiio::ImageOutput::create(path);
+  if (!out || !out->supports("ioproxy")) {
+    static_cast<void>(oiio::geterror());  // clears OpenImageIO's record of the failed lookup
+    const std::string what = extension.empty() ? "the name has no extension to choose an image format by"
+                                               : extension + " is not an image format SurfTrace can write";
+    const std::string want = content == ImageContent::Buffers ? "name it .exr" : "name it .png (or .exr, .tif, .jpg)";
+    throw std::invalid_argument(named + what + "; " + want +
+                                ". (SurfTrace writes images; the surface itself, as analytic patches, is `surftrace "
+                                "build -o FILE.stp`.)");
+  }
+  if (content == ImageContent::Buffers && std::string(out->format_name()) != "openexr")
+    throw std::invalid_argument(named + option + " writes every buffer (depth, normal, ids, flags) in named float and " +
+                                "integer channels, which only OpenEXR holds: name it .exr (-o writes the colour image " +
+                                "in other formats)");
+}
 
 EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata,
                        int compressionLevel) {

@@ -29,6 +29,15 @@ EncodedImage encodePng(const std::string& path, const FrameBuffers& frame, const
 void writePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata,
               int compressionLevel = kDefaultPngLevel);
 
+// What an output image holds: the colour (PNG or any 8-bit format OpenImageIO writes) or every
+// buffer (OpenEXR, the one format with named float and integer channels that writeExr needs).
+enum class ImageContent { Colour, Buffers };
+
+// Checks, before any work, that an image named `path` can be written: its extension names a
+// format OpenImageIO encodes into memory (Colour), or it is an OpenEXR (Buffers). Otherwise
+// std::invalid_argument naming `option`, the path, the extension and what to give instead.
+void checkImageOutputName(const std::string& path, const std::string& option, ImageContent content);
+
 // OpenEXR with every buffer, one pixel per ray through the pixel centre:
 //   R G B A (half-free float colour and coverage), depth.t (ray distance, Å),
 //   depth.z (view-space z, Å), N.X N.Y N.Z (world-space unit normal), as 32-bit floats;

@@ -1,6 +1,7 @@
 // What a frame should show and how: the options every renderer takes (each rejects what it cannot do).
 #pragma once
 
+#include <cmath>
 #include <functional>
 
 #include <glm/vec3.hpp>
@@ -30,8 +31,15 @@ struct RenderOptions {
   // Image-space effects, applied after the engine by the pipeline (tools/pipeline.hpp), not by
   // the engines: every engine's frame gets the same pass.
   ImageEffects effects;
+  // The side k of the k×k grid of colour samples a pixel gets: samplesPerPixel rounded up to a
+  // square (2..4 -> 2, 5..9 -> 3), 1 for the pixel centre alone. The colour averages k² samples.
+  int sampleGridSide() const;
   // Called now and then from worker threads with the fraction done (for a progress bar).
   std::function<void(double)> progress;
 };
+
+inline int RenderOptions::sampleGridSide() const {
+  return static_cast<int>(std::ceil(std::sqrt(static_cast<double>(samplesPerPixel))));
+}
 
 }  // namespace surftrace::view

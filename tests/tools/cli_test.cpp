@@ -448,7 +448,8 @@ void expectSameImage(const std::string& a, const std::string& b, const std::stri
 TEST(Cli, PatchListRendersAsTheStructureDoes) {
   const auto dir = std::filesystem::path(testing::TempDir());
   const std::string mol = data("structures/1crn.pdb"), stp = (dir / "crn.patches").string();
-  ASSERT_EQ(run("build " + mol + " -o " + stp).status, 0);
+  ASSERT_EQ(run("build " + mol + " -o " + stp + ".stp").status, 0);  // `build` names it .stp
+  std::filesystem::rename(stp + ".stp", stp);
   for (const std::string engine : {"embree", "gl"}) {
     const std::string a = (dir / ("from_structure_" + engine + ".exr")).string();
     const std::string b = (dir / ("from_patches_" + engine + ".exr")).string();

@@ -71,7 +71,8 @@ TEST(Startup, SurfaceCommandsLoadNoImageLibrary) {
 
 // A copy of `surftrace` alone in a folder: info, build and area work as the whole program's do,
 // --help still answers, and the image commands stop with an error that names the missing
-// program and where it was looked for.
+// program, every place it was looked for (beside surftrace; ../libexec/surftrace, where
+// `cmake --install` puts it) and how to install the two.
 TEST(Startup, SurfaceCommandsRunWithoutTheImageProgram) {
   const fs::path dir = freshDirectory("alone");
   const fs::path alone = dir / "surftrace";
@@ -103,6 +104,11 @@ TEST(Startup, SurfaceCommandsRunWithoutTheImageProgram) {
   EXPECT_NE(help.output.find("render, trajectory and compare are not available"), std::string::npos) << help.output;
   std::string missing = (dir / "surftrace_images").string();
   missing += ": No such file or directory";
+  std::string missingInstalled = (dir.parent_path() / "libexec" / "surftrace" / "surftrace_images").string();
+  missingInstalled += ": No such file or directory";
+  const std::string howToInstall = "install both with `cmake --install build/release --prefix PREFIX` "
+                                   "(PREFIX/bin/surftrace and PREFIX/libexec/surftrace/surftrace_images)";
+  EXPECT_NE(help.output.find(howToInstall), std::string::npos) << help.output;
   for (const std::string command : {"render", "trajectory", "compare"}) {
     const Result r = runProgram(alone, command + " " + kCrambin + " -o x.png");
     EXPECT_EQ(r.status, 1) << r.output;
@@ -111,6 +117,8 @@ TEST(Startup, SurfaceCommandsRunWithoutTheImageProgram) {
     error += "` runs in the program surftrace_images";
     EXPECT_NE(r.output.find(error), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(missingInstalled), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(howToInstall), std::string::npos) << r.output;
   }
   fs::remove_all(dir);
 }

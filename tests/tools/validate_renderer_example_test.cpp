@@ -111,5 +111,39 @@ TEST(CompareExample, NumpyRayCasterWithItsOwnLookAtPerspective) {
   EXPECT_EQ(flipped.status, 2) << flipped.output;
 }
 
+// The README's step 2 exactly as typed, `python3 examples/...` from the repository, where the
+// first python3 on PATH cannot import numpy (a bare pyenv or venv; here /usr/bin/python3 with
+// its site-packages cut off, as scripts/test.sh makes one): the script finds an interpreter
+// that has numpy, as the tests' own choice does, and draws the same buffers.
+TEST(CompareExample, ReadmeCommandRunsWhenTheFirstPython3HasNoNumpy) {
+  const std::filesystem::path dir = freshDir("validate_renderer_no_numpy");
+  ASSERT_EQ(test::runShell("/usr/bin/python3 -c 'import numpy' 2>&1").status, 0)
+      << "/usr/bin/python3 must import numpy (Debian: python3-numpy), as the README's example expects";
+  const std::filesystem::path bin = dir / "bin";
+  std::filesystem::create_directories(bin);
+  std::ofstream(bin / "python3") << "#!/bin/sh\nexec /usr/bin/python3 -I -S \"$@\"\n";
+  std::filesystem::permissions(bin / "python3", std::filesystem::perms::owner_all);
+  const std::string path = "PATH='" + bin.string() + "':\"$PATH\" ";
+  ASSERT_NE(test::runShell(path + "python3 -c 'import numpy' 2>&1").status, 0) << "the stub imports numpy";
+
+  ASSERT_EQ(runIn(dir, "info " + kMolecule + " --xyzr atoms.xyzr").status, 0);
+  ASSERT_EQ(runIn(dir, "render " + kMolecule + " --surface vdw --size 64x48 --exr vdw.exr --camera-out cam.json").status, 0);
+  const std::string inDir = "cd '" + std::string(SURFTRACE_SOURCE_DIR) + "' && " + path;
+  const std::string files = " '" + (dir / "atoms.xyzr").string() + "' '" + (dir / "cam.json").string() + "' '" +
+                            (dir / "depth.pfm").string() + "' --normal '" + (dir / "normal.pfm").string() + "'";
+  const test::Result caster = test::runShell(inDir + "python3 examples/validate_renderer/sphere_caster.py" + files + " 2>&1");
+  ASSERT_EQ(caster.status, 0) << caster.output;
+  // A 64x48 window-depth PFM (one channel, "Pf"), and the buffers pass as the README says.
+  std::ifstream pfm(dir / "depth.pfm", std::ios::binary);
+  std::string magic;
+  int width = 0, height = 0;
+  pfm >> magic >> width >> height;
+  EXPECT_EQ(magic, "Pf");
+  EXPECT_EQ(width, 64);
+  EXPECT_EQ(height, 48);
+  const test::Result pass = runIn(dir, "compare depth.pfm vdw.exr" + kFlags);
+  EXPECT_EQ(pass.status, 0) << pass.output;
+}
+
 }  // namespace
 }  // namespace surftrace::tools
