@@ -97,10 +97,10 @@ TEST(Usability, BuildRefusesANameThatIsNotAPatchList) {
 TEST(Usability, BritishSpellingsAreTheSameOptions) {
   const fs::path dir = freshDirectory("colour");
   const std::string british = (dir / "british.exr").string(), american = (dir / "american.exr").string();
-  const Result r = runTool("render " + kCrambin + " --size 32x32 --quiet --colour uniform --uniform-colour 0.2,0.4,0.6 "
+  const Result r = runTool("render " + kCrambin + " --size 64x64 --quiet --colour uniform --uniform-colour 0.2,0.4,0.6 "
                            "--silhouettes --silhouette-colour=1,0,0 --exr " + british);
   ASSERT_EQ(r.status, 0) << r.output;
-  ASSERT_EQ(runTool("render " + kCrambin + " --size 32x32 --quiet --color uniform --uniform-color 0.2,0.4,0.6 "
+  ASSERT_EQ(runTool("render " + kCrambin + " --size 64x64 --quiet --color uniform --uniform-color 0.2,0.4,0.6 "
                     "--silhouettes --silhouette-color=1,0,0 --exr " + american)
                 .status,
             0);
@@ -113,6 +113,7 @@ TEST(Usability, BritishSpellingsAreTheSameOptions) {
   for (std::size_t p = 0; p < a.pixels(); ++p)
     if (a.kind[p] != 0 && a.rgba[4 * p + 2] > a.rgba[4 * p] + 0.1f) sawUniform = true;
   EXPECT_TRUE(sawUniform);
+  // (64x64: at 32x32 the seams mask every pixel, and a limit over no pixels fails.)
   const Result compare = runTool("compare " + british + " " + american + " --max-colour-p99 0.5");
   EXPECT_EQ(compare.status, 0) << compare.output;
   fs::remove_all(dir);
