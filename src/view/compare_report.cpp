@@ -82,7 +82,7 @@ table { border-collapse: collapse; font-size: 13px; }
 td, th { border: 1px solid #ccc; padding: 2px 8px; text-align: right; }
 th { background: #eee; } td:first-child, th:first-child { text-align: left; }
 .plots { display: flex; gap: 12px; flex-wrap: wrap; }
-.plots figure { margin: 0; }
+.plots figure, .images figure { margin: 0; }
 #pixel { font-family: monospace; min-height: 1.4em; }
 )";
 
