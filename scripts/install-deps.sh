@@ -18,7 +18,8 @@ run_packages=(
   nlohmann-json3-dev libcli11-dev
 )
 # The test suites, benchmarks and their oracles: GoogleTest and Google Benchmark, the shader
-# checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer.
+# checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer,
+# and headless Chromium (opens `compare --html`'s page).
 test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   glslang-tools openimageio-tools
@@ -27,6 +28,7 @@ test_packages=(
   python3-mdanalysis python3-numpy
   slurm-wlm munge
   clang libclang-rt-14-dev
+  chromium
 )
 
 list=0
