@@ -1,6 +1,7 @@
 // What the exact tracer records for `compare`'s masks (reference_masks.hpp).
 #include "trace/reference_masks.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -12,7 +13,39 @@
 
 namespace surftrace::trace {
 
-SeamDistance::SeamDistance(const ScenePatches& patches) : patches_(&patches), spheres_(patches) {}
+SeamDistance::SeamDistance(const ScenePatches& patches) : patches_(&patches) {
+  const KindPatches<SphereKind>& spheres = patches.of<SphereKind>();
+  if (patches.params.surface != build::SurfaceKind::Ses) {
+    blockers_.emplace(patches);
+    return;
+  }
+  // An SES sphere's patch ends exactly on its tori's contact circles (far fewer than the
+  // circles of every atom that comes near it, and no neighbour search).
+  const KindPatches<TorusKind>& tori = patches.of<TorusKind>();
+  std::vector<std::uint32_t> sphereOf(patches.params.atomCount, ~0u);
+  for (std::uint32_t s = 0; s < spheres.atoms.size(); ++s)
+    if (spheres.atoms[s] < sphereOf.size()) sphereOf[spheres.atoms[s]] = s;
+  auto sphere = [&](std::uint32_t atom) { return atom < sphereOf.size() ? sphereOf[atom] : ~0u; };
+  toriBegin_.assign(spheres.patches.size() + 1, 0);
+  for (const glm::uvec2& a : tori.atoms)
+    for (const std::uint32_t atom : {a.x, a.y})
+      if (sphere(atom) != ~0u) ++toriBegin_[sphere(atom) + 1];
+  for (std::size_t s = 0; s < spheres.patches.size(); ++s) toriBegin_[s + 1] += toriBegin_[s];
+  tori_.resize(toriBegin_.back());
+  std::vector<std::uint32_t> next(toriBegin_.begin(), toriBegin_.end() - 1);
+  for (std::uint32_t t = 0; t < tori.atoms.size(); ++t)
+    for (const std::uint32_t side : {0u, 1u})
+      if (const std::uint32_t s = sphere(tori.atoms[t][side]); s != ~0u) tori_[next[s]++] = 2 * t + side;
+}
+
+double SeamDistance::sphereDistance(std::uint32_t sphere, const glm::dvec3& x) const {
+  if (blockers_) return blockers_->edgeDistance(sphere, x);
+  const KindPatches<TorusKind>& tori = patches_->of<TorusKind>();
+  double d = std::numeric_limits<double>::infinity();
+  for (std::uint32_t k = toriBegin_[sphere]; k < toriBegin_[sphere + 1]; ++k)
+    d = std::min(d, contactCircleDistance(tori.patches[tori_[k] / 2], (tori_[k] & 1u) != 0, x));
+  return d;
+}
 
 double SeamDistance::operator()(const SceneHit& hit, const glm::dvec3& x) const {
   double d = std::numeric_limits<double>::quiet_NaN();
@@ -22,7 +55,7 @@ double SeamDistance::operator()(const SceneHit& hit, const glm::dvec3& x) const 
     if constexpr (isModelRow<Row>())
       return;
     else if constexpr (std::is_same_v<Row, SphereKind>)
-      d = spheres_.edgeDistance(hit.patch, x);
+      d = sphereDistance(hit.patch, x);
     else
       d = boundaryDistance(k.patches[hit.patch], x);
   });

@@ -4,6 +4,10 @@
 // exact one only there.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+#include <vector>
+
 #include <glm/vec3.hpp>
 
 #include "trace/layers.hpp"
@@ -14,17 +18,23 @@
 namespace surftrace::trace {
 
 // The distance (Å) from a hit to the nearest edge of its patch: boundaryDistance() of its
-// kind, and for the whole spheres the circles their blockers cut (SphereClip). A lower bound:
-// each edge counts as its whole circle or plane. NaN for the ball-and-stick model, whose balls
-// and sticks meet in creases that no patch records.
+// kind; for the SES's whole spheres the contact circles of their tori, for the vdW and SAS
+// spheres the circles their blockers cut (SphereClip). A lower bound: each edge counts as its
+// whole circle or plane. NaN for the ball-and-stick model, whose balls and sticks meet in
+// creases that no patch records.
 class SeamDistance {
  public:
   explicit SeamDistance(const ScenePatches& patches);
   double operator()(const SceneHit& hit, const glm::dvec3& x) const;
 
  private:
+  double sphereDistance(std::uint32_t sphere, const glm::dvec3& x) const;
+
   const ScenePatches* patches_;
-  SphereClip spheres_;
+  // SES: the tori of each sphere's atom, CSR over the spheres; a torus index times 2, plus 1
+  // where the sphere's atom is the torus's atom j.
+  std::vector<std::uint32_t> toriBegin_, tori_;
+  std::optional<SphereClip> blockers_;  // vdW, SAS
 };
 
 // Sets kPixelSilhouette where the rays through a pixel's centre and its four corners do not

@@ -500,13 +500,25 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack) {
   return clipLocal(n, slack == 0.0 ? limitsOf(p, derivedValid(p)) : makeLimits(p, slack), local, rho, slack).inside;
 }
 
+namespace {
+
+// A circle about the axis is nearest at x's own azimuth: the distance is the one in the
+// meridian half-plane (ρ, z), to the contact circle's point (R − rp cos θ, rp sin θ).
+double contactCircleDistanceLocal(const TorusPatch& p, double theta, double rho, double z) {
+  return std::hypot(rho - (p.bigRadius - p.probeRadius * std::cos(theta)), z - p.probeRadius * std::sin(theta));
+}
+
+}  // namespace
+
+double contactCircleDistance(const TorusPatch& p, bool atomJ, const glm::dvec3& x) {
+  const glm::dvec3 local = toLocal(p, x - p.center);
+  return contactCircleDistanceLocal(p, atomJ ? p.thetaJ : p.thetaI, std::hypot(local.x, local.y), local.z);
+}
+
 double boundaryDistance(const TorusPatch& p, const glm::dvec3& x) {
   const glm::dvec3 local = toLocal(p, x - p.center);
   const double rho = std::hypot(local.x, local.y), R = p.bigRadius, rp = p.probeRadius;
-  // A circle about the axis is nearest at x's own azimuth: the distance is the one in the
-  // meridian half-plane (ρ, z), to the contact circle's point (R − rp cos θ, rp sin θ).
-  double d = std::min(std::hypot(rho - (R - rp * std::cos(p.thetaI)), local.z - rp * std::sin(p.thetaI)),
-                      std::hypot(rho - (R - rp * std::cos(p.thetaJ)), local.z - rp * std::sin(p.thetaJ)));
+  double d = std::min(contactCircleDistanceLocal(p, p.thetaI, rho, local.z), contactCircleDistanceLocal(p, p.thetaJ, rho, local.z));
   if (p.phiExtent < kTwoPi)
     for (const double phi : {0.0, p.phiExtent}) {
       // The tube circle of azimuth φ: centre R·e(φ), radius rp, in the plane of e(φ) and the axis.

@@ -80,6 +80,9 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack = 0.0);
 // Each edge is extended to its whole circle, so this is a lower bound, exact where the
 // nearest point of that circle is on the patch (for the contact circles, always).
 double boundaryDistance(const TorusPatch& p, const glm::dvec3& x);
+// Distance (Å) from any point x to the whole contact circle at θj (`atomJ`) or θi: where the
+// saddle meets that atom's convex sphere.
+double contactCircleDistance(const TorusPatch& p, bool atomJ, const glm::dvec3& x);
 
 // The atom a hit at x belongs to, of the saddle's atoms (i, j): the one whose contact
 // circle is nearer along the axis.

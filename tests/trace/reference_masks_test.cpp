@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "build/core/vector_math.hpp"
+#include "build/ses/contour_buildup.hpp"
 #include "build/sphere_blockers.hpp"
 #include "random_geometry.hpp"
 #include "trace/concave_patch.hpp"
@@ -353,6 +354,45 @@ TEST(SeamDistance, RenderedFrameHoldsEachHitsDistanceToTheCrease) {
       }
     EXPECT_GT(hits, 300u);
   }
+}
+
+TEST(SeamDistance, SesSpheresAndTheirTorusMeasureToTheContactCircles) {
+  // Two atoms and the probe rolling round them: one full torus between two spheres. Each
+  // contact circle is where the probe touches an atom: the probe-centre circle (the SAS
+  // spheres' intersection) pulled towards that atom's centre to its radius.
+  const double rp = 1.4;
+  const std::vector<glm::dvec3> centers{{-1.0, 0.2, 0.0}, {1.4, -0.1, 0.5}};
+  const std::vector<double> radii{1.8, 1.5};
+  const build::PatchList list = build::buildSes(centers, radii, build::SesParams{rp});
+  ASSERT_EQ(list.tori.size(), 1u);
+  const double D = glm::length(centers[1] - centers[0]);
+  const glm::dvec3 axis = (centers[1] - centers[0]) / D;
+  const double R0 = radii[0] + rp, R1 = radii[1] + rp, a = (D * D + R0 * R0 - R1 * R1) / (2 * D);
+  const glm::dvec3 probeCircle = centers[0] + a * axis;
+  const double probeRadius = std::sqrt(R0 * R0 - a * a);
+  auto contactDistance = [&](int atom, const glm::dvec3& x) {
+    // The contact circle on atom k: the probe-centre circle scaled about c_k by r_k/(r_k + rp).
+    const double scale = radii[atom] / (radii[atom] + rp);
+    return circleDistance(x, centers[atom] + scale * (probeCircle - centers[atom]), axis, scale * probeRadius);
+  };
+  const PatchScene scene(ScenePatches::fromPatchList(list));
+  view::RenderOptions o = maskedView(48);
+  o.camera.eye = {3, 5, 25};
+  const view::FrameBuffers f = render(scene, o, {});
+  std::size_t convex = 0, toroidal = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * 48 + static_cast<std::size_t>(x);
+      if (f.kind[p] == 0) continue;
+      const view::Ray ray = o.camera.ray(x + 0.5, y + 0.5);
+      const glm::dvec3 hit = ray.org + static_cast<double>(f.depth[p]) * ray.dir;
+      const int atom = f.atomId[p] == 0 ? 0 : 1;
+      const double want = f.kind[p] == 1 ? contactDistance(atom, hit) : std::min(contactDistance(0, hit), contactDistance(1, hit));
+      EXPECT_NEAR(f.seamDistance[p], want, 1e-4) << "kind " << f.kind[p] << ", pixel " << x << ", " << y;
+      (f.kind[p] == 1 ? convex : toroidal) += 1;
+    }
+  EXPECT_GT(convex, 200u);
+  EXPECT_GT(toroidal, 30u);
 }
 
 }  // namespace
