@@ -139,6 +139,11 @@ void writeBuffers(FrameBuffers& fb, std::size_t p, const ScenePatches& patches, 
   if (seam) fb.seamDistance[p] = static_cast<float>((*seam)(h, x));
 }
 
+// The rays markPixelEdges traces: one through every pixel corner.
+std::size_t cornerRays(const Camera& cam) {
+  return static_cast<std::size_t>(cam.width + 1) * static_cast<std::size_t>(cam.height + 1);
+}
+
 // RenderOptions::referenceMasks: the seam distances (+inf for the misses) come with the
 // buffers; the edge flags from the corner rays once the centre hits are all known.
 std::optional<SeamDistance> startMasks(const PatchScene& scene, const RenderOptions& o, FrameBuffers& fb) {
@@ -211,7 +216,7 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
   });
   if (seam) markPixelEdges(scene, cam, fb);
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fb.rays = fb.pixels() * static_cast<std::size_t>(1 + extraSamples);
+  fb.rays = fb.pixels() * static_cast<std::size_t>(1 + extraSamples) + (seam ? cornerRays(cam) : 0);
   return fb;
 }
 
@@ -270,7 +275,7 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   // Background pixels: colour only, alpha 0 stays.
   if (seam) markPixelEdges(scene, cam, fb);
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fb.rays = n * static_cast<std::size_t>(1 + extraSamples);
+  fb.rays = n * static_cast<std::size_t>(1 + extraSamples) + (seam ? cornerRays(cam) : 0);
   return fb;
 }
 
