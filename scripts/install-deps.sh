@@ -25,10 +25,10 @@ test_packages=(
   glslang-tools openimageio-tools
   libcgal-dev
   freesasa
+  chromium
   python3-mdanalysis python3-numpy
   slurm-wlm munge
   clang libclang-rt-14-dev
-  chromium
 )
 
 list=0
