@@ -163,7 +163,8 @@ TEST(CompareDiff, ColourErrorsShowWhenColourIsJudged) {
 // fresh profile, one CSS pixel per image pixel.
 std::string chromium(const std::string& profile) {
   return "chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking "
-         "--disable-component-update --disable-sync --hide-scrollbars --force-device-scale-factor=1 --user-data-dir=" +
+         "--disable-component-update --disable-sync --disable-dev-shm-usage --hide-scrollbars --force-device-scale-factor=1 "
+         "--user-data-dir=" +
          profile + " --window-size=1400,1700 ";
 }
 
