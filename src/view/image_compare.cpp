@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -24,18 +27,12 @@ double percentile(std::vector<double> v, double q) {
 }
 
 // The reference's 3×3 neighbourhood decides which pixels are genuinely ambiguous.
-struct Neighbourhood {
-  bool band = false;      // hit/miss changes: silhouette
-  bool kindSeam = false;  // patch kind changes, or the reference flags the pixel
-  bool seam = false;      // patch id changes, or the reference flags the pixel
-};
-
-Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
+PixelMask neighbourhood(const FrameBuffers& ref, int x, int y) {
   const int w = ref.width, h = ref.height;
   auto at = [w](int px, int py) { return static_cast<std::size_t>(py) * static_cast<std::size_t>(w) + static_cast<std::size_t>(px); };
   const std::size_t p = at(x, y);
   const bool hit = ref.kind[p] != 0;
-  Neighbourhood n;
+  PixelMask n;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const std::size_t q = at(std::clamp(x + dx, 0, w - 1), std::clamp(y + dy, 0, h - 1));
@@ -47,6 +44,30 @@ Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
   n.kindSeam = n.kindSeam || flagged;
   n.seam = n.seam || flagged;
   return n;
+}
+
+// The exact masks of pixel (x, y) (ReferenceMasks): the reference's edge flags, and its seam
+// distance against what float rounding and the pixel's footprint allow.
+PixelMask exactMask(const FrameBuffers& ref, const Camera& camera, const Camera::Frame& frame, int x, int y) {
+  const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
+  PixelMask m;
+  m.band = (ref.flags[p] & kPixelSilhouette) != 0;
+  m.occlusion = (ref.flags[p] & kPixelOcclusion) != 0;
+  if (ref.kind[p] == 0) return m;
+  const double d = ref.seamDistance[p];
+  if (std::isnan(d)) {
+    const PixelMask n = neighbourhood(ref, x, y);
+    m.kindSeam = n.kindSeam;
+    m.seam = n.seam;
+    return m;
+  }
+  const double t = ref.depth[p];
+  const glm::dvec3 dir = glm::normalize(frame.ray(x + 0.5, y + 0.5).dir);
+  const glm::dvec3 n(ref.normal[3 * p], ref.normal[3 * p + 1], ref.normal[3 * p + 2]);
+  const double tolerance = seamTolerance(camera.pixelFootprint(t), t, static_cast<PatchKind>(ref.kind[p]));
+  m.kindSeam = !(d * std::abs(glm::dot(n, dir)) >= tolerance) || (ref.flags[p] & (kHitGrazing | kHitCusp)) != 0;
+  m.seam = m.kindSeam;
+  return m;
 }
 
 // Whether the test image hits at pixel p: its patch kind when it carries kinds, else a finite depth.
@@ -62,12 +83,38 @@ void checkSameSize(const FrameBuffers& a, const FrameBuffers& b) {
 
 }  // namespace
 
+double seamTolerance(double footprint, double t, PatchKind kind) {
+  const double tangent = kind == PatchKind::Convex || kind == PatchKind::Toroidal ? std::sqrt(kSeamTangency * std::abs(t)) : 0.0;
+  return kSeamFootprints * footprint + kSeamRelative * std::abs(t) + tangent;
+}
+
+ReferenceMasks referenceMasks(const FrameBuffers& ref, const Camera* camera) {
+  ReferenceMasks masks;
+  masks.exact = !ref.seamDistance.empty() && camera && camera->width == ref.width && camera->height == ref.height;
+  if (!masks.exact)
+    masks.note = ref.seamDistance.empty()
+                     ? "the reference records no seam distances (an EXR from before they existed, or not from Embree): "
+                       "seams and silhouettes masked by the 3x3 neighbourhood rule; re-render it with surftrace "
+                       "render --exr to judge more pixels"
+                     : "no camera: seams and silhouettes masked by the 3x3 neighbourhood rule";
+  masks.mask.resize(ref.pixels());
+  const std::optional<Camera::Frame> frame = masks.exact ? std::optional(camera->frame()) : std::nullopt;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x)
+      masks.mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x)] =
+          masks.exact ? exactMask(ref, *camera, *frame, x, y) : neighbourhood(ref, x, y);
+  return masks;
+}
+
 FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref, const Camera* camera,
                               const TestChannels& carried) {
   checkSameSize(test, ref);
   FrameComparison c;
   c.pixels = ref.pixels();
   c.compared = carried;
+  const ReferenceMasks masks = referenceMasks(ref, camera);
+  c.exactMasks = masks.exact;
+  c.masksNote = masks.note;
   std::vector<double> depth, depthPixels, angle, color;
   std::size_t kindSame = 0, patchSame = 0;
   double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
@@ -76,7 +123,8 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
       const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
       const bool refHit = ref.kind[p] != 0;
       if (refHit) tMin = std::min(tMin, static_cast<double>(ref.depth[p])), tMax = std::max(tMax, static_cast<double>(ref.depth[p]));
-      const Neighbourhood n = neighbourhood(ref, x, y);
+      c.referenceHits += refHit;
+      const PixelMask& n = masks.mask[p];
       if (n.band) {
         ++c.silhouette;
         continue;
@@ -146,7 +194,10 @@ std::string FrameComparison::summary() const {
     std::snprintf(text, sizeof text, "normal error     not compared (the test image carries no normals)\n");
   out += text;
   if (compared.kind)
-    std::snprintf(text, sizeof text, "patch kind       %.4f%% agree (%zu px)\n", 100.0 * kindAgreement, kindSamples);
+    std::snprintf(text, sizeof text, "patch kind       %.4f%% agree (%zu px, %.1f%% of the reference's %zu hits)\n",
+                  100.0 * kindAgreement, kindSamples,
+                  100.0 * static_cast<double>(kindSamples) / static_cast<double>(std::max<std::size_t>(1, referenceHits)),
+                  referenceHits);
   else
     std::snprintf(text, sizeof text, "patch kind       not compared (the test image carries no patch kinds)\n");
   out += text;
@@ -160,12 +211,15 @@ std::string FrameComparison::summary() const {
                   colorMedian, colorP99, colorMax, colorSamples);
     out += text;
   }
+  if (!exactMasks) out += "\nmasks            " + masksNote;
   return out;
 }
 
 std::string FrameComparison::json() const {
   nlohmann::json j;
   j["pixels"] = pixels;
+  j["reference_hits"] = referenceHits;
+  j["masks"] = exactMasks ? nlohmann::json{{"exact", true}} : nlohmann::json{{"exact", false}, {"note", masksNote}};
   j["silhouette_band"] = silhouette;
   j["coverage"] = {{"mismatch", coverageMismatch}, {"fraction", coverageFraction}};
   j["depth"] = {{"samples", depthSamples},  {"median", depthMedian}, {"p99", depthP99}, {"max", depthMax},
@@ -256,30 +310,65 @@ std::vector<std::string> CompareThresholds::notCompared(const FrameComparison& c
   return v;
 }
 
-std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref, const TestChannels& carried) {
+DifferenceScale DifferenceScale::of(const CompareThresholds& limits, const FrameComparison& c) {
+  DifferenceScale scale;
+  if (limits.maxDepthP99Relative) scale.depthLimit = *limits.maxDepthP99Relative * c.sceneSize;
+  if (c.compared.color) scale.colorLimit = limits.maxColorP99;
+  return scale;
+}
+
+namespace {
+
+glm::vec3 color(const float (&c)[3]) { return {c[0], c[1], c[2]}; }
+
+// The depth error's colour: quiet below a tenth of the limit, towards yellow up to it, then
+// orange to magenta up to 100 times it, each on a log scale.
+glm::vec3 depthColor(double error, double limit) {
+  namespace dc = difference_colors;
+  const double r = error / limit;
+  if (!(r >= 0.1)) return color(dc::kQuiet);
+  if (r <= 1.0) return glm::mix(color(dc::kQuiet), color(dc::kWithin), static_cast<float>(std::log10(r) + 1.0));
+  return glm::mix(color(dc::kOver), color(dc::kFarOver), static_cast<float>(std::min(1.0, std::log10(r) / 2.0)));
+}
+
+}  // namespace
+
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref, const TestChannels& carried,
+                                   const Camera* camera, const DifferenceScale& scale) {
+  namespace dc = difference_colors;
   checkSameSize(test, ref);
+  const ReferenceMasks masks = referenceMasks(ref, camera);
+  double depthLimit = scale.depthLimit;
+  if (!(depthLimit > 0.0)) {
+    double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
+    for (std::size_t p = 0; p < ref.pixels(); ++p)
+      if (ref.kind[p] != 0) tMin = std::min(tMin, static_cast<double>(ref.depth[p])), tMax = std::max(tMax, static_cast<double>(ref.depth[p]));
+    depthLimit = tMax >= tMin ? 1e-3 * std::max(tMax - tMin, 0.1 * tMin) : 1e-3;
+    if (!(depthLimit > 0.0)) depthLimit = 1e-3;
+  }
+  const bool colors = scale.colorLimit && carried.color && test.rgba.size() == 4 * ref.pixels() &&
+                      ref.rgba.size() == 4 * ref.pixels();
   std::vector<float> rgb(3 * ref.pixels(), 0.0f);
-  for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x) {
-      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
-      float* out = &rgb[3 * p];
-      const bool refHit = ref.kind[p] != 0, testHit = testHits(test, p, carried);
-      glm::vec3 c(0.15f);  // agreeing background
-      if (neighbourhood(ref, x, y).band) {
-        c = {0.2f, 0.3f, 0.8f};
-      } else if (refHit != testHit) {
-        c = {1.0f, 0.0f, 0.0f};
-      } else if (refHit) {
-        if (carried.kind && test.kind[p] != ref.kind[p]) {
-          c = {0.0f, 1.0f, 0.0f};
-        } else {
-          const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
-          const float s = static_cast<float>(std::clamp((std::log10(std::max(dt, 1e-12)) + 6.0) / 6.0, 0.0, 1.0));
-          c = dt < 1e-6 ? glm::vec3(0.5f) : glm::vec3(1.0f, 1.0f - s, s);
-        }
-      }
-      out[0] = c.x, out[1] = c.y, out[2] = c.z;
-    }
+  for (std::size_t p = 0; p < ref.pixels(); ++p) {
+    const PixelMask& m = masks.mask[p];
+    const bool refHit = ref.kind[p] != 0, testHit = testHits(test, p, carried);
+    double colorError = 0.0;
+    if (colors)
+      for (int k = 0; k < 3; ++k)
+        colorError = std::max(colorError, std::abs(static_cast<double>(test.rgba[4 * p + k]) - ref.rgba[4 * p + k]));
+    glm::vec3 c = color(dc::kBackground);
+    if (m.band)
+      c = color(dc::kBand);
+    else if (refHit != testHit)
+      c = color(dc::kCoverage);
+    else if (refHit && carried.kind && !m.kindSeam && test.kind[p] != ref.kind[p])
+      c = color(dc::kKind);
+    else if (colors && !m.kindSeam && colorError > *scale.colorLimit)
+      c = color(dc::kColor);
+    else if (refHit)
+      c = depthColor(std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p])), depthLimit);
+    rgb[3 * p] = c.x, rgb[3 * p + 1] = c.y, rgb[3 * p + 2] = c.z;
+  }
   return rgb;
 }
 
