@@ -23,12 +23,14 @@ run_packages=(
   nlohmann-json3-dev libcli11-dev
 )
 # The test suites, benchmarks and their oracles: GoogleTest and Google Benchmark, the shader
-# checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer.
+# checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer,
+# and headless Chromium (opens `compare --html`'s page).
 test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   glslang-tools
   libcgal-dev
   freesasa
+  chromium
   python3-mdanalysis python3-numpy
   slurm-wlm munge
   clang libclang-rt-14-dev

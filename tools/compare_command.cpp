@@ -10,10 +10,13 @@
 #include <stdexcept>
 #include <utility>
 
+#include <nlohmann/json.hpp>
+
 #include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "view/camera.hpp"
+#include "view/compare_report.hpp"
 #include "view/foreign_buffers.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
@@ -23,7 +26,7 @@ namespace surftrace::tools {
 namespace {
 
 struct CompareOptions {
-  std::string test, reference, report, diff, preset;
+  std::string test, reference, report, diff, html, preset;
   std::optional<double> maxCoverage, maxDepthP99, minKind, minPatch, maxNormalP99, maxColorP99;
   bool ignoreCamera = false;
   bool ignoreSettings = false;
@@ -329,8 +332,21 @@ TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const
   return testImage;
 }
 
-void writeDifference(const std::string& path, const TestImage& testImage, const view::FrameBuffers& ref) {
-  const std::vector<float> rgb = view::differenceImage(testImage.frame, ref, testImage.carried);
+// The difference image's legend, with the limits its colours are scaled to.
+std::string differenceLegend(const view::DifferenceScale& scale) {
+  char limits[160] = "";
+  if (scale.depthLimit > 0.0) std::snprintf(limits, sizeof limits, "; the depth limit is %.3g Å", scale.depthLimit);
+  else std::snprintf(limits, sizeof limits, "; the depth limit is 1e-3 of the scene size (none set)");
+  std::string legend = std::string(view::kDifferenceLegend) + limits;
+  if (scale.colorLimit) {
+    std::snprintf(limits, sizeof limits, ", the colour limit %.3g", *scale.colorLimit);
+    legend += limits;
+  }
+  return legend;
+}
+
+void writeDifference(const std::string& path, const std::vector<float>& rgb, const view::FrameBuffers& ref,
+                     const view::DifferenceScale& scale) {
   view::FrameBuffers image;
   image.width = ref.width;
   image.height = ref.height;
@@ -339,8 +355,16 @@ void writeDifference(const std::string& path, const TestImage& testImage, const 
     for (int k = 0; k < 3; ++k) image.rgba[4 * p + k] = rgb[3 * p + k];
     image.rgba[4 * p + 3] = 1.0f;
   }
-  view::writePng(path, image, {{"surftrace:legend", "grey agree; blue silhouette band (masked); red coverage differs; "
-                                                    "green patch kind differs; yellow to magenta depth error 1e-6..1 Å"}});
+  view::writePng(path, image, {{"surftrace:legend", differenceLegend(scale)}});
+}
+
+// The JSON report: the comparison's metrics, the signed depth error per patch kind and the
+// worst pixels.
+std::string reportJson(const view::FrameComparison& c, const TestImage& testImage, const view::FrameBuffers& ref,
+                       const view::ReferenceMasks& masks, const view::Camera* camera) {
+  nlohmann::json report = nlohmann::json::parse(c.json());
+  report["worst_pixels"] = view::worstPixelsJson(view::worstPixels(testImage.frame, ref, masks, testImage.carried, camera));
+  return report.dump(1);
 }
 
 // The preset's limits, with the single limits given on the command line.
@@ -356,17 +380,18 @@ view::CompareThresholds limitsOf(const CompareOptions& o, const std::string& pre
 }
 
 // The two SurfTrace images' render settings: an error when a setting that changes pixels
-// differs (unless --ignore-settings), and what was not recorded. Returns whether the colour may
-// be judged by the preset (made with the same settings).
-bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, const view::ImageMetadata& ref) {
+// differs (unless --ignore-settings); `lines` gets what differs under --ignore-settings and what
+// was not recorded. Returns whether the colour may be judged by the preset (made with the same
+// settings).
+bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, const view::ImageMetadata& ref,
+                   std::string& lines) {
   const SettingsComparison s = compareSettings(test, ref);
   if (!s.differences.empty() && !o.ignoreSettings)
     throw std::invalid_argument(o.test + " and " + o.reference + " were rendered with different settings (their surftrace: "
                                 "metadata): " + describe(s.differences) +
                                 ". Compare renderings made with the same settings, or pass --ignore-settings (the "
                                 "preset's colour limit is then not applied)");
-  if (!s.differences.empty())
-    std::printf("settings  differ (--ignore-settings): %s\n", describe(s.differences).c_str());
+  if (!s.differences.empty()) lines += "settings  differ (--ignore-settings): " + describe(s.differences) + "\n";
   auto list = [](const std::vector<std::string>& names) {
     std::string text;
     for (const auto& n : names) {
@@ -376,11 +401,10 @@ bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, con
     return text;
   };
   if (!s.notRecordedInTest.empty())
-    std::printf("settings  not recorded in %s: %s (an older image; taken as the same)\n", o.test.c_str(),
-                list(s.notRecordedInTest).c_str());
+    lines += "settings  not recorded in " + o.test + ": " + list(s.notRecordedInTest) + " (an older image; taken as the same)\n";
   if (!s.notRecordedInReference.empty())
-    std::printf("settings  not recorded in %s: %s (an older image; taken as the same)\n", o.reference.c_str(),
-                list(s.notRecordedInReference).c_str());
+    lines += "settings  not recorded in " + o.reference + ": " + list(s.notRecordedInReference) +
+             " (an older image; taken as the same)\n";
   return s.differences.empty();
 }
 
@@ -388,6 +412,7 @@ void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
   if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
+  if (!o.html.empty()) build::prepareOutputPath(o.html, "--html");
   view::ImageMetadata refMeta;
   const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
   std::optional<view::Camera> camera;
@@ -397,40 +422,71 @@ void runCompare(const CompareOptions& o) {
   std::optional<ForeignFiles> files;
   if (foreign) files = readForeignFiles(o, ref, camera);
   const TestImage testImage = readTest(o, ref, camera, files ? &*files : nullptr, foreignOpts);
-  const bool sameSettings = foreign || checkSettings(o, testImage.meta, refMeta);
+  std::string settingsLines;
+  const bool sameSettings = foreign || checkSettings(o, testImage.meta, refMeta, settingsLines);
+  std::printf("%s", settingsLines.c_str());
   const view::FrameComparison c = view::compareFrames(testImage.frame, ref, camera ? &*camera : nullptr, testImage.carried);
   std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), testImage.description.c_str(),
               testImage.details.c_str(), o.reference.c_str(),
               refMeta.count("surftrace:renderer") ? refMeta.at("surftrace:renderer").c_str() : "?", c.summary().c_str());
-  if (!o.report.empty()) build::writeFileAtomically(o.report, c.json() + "\n");
-  if (!o.diff.empty()) writeDifference(o.diff, testImage, ref);
+  const view::Camera* cameraPtr = camera ? &*camera : nullptr;
+  const view::ReferenceMasks masks =
+      o.report.empty() && o.html.empty() ? view::ReferenceMasks{} : view::referenceMasks(ref, cameraPtr);
+  const std::string json = masks.mask.empty() ? "" : reportJson(c, testImage, ref, masks, cameraPtr);
+  if (!o.report.empty()) build::writeFileAtomically(o.report, json + "\n");
   const std::string preset = !o.preset.empty() ? o.preset : foreign ? foreignPreset() : defaultPreset(testImage.meta, refMeta);
   view::CompareThresholds limits = limitsOf(o, preset);
+  std::string notes;  // printed with the verdict
   if (!sameSettings && !o.maxColorP99 && limits.maxColorP99) {
-    std::printf("not compared: colour p99 < %.3g (the images were made with different settings)\n", *limits.maxColorP99);
+    char line[160];
+    std::snprintf(line, sizeof line, "not compared: colour p99 < %.3g (the images were made with different settings)\n",
+                  *limits.maxColorP99);
+    notes += line;
     limits.maxColorP99.reset();
   }
   if (foreign && testImage.carried.normal && viewIsUnrotated(*camera))
-    std::printf("note      the reference camera's view is not rotated (its axes are the world's): view and world normals "
-                "are the same numbers here, so a wrong --normal-space cannot show; render the reference from a rotated "
-                "view (e.g. --view 1,0.3,-1) to check the normals' space\n");
+    notes += "note      the reference camera's view is not rotated (its axes are the world's): view and world normals "
+             "are the same numbers here, so a wrong --normal-space cannot show; render the reference from a rotated "
+             "view (e.g. --view 1,0.3,-1) to check the normals' space\n";
+  const view::DifferenceScale scale = view::DifferenceScale::of(limits, c);
+  std::vector<float> diff;
+  if (!o.diff.empty() || !o.html.empty()) diff = view::differenceImage(testImage.frame, ref, testImage.carried, cameraPtr, scale);
+  if (!o.diff.empty()) writeDifference(o.diff, diff, ref, scale);
   // A limit on a buffer the test does not carry is neither passed nor failed.
   const auto unjudged = limits.notCompared(c);
-  for (const auto& line : unjudged) std::printf("not compared: %s\n", line.c_str());
+  std::string verdict = notes;
+  for (const auto& line : unjudged) verdict += "not compared: " + line + "\n";
   const std::string scope = unjudged.empty() ? "" : ", on what the test carries";
   const auto violations = limits.violations(c);
   if (violations.empty()) {
-    std::printf("PASS (%s%s)\n", preset == "none" ? "no limits: --preset none" : preset.c_str(), scope.c_str());
+    verdict += "PASS (" + (preset == "none" ? std::string("no limits: --preset none") : preset) + scope + ")";
+  } else {
+    verdict += "FAIL (" + preset + scope + "):";
+    for (const auto& v : violations) verdict += "\n  " + v;
+    if (foreign) {
+      verdict += originHint(o, *files, foreignOpts, ref, *camera, c);
+      verdict += conventionHint(o, *files, foreignOpts, ref, *camera, limits, &c);
+      verdict += normalHint(o, *files, foreignOpts, ref, *camera, limits, c);
+    }
+  }
+  if (!o.html.empty()) {
+    view::HtmlReport page;
+    page.title = o.test + " vs " + o.reference;
+    page.verdict = settingsLines + c.summary() + "\nlimits    --preset " + preset + "\n" + verdict;
+    page.legend = differenceLegend(scale);
+    page.test = view::displayPng(testImage.frame, testImage.carried.color);
+    page.reference = view::displayPng(ref, true);
+    page.diff = view::rgbPng(diff, ref.width, ref.height);
+    page.width = ref.width;
+    page.height = ref.height;
+    page.reportJson = json;
+    build::writeFileAtomically(o.html, view::comparisonHtml(page));
+  }
+  if (violations.empty()) {
+    std::printf("%s\n", verdict.c_str());
     return;
   }
-  std::string text = "FAIL (" + preset + scope + "):";
-  for (const auto& v : violations) text += "\n  " + v;
-  if (foreign) {
-    text += originHint(o, *files, foreignOpts, ref, *camera, c);
-    text += conventionHint(o, *files, foreignOpts, ref, *camera, limits, &c);
-    text += normalHint(o, *files, foreignOpts, ref, *camera, limits, c);
-  }
-  throw LimitsExceeded(text);
+  throw LimitsExceeded(verdict);
 }
 
 // Another renderer's buffers (README "Validating your renderer"): any of these, or a TEST
@@ -486,7 +542,12 @@ void addCompareCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("REFERENCE", o->reference, "Reference EXR; its masks and camera are used")->required()->check(CLI::ExistingFile);
   cmd->add_option("--report", o->report, "Write the metrics as JSON here");
-  cmd->add_option("--diff", o->diff, "Write a false-colour difference PNG here");
+  cmd->add_option("--diff", o->diff,
+                  "Write a false-colour difference PNG here (its colours: README, `compare`; its surftrace:legend "
+                  "attribute says them too)");
+  cmd->add_option("--html", o->html,
+                  "Write one self-contained HTML page here: test, reference and difference side by side (zoomed "
+                  "together), the signed depth error per patch kind with histograms, and the worst pixels");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
                                          "kinds > 99.9%, colour p99 < 1e-3), exact (a re-render by the same engine; "
                                          "colour p99 < 1e-5), foreign (another renderer's buffers: coverage < 0.1%, depth "

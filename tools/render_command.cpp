@@ -182,6 +182,8 @@ void runRender(const RenderCommandOptions& o) {
   double readSeconds = 0.0, buildSeconds = 0.0;
   const build::PatchList list = readAndBuild(o, fromPatchList, molecule, readSeconds, buildSeconds);
   frameRender(setup, list, molecule, fromPatchList, o.path);
+  // An EXR is what `compare` takes as a reference: it records where its masks belong.
+  setup.render.referenceMasks = !o.exr.empty();
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
                                     : view::atomColors(molecule, setup.render.color, setup.uniformColor);
   const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
@@ -225,7 +227,9 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
                        ->check(wholeIn(0, 2147483647))
                        ->default_val(0);
   cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
-  cmd->add_option("--exr", o->exr, "Multi-channel EXR to write (colour, depth, normal, ids, flags)");
+  cmd->add_option("--exr", o->exr,
+                  "Multi-channel EXR to write (colour, depth, normal, ids, flags; with Embree also each hit's "
+                  "distance to the edge of its patch and the pixels an edge of the surface crosses, for `compare`)");
   addEngineOptions(*cmd, o->engine);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(wholeIn(0, 4096));

@@ -2,6 +2,7 @@
 #include "build/sphere_blockers.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -9,6 +10,8 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+
+#include "build/core/vector_math.hpp"
 
 namespace surftrace::build {
 
@@ -86,6 +89,24 @@ bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c
     if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
   }
   return true;
+}
+
+double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho,
+                               const glm::dvec3& x) {
+  double d = std::numeric_limits<double>::infinity();
+  if (!(rho > 0.0)) return d;
+  const double grown = rho + b.grow;
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 o = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(o) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    // The circle of the grown spheres (law of cosines) is at polar angle acos(h) about the
+    // axis towards the blocker, on sphere i as on the grown sphere (y − c ∥ x − c).
+    const double h = (D * D + grown * grown - o.w * o.w) / (2.0 * D * grown);
+    d = std::min(d, distanceToSphereCircle(c, rho, x, axis / D, h));
+  }
+  return d;
 }
 
 }  // namespace surftrace::build

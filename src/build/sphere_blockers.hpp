@@ -50,4 +50,11 @@ inline SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm:
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
                    double tolerance);
 
+// Distance from the point x of sphere i (on its convex patch) to the patch's edge: to the
+// nearest circle in which a grown blocker cuts the grown sphere, mapped back to sphere i (a
+// lower bound, exact where that circle's nearest point is on the edge). For the SES these are
+// the contact circles of the tori; +inf for a sphere that no blocker cuts.
+double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho,
+                               const glm::dvec3& x);
+
 }  // namespace surftrace::build

@@ -8,6 +8,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "build/core/vector_math.hpp"
+
 namespace surftrace::trace {
 namespace {
 
@@ -165,6 +167,20 @@ std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, dou
     return hit;
   }
   return std::nullopt;
+}
+
+double boundaryDistance(const ConcavePatch& p, const glm::dvec3& x) {
+  const ConeFaces g = coneFaces(p);
+  double d = std::numeric_limits<double>::infinity();
+  for (const glm::dvec3& face : {g.ij, g.jk, g.ki}) {
+    const double length = glm::length(face);
+    if (length > 0.0) d = std::min(d, build::distanceToSphereCircle(p.probe, p.probeRadius, x, face / length, 0.0));
+  }
+  // A clipping plane n·y + w = 0 cuts the probe sphere where n·(y − p) = −(n·p + w).
+  for (const build::Plane& c : p.clipPlanes)
+    d = std::min(d, build::distanceToSphereCircle(p.probe, p.probeRadius, x, glm::dvec3(c),
+                                                  -(glm::dot(glm::dvec3(c), p.probe) + c.w) / p.probeRadius));
+  return d;
 }
 
 std::uint32_t atomOf(const ConcavePatch& c, const glm::uvec3& atoms, const glm::dvec3& x) {

@@ -38,6 +38,11 @@ inline std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, 
 // widens the patch by that distance from its cone faces and clipping planes.
 bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack = 0.0);
 
+// Distance (Å) from a point x of the patch to its edges: the great circles of the cone's faces
+// and the circles of the clipping planes on the probe sphere, each whole (a lower bound, exact
+// where the circle's nearest point is on the patch).
+double boundaryDistance(const ConcavePatch& p, const glm::dvec3& x);
+
 // The atom a hit at x belongs to, of the triangle's atoms (i, j, k): the one of the
 // nearest contact direction.
 std::uint32_t atomOf(const ConcavePatch& p, const glm::uvec3& atoms, const glm::dvec3& x);

@@ -37,6 +37,11 @@ bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {
   return build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance);
 }
 
+double SphereClip::edgeDistance(std::uint32_t sphere, const glm::dvec3& x) const {
+  const glm::dvec4 s = spheres_[sphere];
+  return build::convexPatchEdgeDistance(blockers_, sphere, glm::dvec3(s), s.w, x);
+}
+
 void LayerList::insert(const SceneHit& hit) {
   const double t = hit.hit.t;
   std::size_t pos = 0;

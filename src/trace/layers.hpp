@@ -35,6 +35,9 @@ class SphereClip {
   // Whether the hit x on sphere `sphere` (index among the scene's spheres) is on its patch.
   // Points within a relative kBoundaryTolerance of a grown neighbour count as outside it.
   bool onPatch(std::uint32_t sphere, const glm::dvec3& x) const;
+  // How far (Å) the point x of sphere `sphere`, on its patch, is from the patch's edge
+  // (build::convexPatchEdgeDistance).
+  double edgeDistance(std::uint32_t sphere, const glm::dvec3& x) const;
 
  private:
   std::vector<glm::dvec4> spheres_;  // the scene's spheres: centre, radius ρ

@@ -8,6 +8,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "build/core/vector_math.hpp"
+
 namespace surftrace::trace {
 namespace {
 
@@ -143,6 +145,20 @@ std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double 
     return hit;
   }
   return std::nullopt;
+}
+
+double boundaryDistance(const MssPatch& p, const glm::dvec3& x) {
+  // The spheres: f = radial·|x − c|² + constant, radius √(−constant/radial).
+  const double r2 = p.axial == 0.0 && p.radial != 0.0 ? -p.constant / p.radial : 0.0;
+  const double r = r2 > 0.0 ? std::sqrt(r2) : 0.0;
+  double d = std::numeric_limits<double>::infinity();
+  for (const build::Plane& plane : p.cellPlanes) {
+    const glm::dvec3 n(plane);
+    const double centre = glm::dot(n, p.center) + plane.w;  // the centre's signed distance to the plane
+    d = std::min(d, r > 0.0 ? build::distanceToSphereCircle(p.center, r, x, n, -centre / r)
+                            : std::abs(glm::dot(n, x - p.center) + centre));
+  }
+  return d;
 }
 
 }  // namespace surftrace::trace

@@ -48,6 +48,11 @@ inline std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, doub
 // The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
 
+// Distance (Å) from a point x of the patch to the edge of its cell: on the spheres (convex and
+// concave kinds) the distance to each cell plane's circle, on the hyperboloids the distance to
+// each cell plane (both lower bounds of the distance to the patch's edge).
+double boundaryDistance(const MssPatch& p, const glm::dvec3& x);
+
 // The atom a hit belongs to: the simplex's lowest atom (its convex sphere's own atom). The
 // atom of largest convex weight at x would need the atoms' centres, which the list does not hold.
 inline std::uint32_t atomOf(const MssPatch&, const glm::uvec4& atoms, const glm::dvec3&) { return atoms.x; }

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <limits>
 
+#include <optional>
+
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+
+#include "trace/reference_masks.hpp"
 
 namespace surftrace::trace {
 namespace {
@@ -119,9 +123,11 @@ void packetRays(const Camera& cam, const Camera::Frame& view, int px, int py, in
   }
 }
 
-// The centre ray's buffers from its nearest hit.
+// The centre ray's buffers from its nearest hit; its distance to the edge of its patch when
+// `seam` is given (RenderOptions::referenceMasks).
 void writeBuffers(FrameBuffers& fb, std::size_t p, const ScenePatches& patches, const Camera& cam,
-                  const glm::dvec3& forward, const Ray& ray, const SceneHit& h, std::uint32_t atom) {
+                  const glm::dvec3& forward, const Ray& ray, const SceneHit& h, std::uint32_t atom,
+                  const SeamDistance* seam) {
   const glm::dvec3 x = ray.org + h.hit.t * ray.dir;
   fb.depth[p] = static_cast<float>(h.hit.t);
   fb.viewZ[p] = static_cast<float>(glm::dot(x - cam.eye, forward));
@@ -130,6 +136,20 @@ void writeBuffers(FrameBuffers& fb, std::size_t p, const ScenePatches& patches, 
   fb.patchId[p] = patches.globalId(h.kind, h.patch);
   fb.atomId[p] = atom;
   fb.flags[p] = h.hit.flags;
+  if (seam) fb.seamDistance[p] = static_cast<float>((*seam)(h, x));
+}
+
+// The rays markPixelEdges traces: one through every pixel corner.
+std::size_t cornerRays(const Camera& cam) {
+  return static_cast<std::size_t>(cam.width + 1) * static_cast<std::size_t>(cam.height + 1);
+}
+
+// RenderOptions::referenceMasks: the seam distances (+inf for the misses) come with the
+// buffers; the edge flags from the corner rays once the centre hits are all known.
+std::optional<SeamDistance> startMasks(const PatchScene& scene, const RenderOptions& o, FrameBuffers& fb) {
+  if (!o.referenceMasks) return std::nullopt;
+  fb.seamDistance.assign(fb.pixels(), std::numeric_limits<float>::infinity());
+  return SeamDistance(scene.patches());
 }
 
 // Transparency: every crossing of each ray, nearest first, composited front to back over the
@@ -153,6 +173,7 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
   const ScenePatches& patches = scene.patches();
   const std::size_t maxLayers = static_cast<std::size_t>(o.maxLayers);
   const float alpha = static_cast<float>(o.opacity);
+  const std::optional<SeamDistance> seam = startMasks(scene, o, fb);
 
   forEachPacket(cam, o, [&] { return std::vector<SceneHit>(16 * maxLayers); },
                 [&](int px, int py, std::vector<SceneHit>& layers) {
@@ -179,7 +200,7 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
         for (std::size_t l = 0; l < surfaceLayers + (opaqueBehind ? 1 : 0); ++l) {
           const SceneHit& h = layers[j * maxLayers + l];
           const std::uint32_t atom = patches.atomOf(h, rays[j].org + h.hit.t * rays[j].dir);
-          if (s == 0 && l == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom);
+          if (s == 0 && l == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom, seam ? &*seam : nullptr);
           if (weight == 0.0f) break;
           const std::uint64_t seed = (p * 1024u + static_cast<std::uint64_t>(s)) * kMaxLayers + l;
           const float a = l < surfaceLayers ? alpha : 1.0f;
@@ -193,8 +214,9 @@ FrameBuffers renderTransparent(const PatchScene& scene, const RenderOptions& o, 
       }
     }
   });
+  if (seam) markPixelEdges(scene, cam, fb);
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fb.rays = fb.pixels() * static_cast<std::size_t>(1 + extraSamples);
+  fb.rays = fb.pixels() * static_cast<std::size_t>(1 + extraSamples) + (seam ? cornerRays(cam) : 0);
   return fb;
 }
 
@@ -222,6 +244,7 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   const glm::dvec3 forward = cam.forward();
   const Camera::Frame view = cam.frame();
   const ScenePatches& patches = scene.patches();
+  const std::optional<SeamDistance> seam = startMasks(scene, o, fb);
 
   forEachPacket(cam, o, [] { return 0; }, [&](int px, int py, int) {
     for (int s = 0; s <= extraSamples; ++s) {
@@ -241,7 +264,7 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
         }
         const glm::dvec3 x = rays[j].org + h.hit.t * rays[j].dir;
         const std::uint32_t atom = patches.atomOf(h, x);
-        if (s == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom);
+        if (s == 0) writeBuffers(fb, p, patches, cam, forward, rays[j], h, atom, seam ? &*seam : nullptr);
         if (weight == 0.0f) continue;
         const glm::vec3 c = shader.color(rays[j], h, atom, p * 1024u + static_cast<std::uint64_t>(s));
         for (int ch = 0; ch < 3; ++ch) fb.rgba[4 * p + ch] += weight * c[ch];
@@ -250,8 +273,9 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
     }
   });
   // Background pixels: colour only, alpha 0 stays.
+  if (seam) markPixelEdges(scene, cam, fb);
   fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  fb.rays = n * static_cast<std::size_t>(1 + extraSamples);
+  fb.rays = n * static_cast<std::size_t>(1 + extraSamples) + (seam ? cornerRays(cam) : 0);
   return fb;
 }
 

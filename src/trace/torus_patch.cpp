@@ -500,6 +500,39 @@ bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack) {
   return clipLocal(n, slack == 0.0 ? limitsOf(p, derivedValid(p)) : makeLimits(p, slack), local, rho, slack).inside;
 }
 
+namespace {
+
+// A circle about the axis is nearest at x's own azimuth: the distance is the one in the
+// meridian half-plane (ρ, z), to the contact circle's point (R − rp cos θ, rp sin θ).
+double contactCircleDistanceLocal(const TorusPatch& p, double theta, double rho, double z) {
+  return std::hypot(rho - (p.bigRadius - p.probeRadius * std::cos(theta)), z - p.probeRadius * std::sin(theta));
+}
+
+}  // namespace
+
+double contactCircleDistance(const TorusPatch& p, bool atomJ, const glm::dvec3& x) {
+  const glm::dvec3 local = toLocal(p, x - p.center);
+  return contactCircleDistanceLocal(p, atomJ ? p.thetaJ : p.thetaI, std::hypot(local.x, local.y), local.z);
+}
+
+double boundaryDistance(const TorusPatch& p, const glm::dvec3& x) {
+  const glm::dvec3 local = toLocal(p, x - p.center);
+  const double rho = std::hypot(local.x, local.y), R = p.bigRadius, rp = p.probeRadius;
+  double d = std::min(contactCircleDistanceLocal(p, p.thetaI, rho, local.z), contactCircleDistanceLocal(p, p.thetaJ, rho, local.z));
+  if (p.phiExtent < kTwoPi)
+    for (const double phi : {0.0, p.phiExtent}) {
+      // The tube circle of azimuth φ: centre R·e(φ), radius rp, in the plane of e(φ) and the axis.
+      const double c = std::cos(phi), s = std::sin(phi);
+      const double along = c * local.x + s * local.y, across = cross2(c, s, local.x, local.y);
+      d = std::min(d, std::hypot(across, std::hypot(along - R, local.z) - rp));
+    }
+  if (R < rp) {
+    const double h = std::sqrt((rp - R) * (rp + R));
+    d = std::min(d, std::min(glm::length(local - glm::dvec3(0.0, 0.0, h)), glm::length(local + glm::dvec3(0.0, 0.0, h))));
+  }
+  return d;
+}
+
 std::uint32_t atomOf(const TorusPatch& t, const glm::uvec2& atoms, const glm::dvec3& x) {
   // The saddle meets atom i at θ_i and atom j at θ_j; the axial coordinate decides.
   const double a = glm::dot(x - t.center, t.axis);

@@ -75,6 +75,15 @@ glm::dvec3 normalAt(const TorusPatch& p, const glm::dvec3& x);
 // and its brute-force oracle share.
 bool insidePatch(const TorusPatch& p, const glm::dvec3& x, double slack = 0.0);
 
+// Distance (Å) from a point x of the patch to its trimming edges: the contact circles at θi
+// and θj, the tube circles at φ = 0 and Δφ when the ring is partial, and a spindle's cusps.
+// Each edge is extended to its whole circle, so this is a lower bound, exact where the
+// nearest point of that circle is on the patch (for the contact circles, always).
+double boundaryDistance(const TorusPatch& p, const glm::dvec3& x);
+// Distance (Å) from any point x to the whole contact circle at θj (`atomJ`) or θi: where the
+// saddle meets that atom's convex sphere.
+double contactCircleDistance(const TorusPatch& p, bool atomJ, const glm::dvec3& x);
+
 // The atom a hit at x belongs to, of the saddle's atoms (i, j): the one whose contact
 // circle is nearer along the axis.
 std::uint32_t atomOf(const TorusPatch& p, const glm::uvec2& atoms, const glm::dvec3& x);

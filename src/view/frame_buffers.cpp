@@ -18,6 +18,7 @@ void FrameBuffers::reset(int newWidth, int newHeight) {
   patchId.assign(n, ~0u);
   atomId.assign(n, ~0u);
   flags.assign(n, 0u);
+  seamDistance.clear();
   layers.clear();
 }
 

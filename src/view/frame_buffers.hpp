@@ -20,6 +20,10 @@ struct FrameBuffers {
   std::vector<std::uint32_t> patchId; // PatchIdOrder::globalId
   std::vector<std::uint32_t> atomId;
   std::vector<std::uint32_t> flags;   // HitFlag bits of the centre hit (view/ray.hpp)
+  // Distance (Å) from the centre hit to the nearest edge of its patch, a lower bound from the
+  // exact geometry (RenderOptions::referenceMasks; empty when not recorded): +inf for a miss
+  // or a patch without edges, NaN where the renderer does not know it (the ball-and-stick model).
+  std::vector<float> seamDistance;
   // Crossings of the centre ray with the surface that a transparent frame composited (at
   // most RenderOptions::maxLayers); empty for an opaque frame. Not written to image files.
   std::vector<std::uint32_t> layers;

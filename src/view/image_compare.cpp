@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -25,18 +28,12 @@ double percentile(std::vector<double> v, double q) {
 }
 
 // The reference's 3×3 neighbourhood decides which pixels are genuinely ambiguous.
-struct Neighbourhood {
-  bool band = false;      // hit/miss changes: silhouette
-  bool kindSeam = false;  // patch kind changes, or the reference flags the pixel
-  bool seam = false;      // patch id changes, or the reference flags the pixel
-};
-
-Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
+PixelMask neighbourhood(const FrameBuffers& ref, int x, int y) {
   const int w = ref.width, h = ref.height;
   auto at = [w](int px, int py) { return static_cast<std::size_t>(py) * static_cast<std::size_t>(w) + static_cast<std::size_t>(px); };
   const std::size_t p = at(x, y);
   const bool hit = ref.kind[p] != 0;
-  Neighbourhood n;
+  PixelMask n;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const std::size_t q = at(std::clamp(x + dx, 0, w - 1), std::clamp(y + dy, 0, h - 1));
@@ -48,6 +45,30 @@ Neighbourhood neighbourhood(const FrameBuffers& ref, int x, int y) {
   n.kindSeam = n.kindSeam || flagged;
   n.seam = n.seam || flagged;
   return n;
+}
+
+// The exact masks of pixel (x, y) (ReferenceMasks): the reference's edge flags, and its seam
+// distance against what float rounding and the pixel's footprint allow.
+PixelMask exactMask(const FrameBuffers& ref, const Camera& camera, const Camera::Frame& frame, int x, int y) {
+  const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
+  PixelMask m;
+  m.band = (ref.flags[p] & kPixelSilhouette) != 0;
+  m.occlusion = (ref.flags[p] & kPixelOcclusion) != 0;
+  if (ref.kind[p] == 0) return m;
+  const double d = ref.seamDistance[p];
+  if (std::isnan(d)) {
+    const PixelMask n = neighbourhood(ref, x, y);
+    m.kindSeam = n.kindSeam;
+    m.seam = n.seam;
+    return m;
+  }
+  const double t = ref.depth[p];
+  const glm::dvec3 dir = glm::normalize(frame.ray(x + 0.5, y + 0.5).dir);
+  const glm::dvec3 n(ref.normal[3 * p], ref.normal[3 * p + 1], ref.normal[3 * p + 2]);
+  const double tolerance = seamTolerance(camera.pixelFootprint(t), t, static_cast<PatchKind>(ref.kind[p]));
+  m.kindSeam = !(d * std::abs(glm::dot(n, dir)) >= tolerance) || (ref.flags[p] & (kHitGrazing | kHitCusp)) != 0;
+  m.seam = m.kindSeam;
+  return m;
 }
 
 // Whether the test image hits at pixel p: its patch kind when it carries kinds, else a finite depth.
@@ -86,14 +107,18 @@ std::vector<KindErrors> kindTable(const FrameBuffers& ref, const std::vector<Kin
                                   const std::vector<KindSample>& normal) {
   std::vector<KindErrors> rows;
   std::vector<std::vector<double>> signedError(kPatchKindCount + 1), angle(kPatchKindCount + 1);
+  std::vector<std::size_t> pixels(kPatchKindCount + 1, 0);
+  for (std::uint32_t k : ref.kind)
+    if (k != 0 && k <= kPatchKindCount) ++pixels[k];
   auto row = [&](std::size_t p) { return std::min<std::size_t>(ref.kind[p], kPatchKindCount); };
   for (const KindSample& s : depth) signedError[row(s.pixel)].push_back(s.value);
   for (const KindSample& s : normal) angle[row(s.pixel)].push_back(s.value);
   for (std::size_t k = 1; k <= kPatchKindCount; ++k) {
-    if (signedError[k].empty()) continue;
+    if (pixels[k] == 0) continue;
     KindErrors e;
     e.kind = static_cast<std::uint32_t>(k);
-    e.pixels = signedError[k].size();
+    e.pixels = pixels[k];
+    e.samples = signedError[k].size();
     e.depthMedian = percentile(signedError[k], 0.5);
     e.depthP1 = percentile(signedError[k], 0.01);
     e.depthP99 = percentile(signedError[k], 0.99);
@@ -101,7 +126,14 @@ std::vector<KindErrors> kindTable(const FrameBuffers& ref, const std::vector<Kin
     e.normalSamples = angle[k].size();
     e.normalMedianDegrees = percentile(angle[k], 0.5);
     e.normalP99Degrees = percentile(angle[k], 0.99);
-    rows.push_back(e);
+    e.histogramRange = 1.25 * std::max(std::abs(e.depthP1), std::abs(e.depthP99));
+    if (!(e.histogramRange > 0.0)) e.histogramRange = 1e-6;
+    e.histogram.assign(kHistogramBins, 0);
+    for (const double v : signedError[k]) {
+      const double at = (v + e.histogramRange) / (2.0 * e.histogramRange) * kHistogramBins;
+      e.histogram[static_cast<std::size_t>(std::clamp(std::floor(at), 0.0, kHistogramBins - 1.0))]++;
+    }
+    rows.push_back(std::move(e));
   }
   return rows;
 }
@@ -115,6 +147,29 @@ std::string figures(std::size_t samples, const char* format, double a, double b,
 }
 
 }  // namespace
+
+double seamTolerance(double footprint, double t, PatchKind kind) {
+  const double tangent = kind == PatchKind::Convex || kind == PatchKind::Toroidal ? std::sqrt(kSeamTangency * std::abs(t)) : 0.0;
+  return kSeamFootprints * footprint + kSeamRelative * std::abs(t) + tangent;
+}
+
+ReferenceMasks referenceMasks(const FrameBuffers& ref, const Camera* camera) {
+  ReferenceMasks masks;
+  masks.exact = !ref.seamDistance.empty() && camera && camera->width == ref.width && camera->height == ref.height;
+  if (!masks.exact)
+    masks.note = ref.seamDistance.empty()
+                     ? "the reference records no seam distances (an EXR from before they existed, or not from Embree): "
+                       "seams and silhouettes masked by the 3x3 neighbourhood rule; re-render it with surftrace "
+                       "render --exr to judge more pixels"
+                     : "no camera: seams and silhouettes masked by the 3x3 neighbourhood rule";
+  masks.mask.resize(ref.pixels());
+  const std::optional<Camera::Frame> frame = masks.exact ? std::optional(camera->frame()) : std::nullopt;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x)
+      masks.mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x)] =
+          masks.exact ? exactMask(ref, *camera, *frame, x, y) : neighbourhood(ref, x, y);
+  return masks;
+}
 
 std::vector<std::uint8_t> occlusionEdges(const FrameBuffers& ref, const Camera& camera) {
   const int w = ref.width, h = ref.height;
@@ -179,12 +234,20 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
   FrameComparison c;
   c.pixels = ref.pixels();
   c.compared = carried;
+  const ReferenceMasks masks = referenceMasks(ref, camera);
+  c.exactMasks = masks.exact;
+  c.masksNote = masks.note;
   std::vector<double> depth, depthPixels, angle, color, background, occludedDepth;
   std::vector<KindSample> signedDepth, kindAngle;
   std::vector<std::uint8_t> nanTest, nanRef;
   c.nanTest = countNan(test, carried, &nanTest);
   c.nanReference = countNan(ref, TestChannels{}, &nanRef);
-  const std::vector<std::uint8_t> occluded = camera ? occlusionEdges(ref, *camera) : std::vector<std::uint8_t>(ref.pixels(), 0);
+  // Occlusion edges: what the exact tracer recorded, else what the reference's buffers show.
+  std::vector<std::uint8_t> occluded(ref.pixels(), 0);
+  if (masks.exact)
+    for (std::size_t p = 0; p < ref.pixels(); ++p) occluded[p] = masks.mask[p].occlusion;
+  else if (camera)
+    occluded = occlusionEdges(ref, *camera);
   std::size_t kindSame = 0, patchSame = 0;
   double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
   for (int y = 0; y < ref.height; ++y)
@@ -192,7 +255,8 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
       const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
       const bool refHit = ref.kind[p] != 0;
       if (refHit) tMin = std::min(tMin, static_cast<double>(ref.depth[p])), tMax = std::max(tMax, static_cast<double>(ref.depth[p]));
-      const Neighbourhood n = neighbourhood(ref, x, y);
+      c.referenceHits += refHit;
+      const PixelMask& n = masks.mask[p];
       if (n.band) {
         ++c.silhouette;
         continue;
@@ -293,7 +357,11 @@ std::string FrameComparison::summary() const {
   else if (kindSamples == 0)
     out += "patch kind       none compared (0 px)\n";
   else
-    std::snprintf(text, sizeof text, "patch kind       %.4f%% agree (%zu px)\n", 100.0 * kindAgreement, kindSamples), out += text;
+    std::snprintf(text, sizeof text, "patch kind       %.4f%% agree (%zu px, %.1f%% of the reference's %zu hits)\n",
+                  100.0 * kindAgreement, kindSamples,
+                  100.0 * static_cast<double>(kindSamples) / static_cast<double>(std::max<std::size_t>(1, referenceHits)),
+                  referenceHits),
+        out += text;
   if (!compared.patchId)
     out += "patch id         not compared (the test image carries no patch ids)";
   else if (patchSamples == 0)
@@ -310,6 +378,7 @@ std::string FrameComparison::summary() const {
                                    : figures(backgroundSamples, "median %.3g  p99 %.3g  max %.3g", backgroundMedian,
                                              backgroundP99, backgroundMax) + text);
   }
+  if (!exactMasks) out += "\nmasks            " + masksNote;
   auto nanText = [](const NanCounts& n) {
     if (n.pixels == 0) return std::string("none");
     char t[160];
@@ -320,16 +389,20 @@ std::string FrameComparison::summary() const {
     out += "\nNaN              test: " + nanText(nanTest) + "; reference: " + nanText(nanReference) + " (mismatches)";
   if (!perKind.empty()) {
     out += "\nper patch kind of the reference (depth error signed, test − reference, Å: < 0 in front)\n"
-           "  kind              pixels    median        p1       p99  in front    behind  normal median / p99";
+           "  kind              pixels  compared    median        p1       p99  in front    behind  normal median / p99";
     for (const KindErrors& k : perKind) {
       char normal[64] = "    not compared";
       if (compared.normal && k.normalSamples > 0)
         std::snprintf(normal, sizeof normal, "  %10.3g° / %.3g°", k.normalMedianDegrees, k.normalP99Degrees);
       else if (compared.normal)
         std::snprintf(normal, sizeof normal, "  none compared");
-      std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9.3g %9.3g %9.3g %9zu %9zu%s", k.kind,
-                    patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.depthMedian, k.depthP1, k.depthP99,
-                    k.inFront, k.behind, normal);
+      if (k.samples == 0)
+        std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu  none compared", k.kind,
+                      patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples);
+      else
+        std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu %9.3g %9.3g %9.3g %9zu %9zu%s", k.kind,
+                      patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples, k.depthMedian, k.depthP1,
+                      k.depthP99, k.inFront, k.behind, normal);
       out += text;
     }
   }
@@ -339,6 +412,8 @@ std::string FrameComparison::summary() const {
 std::string FrameComparison::json() const {
   nlohmann::json j;
   j["pixels"] = pixels;
+  j["reference_hits"] = referenceHits;
+  j["masks"] = exactMasks ? nlohmann::json{{"exact", true}} : nlohmann::json{{"exact", false}, {"note", masksNote}};
   j["silhouette_band"] = silhouette;
   j["coverage"] = {{"mismatch", coverageMismatch}, {"fraction", coverageFraction}};
   j["depth"] = {{"samples", depthSamples},  {"median", depthMedian}, {"p99", depthP99}, {"max", depthMax},
@@ -367,14 +442,20 @@ std::string FrameComparison::json() const {
     return nlohmann::json{{"pixels", n.pixels}, {"depth", n.depth}, {"normal", n.normal}, {"color", n.color}};
   };
   j["nan"] = {{"test", nanJson(nanTest)}, {"reference", nanJson(nanReference)}};
+  // Keyed by the kind's name (the HTML page's plots are named so), with its code beside it.
   nlohmann::json kinds = nlohmann::json::array();
   for (const KindErrors& k : perKind) {
-    nlohmann::json row = {{"kind", k.kind},
-                          {"name", patchKindName(static_cast<PatchKind>(k.kind))},
+    nlohmann::json row = {{"kind", patchKindName(static_cast<PatchKind>(k.kind))},
+                          {"code", k.kind},
                           {"pixels", k.pixels},
-                          {"depth_signed", {{"median", k.depthMedian}, {"p1", k.depthP1}, {"p99", k.depthP99}, {"unit", "Å"}}},
+                          {"samples", k.samples},
+                          {"median", k.depthMedian},
+                          {"p1", k.depthP1},
+                          {"p99", k.depthP99},
+                          {"unit", "Å, test − reference"},
                           {"in_front", k.inFront},
-                          {"behind", k.behind}};
+                          {"behind", k.behind},
+                          {"histogram", {{"range", k.histogramRange}, {"counts", k.histogram}}}};
     row["normal_degrees"] = compared.normal ? nlohmann::json{{"compared", true}, {"samples", k.normalSamples},
                                                              {"median", k.normalMedianDegrees}, {"p99", k.normalP99Degrees}}
                                             : nlohmann::json{{"compared", false}};
@@ -483,30 +564,65 @@ std::vector<std::string> CompareThresholds::notCompared(const FrameComparison& c
   return v;
 }
 
-std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref, const TestChannels& carried) {
+DifferenceScale DifferenceScale::of(const CompareThresholds& limits, const FrameComparison& c) {
+  DifferenceScale scale;
+  if (limits.maxDepthP99Relative) scale.depthLimit = *limits.maxDepthP99Relative * c.sceneSize;
+  if (c.compared.color) scale.colorLimit = limits.maxColorP99;
+  return scale;
+}
+
+namespace {
+
+glm::vec3 color(const float (&c)[3]) { return {c[0], c[1], c[2]}; }
+
+// The depth error's colour: quiet below a tenth of the limit, towards yellow up to it, then
+// orange to magenta up to 100 times it, each on a log scale.
+glm::vec3 depthColor(double error, double limit) {
+  namespace dc = difference_colors;
+  const double r = error / limit;
+  if (!(r >= 0.1)) return color(dc::kQuiet);
+  if (r <= 1.0) return glm::mix(color(dc::kQuiet), color(dc::kWithin), static_cast<float>(std::log10(r) + 1.0));
+  return glm::mix(color(dc::kOver), color(dc::kFarOver), static_cast<float>(std::min(1.0, std::log10(r) / 2.0)));
+}
+
+}  // namespace
+
+std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& ref, const TestChannels& carried,
+                                   const Camera* camera, const DifferenceScale& scale) {
+  namespace dc = difference_colors;
   checkSameSize(test, ref);
+  const ReferenceMasks masks = referenceMasks(ref, camera);
+  double depthLimit = scale.depthLimit;
+  if (!(depthLimit > 0.0)) {
+    double tMin = std::numeric_limits<double>::infinity(), tMax = 0.0;
+    for (std::size_t p = 0; p < ref.pixels(); ++p)
+      if (ref.kind[p] != 0) tMin = std::min(tMin, static_cast<double>(ref.depth[p])), tMax = std::max(tMax, static_cast<double>(ref.depth[p]));
+    depthLimit = tMax >= tMin ? 1e-3 * std::max(tMax - tMin, 0.1 * tMin) : 1e-3;
+    if (!(depthLimit > 0.0)) depthLimit = 1e-3;
+  }
+  const bool colors = scale.colorLimit && carried.color && test.rgba.size() == 4 * ref.pixels() &&
+                      ref.rgba.size() == 4 * ref.pixels();
   std::vector<float> rgb(3 * ref.pixels(), 0.0f);
-  for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x) {
-      const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(ref.width) + static_cast<std::size_t>(x);
-      float* out = &rgb[3 * p];
-      const bool refHit = ref.kind[p] != 0, testHit = testHits(test, p, carried);
-      glm::vec3 c(0.15f);  // agreeing background
-      if (neighbourhood(ref, x, y).band) {
-        c = {0.2f, 0.3f, 0.8f};
-      } else if (refHit != testHit) {
-        c = {1.0f, 0.0f, 0.0f};
-      } else if (refHit) {
-        if (carried.kind && test.kind[p] != ref.kind[p]) {
-          c = {0.0f, 1.0f, 0.0f};
-        } else {
-          const double dt = std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p]));
-          const float s = static_cast<float>(std::clamp((std::log10(std::max(dt, 1e-12)) + 6.0) / 6.0, 0.0, 1.0));
-          c = dt < 1e-6 ? glm::vec3(0.5f) : glm::vec3(1.0f, 1.0f - s, s);
-        }
-      }
-      out[0] = c.x, out[1] = c.y, out[2] = c.z;
-    }
+  for (std::size_t p = 0; p < ref.pixels(); ++p) {
+    const PixelMask& m = masks.mask[p];
+    const bool refHit = ref.kind[p] != 0, testHit = testHits(test, p, carried);
+    double colorError = 0.0;
+    if (colors)
+      for (int k = 0; k < 3; ++k)
+        colorError = std::max(colorError, std::abs(static_cast<double>(test.rgba[4 * p + k]) - ref.rgba[4 * p + k]));
+    glm::vec3 c = color(dc::kBackground);
+    if (m.band)
+      c = color(dc::kBand);
+    else if (refHit != testHit)
+      c = color(dc::kCoverage);
+    else if (refHit && carried.kind && !m.kindSeam && test.kind[p] != ref.kind[p])
+      c = color(dc::kKind);
+    else if (colors && !m.kindSeam && colorError > *scale.colorLimit)
+      c = color(dc::kColor);
+    else if (refHit)
+      c = depthColor(std::abs(static_cast<double>(test.depth[p]) - static_cast<double>(ref.depth[p])), depthLimit);
+    rgb[3 * p] = c.x, rgb[3 * p + 1] = c.y, rgb[3 * p + 2] = c.z;
+  }
   return rgb;
 }
 

@@ -9,6 +9,7 @@
 
 #include "view/camera.hpp"
 #include "view/frame_buffers.hpp"
+#include "view/patch_kind.hpp"
 
 namespace surftrace::view {
 
@@ -30,22 +31,73 @@ struct NanCounts {
   std::size_t pixels = 0;  // pixels with NaN in any of them
 };
 
-// The errors over the depth samples of one patch kind of the reference (its `patch.kind`).
+// The errors of one patch kind of the reference (its `patch.kind`), over the pixels whose depth
+// compareFrames measures (both hit, off the masks, no NaN).
 struct KindErrors {
   std::uint32_t kind = 0;
-  std::size_t pixels = 0;                               // depth samples of this kind
+  std::size_t pixels = 0;                                   // the reference's hits of this kind
+  std::size_t samples = 0;                                  // depth samples of this kind
   double depthMedian = 0.0, depthP1 = 0.0, depthP99 = 0.0;  // signed t_test − t_ref (Å): < 0 in front
-  std::size_t inFront = 0, behind = 0;                  // test nearer than the reference, farther
+  std::size_t inFront = 0, behind = 0;                      // test nearer than the reference, farther
   std::size_t normalSamples = 0;
   double normalMedianDegrees = 0.0, normalP99Degrees = 0.0;
+  // The signed depth error's histogram: kHistogramBins equal bins of [−histogramRange,
+  // histogramRange] (1.25 times the larger of |p1| and |p99|); errors beyond it fall into the
+  // end bins.
+  double histogramRange = 0.0;
+  std::vector<std::size_t> histogram;
 };
+inline constexpr int kHistogramBins = 41;
+
+// Which parts of a pixel's comparison are left out, because the two renderings may honestly
+// disagree there (ReferenceMasks).
+struct PixelMask {
+  bool band = false;       // hit/miss may differ (the outline passes the pixel): nothing compared
+  bool occlusion = false;  // the depth jumps inside the pixel (exact masks only; see compareFrames)
+  bool kindSeam = false;   // the patch kind may differ: kind not compared
+  bool seam = false;       // the patch may differ: patch id and normal not compared
+};
+
+// The masks of every pixel of a reference, as compareFrames and differenceImage apply them.
+//   exact: the reference records what its exact tracer knew (RenderOptions::referenceMasks:
+//     FrameBuffers::seamDistance and the kPixelSilhouette / kPixelOcclusion flags) and the
+//     camera is known. A hit is on a seam only where a float renderer can put the pixel's
+//     centre on the other side of its patch's edge: where its distance d to the edge, seen
+//     along the ray (d·|n·dir|), is below seamTolerance(), or where the hit is flagged grazing
+//     or cusp. Hits whose distance the tracer does not know (NaN) fall back to the 3×3 rule.
+//   3×3 neighbourhood (an older reference, or no camera): the band where hit/miss changes within
+//     a pixel's 3×3 neighbourhood, seams where the kind or patch changes there or the reference
+//     flags the hit. `note` then says why.
+//
+// The tolerance at ray distance t: a share of the pixel footprint, which keeps a margin at
+// every image size; float rounding of the ray, the hit and the trimming test, relative to t
+// (GL's skin cells: its kind mismatches lie within 4e-6·t of the edge, 1AON at 256²); and where
+// two patches meet tangentially and one is drawn beyond the seam (an SES sphere drawn whole,
+// against its torus: kinds convex and toroidal), the width within which a depth off by ε·t
+// lets the wrong one win, s = sqrt(2εRt) for surfaces that part by s²/2R (ε = 2⁻²¹, eight times
+// float's unit rounding 2⁻²⁴, and R = 1 Å > 1/(1/r + 1/rp)). Measured: GL's
+// kind mismatches lie within 6.2e-4·sqrt(t) Å of the edge (1AON, 1VIS, 1CRN, SES and skin,
+// 128² to 256²), a third of the sum.
+inline constexpr double kSeamFootprints = 0.01;
+inline constexpr double kSeamRelative = 0x1.0p-15;
+inline constexpr double kSeamTangency = 0x1.0p-20;  // 2εR, Å
+double seamTolerance(double footprint, double t, PatchKind kind);
+struct ReferenceMasks {
+  bool exact = false;
+  std::string note;             // why the 3×3 rule applies, when it does
+  std::vector<PixelMask> mask;  // per pixel, row by row
+};
+ReferenceMasks referenceMasks(const FrameBuffers& reference, const Camera* camera);
 
 struct FrameComparison {
   std::size_t pixels = 0;
-  std::size_t silhouette = 0;         // reference hit/miss changes within the 3×3 neighbourhood: masked
-  // Both hit beside a depth discontinuity of the reference inside its covered region (one part
-  // of the surface hides another: occlusionEdges): masked like the silhouette band, the depth
-  // error there reported on its own.
+  std::size_t referenceHits = 0;      // pixels the reference covers
+  bool exactMasks = false;            // ReferenceMasks::exact
+  std::string masksNote;              // ReferenceMasks::note
+  std::size_t silhouette = 0;         // in the silhouette band (ReferenceMasks): masked
+  // Both hit at an occlusion edge of the reference inside its covered region (one part of the
+  // surface hides another): PixelMask::occlusion with exact masks, else occlusionEdges. Masked
+  // like the silhouette band, the depth error there reported on its own.
   std::size_t occlusionEdge = 0;
   double occlusionDepthMedian = 0.0, occlusionDepthP99 = 0.0, occlusionDepthMax = 0.0;
   std::size_t coverageMismatch = 0;   // hit/miss differs, outside the silhouette band
@@ -53,8 +105,8 @@ struct FrameComparison {
   std::size_t depthSamples = 0;       // both hit, outside the band
   double depthMedian = 0.0, depthP99 = 0.0, depthMax = 0.0;  // |t_test − t_ref|, Å
   double depthP99Pixels = 0.0;        // p99 of the depth error in units of the pixel footprint at t_ref
-  std::size_t kindSamples = 0;        // both hit, reference kind constant over 3×3, not flagged
-  std::size_t patchSamples = 0;       // both hit, reference patch id constant over 3×3, not flagged
+  std::size_t kindSamples = 0;        // both hit, off kind seams (ReferenceMasks)
+  std::size_t patchSamples = 0;       // both hit, off seams
   double kindAgreement = 1.0, patchAgreement = 1.0;
   std::size_t normalSamples = 0;
   double normalMedianDegrees = 0.0, normalP99Degrees = 0.0, normalMaxDegrees = 0.0;
@@ -67,7 +119,7 @@ struct FrameComparison {
   std::size_t backgroundSamples = 0;
   double backgroundMedian = 0.0, backgroundP99 = 0.0, backgroundMax = 0.0;
   NanCounts nanTest, nanReference;
-  std::vector<KindErrors> perKind;    // the reference's kinds with depth samples, in kind order
+  std::vector<KindErrors> perKind;    // every kind the reference shows, in kind order
   double sceneSize = 0.0;             // depth range of the reference's hits (Å), for relative depth
   TestChannels compared;              // the metrics measured; the others are "not compared"
 
@@ -111,7 +163,8 @@ struct CompareThresholds {
   std::vector<std::string> notCompared(const FrameComparison& c) const;
 };
 
-// Occlusion edges of the reference (1 = edge, per pixel): hit pixels with a hit neighbour (3×3)
+// Occlusion edges of the reference from its buffers alone (1 = edge, per pixel), for a reference
+// without exact masks (ReferenceMasks): hit pixels with a hit neighbour (3×3)
 // whose view depth differs by more than the two surfaces' slopes can explain, i.e. where one part
 // of the surface hides another. Between neighbours p and q the smooth surface under the nearer
 // slope changes view depth by at most about footprint·d·tan θ (θ the angle between the normal
@@ -124,10 +177,36 @@ std::vector<std::uint8_t> occlusionEdges(const FrameBuffers& reference, const Ca
 // and per pixel in `mask` (1 = some NaN) when given.
 NanCounts countNan(const FrameBuffers& frame, const TestChannels& carried, std::vector<std::uint8_t>* mask = nullptr);
 
-// A false-colour difference image (RGB, row 0 at the top): grey = agree, red = coverage
-// mismatch, blue = silhouette band (masked), yellow→magenta = depth error on a log scale
-// from 1e-6 Å to 1 Å, green = patch kind differs (when the test carries kinds).
+// What the difference image's colours are relative to: the limits the comparison is judged by.
+struct DifferenceScale {
+  double depthLimit = 0.0;           // Å; 0: 1e-3 of the scene size (the gl-vs-embree limit)
+  std::optional<double> colorLimit;  // set when colour is judged: its p99 limit
+  // The limits `limits` sets on a comparison `c` (the depth p99 limit times the scene size).
+  static DifferenceScale of(const CompareThresholds& limits, const FrameComparison& c);
+};
+
+// The difference image's colours (RGB, in [0, 1]); kDifferenceLegend says the same in words.
+namespace difference_colors {
+inline constexpr float kBackground[3] = {0.15f, 0.15f, 0.15f};  // both miss, colour agrees
+inline constexpr float kQuiet[3] = {0.5f, 0.5f, 0.5f};          // both hit, depth error < 1/10 of the limit
+inline constexpr float kWithin[3] = {0.85f, 0.85f, 0.2f};       // depth error at the limit (from kQuiet at 1/10)
+inline constexpr float kOver[3] = {1.0f, 0.55f, 0.0f};          // depth error just over the limit
+inline constexpr float kFarOver[3] = {1.0f, 0.0f, 1.0f};        // 100 times the limit and more (from kOver)
+inline constexpr float kCoverage[3] = {1.0f, 0.0f, 0.0f};       // hit/miss differs outside the band
+inline constexpr float kKind[3] = {0.0f, 1.0f, 0.0f};           // patch kind differs off the seams
+inline constexpr float kColor[3] = {0.0f, 0.9f, 0.9f};          // colour differs by more than its limit
+inline constexpr float kBand[3] = {0.2f, 0.3f, 0.8f};           // silhouette band: masked
+}  // namespace difference_colors
+inline constexpr const char* kDifferenceLegend =
+    "dark grey: both miss; grey: depth error below 1/10 of the limit; grey to yellow: 1/10 of the limit to the limit "
+    "(log scale); orange to magenta: the limit to 100 times it (log scale); red: coverage differs; green: patch kind "
+    "differs; cyan: colour differs by more than its limit (when colour is judged); blue: silhouette band (masked)";
+
+// A false-colour difference image (RGB, row 0 at the top, the reference's size), coloured as
+// difference_colors says, in that order of precedence from the band up. Masks as in
+// compareFrames (`camera`: exact masks when the reference records them).
 std::vector<float> differenceImage(const FrameBuffers& test, const FrameBuffers& reference,
-                                   const TestChannels& carried = {});
+                                   const TestChannels& carried = {}, const Camera* camera = nullptr,
+                                   const DifferenceScale& scale = {});
 
 }  // namespace surftrace::view

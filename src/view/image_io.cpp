@@ -22,6 +22,8 @@ namespace oiio = OIIO;
 constexpr const char* kFloatChannels[] = {"R", "G", "B", "A", "depth.t", "depth.z", "N.X", "N.Y", "N.Z"};
 constexpr const char* kUintChannels[] = {"patch.kind", "patch.id", "atom.id", "flags"};
 constexpr int kFloatCount = 9, kUintCount = 4, kChannels = kFloatCount + kUintCount;
+// Written after the others when the frame records it (FrameBuffers::seamDistance).
+constexpr const char* kSeamChannel = "seam.distance";
 
 void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
   for (const auto& [key, value] : metadata) spec.attribute(key, value);
@@ -89,25 +91,34 @@ void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadat
 }
 
 EncodedImage encodeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
-  oiio::ImageSpec spec(f.width, f.height, kChannels, oiio::TypeDesc::FLOAT);
+  const bool seam = !f.seamDistance.empty();
+  const int channels = kChannels + (seam ? 1 : 0);
+  oiio::ImageSpec spec(f.width, f.height, channels, oiio::TypeDesc::FLOAT);
   spec.channelnames.assign(std::begin(kFloatChannels), std::end(kFloatChannels));
   spec.channelnames.insert(spec.channelnames.end(), std::begin(kUintChannels), std::end(kUintChannels));
   spec.channelformats.assign(kFloatCount, oiio::TypeDesc::FLOAT);
   spec.channelformats.insert(spec.channelformats.end(), kUintCount, oiio::TypeDesc::UINT32);
+  if (seam) {
+    spec.channelnames.emplace_back(kSeamChannel);
+    spec.channelformats.push_back(oiio::TypeDesc::FLOAT);
+  }
   spec.alpha_channel = 3;
   spec.z_channel = 5;
   spec.attribute("compression", "zip");
   addMetadata(spec, metadata);
-  // Native per-channel layout: 9 floats then 4 uint32 per pixel, all 4 bytes wide.
-  std::vector<std::uint32_t> pixels(kChannels * f.pixels());
+  // Native per-channel layout: 9 floats, 4 uint32, then the seam distance's float per pixel,
+  // all 4 bytes wide.
+  const std::size_t stride = static_cast<std::size_t>(channels);
+  std::vector<std::uint32_t> pixels(stride * f.pixels());
   for (std::size_t p = 0; p < f.pixels(); ++p) {
     const float values[kFloatCount] = {f.rgba[4 * p], f.rgba[4 * p + 1], f.rgba[4 * p + 2], f.rgba[4 * p + 3],
                                        f.depth[p], f.viewZ[p], f.normal[3 * p], f.normal[3 * p + 1], f.normal[3 * p + 2]};
-    std::memcpy(&pixels[kChannels * p], values, sizeof values);
-    pixels[kChannels * p + 9] = f.kind[p];
-    pixels[kChannels * p + 10] = f.patchId[p];
-    pixels[kChannels * p + 11] = f.atomId[p];
-    pixels[kChannels * p + 12] = f.flags[p];
+    std::memcpy(&pixels[stride * p], values, sizeof values);
+    pixels[stride * p + 9] = f.kind[p];
+    pixels[stride * p + 10] = f.patchId[p];
+    pixels[stride * p + 11] = f.atomId[p];
+    pixels[stride * p + 12] = f.flags[p];
+    if (seam) std::memcpy(&pixels[stride * p + 13], &f.seamDistance[p], sizeof(float));
   }
   return encode(path, spec, oiio::TypeUnknown, pixels.data());
 }
@@ -154,6 +165,11 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
   readUint("patch.id", f.patchId);
   readUint("atom.id", f.atomId);
   readUint("flags", f.flags);
+  // An image from before the channel existed, or from the GL path, leaves it empty.
+  if (std::find(spec.channelnames.begin(), spec.channelnames.end(), kSeamChannel) != spec.channelnames.end()) {
+    f.seamDistance.resize(n);
+    readFloat(kSeamChannel, f.seamDistance, 1, 0);
+  }
   if (metadata)
     for (const auto& attr : spec.extra_attribs)
       if (attr.type() == oiio::TypeDesc::STRING) (*metadata)[attr.name().string()] = attr.get_string();

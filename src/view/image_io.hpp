@@ -41,12 +41,14 @@ void checkImageOutputName(const std::string& path, const std::string& option, Im
 // OpenEXR with every buffer, one pixel per ray through the pixel centre:
 //   R G B A (half-free float colour and coverage), depth.t (ray distance, Å),
 //   depth.z (view-space z, Å), N.X N.Y N.Z (world-space unit normal), as 32-bit floats;
-//   patch.kind, patch.id, atom.id, flags as 32-bit unsigned integers (misses: id 2³²−1).
+//   patch.kind, patch.id, atom.id, flags as 32-bit unsigned integers (misses: id 2³²−1);
+//   and seam.distance (FrameBuffers::seamDistance, Å, float) when the frame records it.
 void writeExr(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata);
 // The same EXR, encoded in memory.
 EncodedImage encodeExr(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata);
 
-// Reads an EXR written by writeExr (or by the GL path) back. Throws std::runtime_error
+// Reads an EXR written by writeExr (or by the GL path) back; seamDistance stays empty when
+// the file has no seam.distance channel. Throws std::runtime_error
 // naming the file and the missing channel when it is not such a file.
 FrameBuffers readExr(const std::string& path, ImageMetadata* metadata = nullptr);
 

@@ -19,6 +19,10 @@ enum HitFlag : std::uint32_t {
   kHitGrazing = 1u << 0,       // |n·d| < kGrazingCosine: hit/miss flips within rounding
   kHitCusp = 1u << 1,          // within kCuspFraction·rp of a spindle torus cusp
   kHitNearBoundary = 1u << 2,  // within kBoundaryTolerance of a patch's trimming edge
+  // Pixel flags, which only a reference frame records (RenderOptions::referenceMasks): the
+  // rays through the pixel's centre and its four corners show that within the pixel
+  kPixelSilhouette = 1u << 3,  // the surface's outline passes (some of them hit, some miss)
+  kPixelOcclusion = 1u << 4,   // the depth jumps: one part of the surface hides another
 };
 
 }  // namespace surftrace::view

@@ -28,6 +28,12 @@ struct RenderOptions {
   // front to back over the background, each shaded as the opaque render shades it.
   double opacity = 1.0;
   int maxLayers = 16;
+  // Record what the exact tracer knows of where another renderer may honestly disagree with
+  // it, for `compare`'s masks: each centre hit's distance to the edge of its patch
+  // (FrameBuffers::seamDistance) and the pixels that an edge of the surface crosses (the
+  // kPixelSilhouette and kPixelOcclusion flags, from rays through the pixels' corners: one
+  // more ray per pixel). Embree only; the GL path leaves them out.
+  bool referenceMasks = false;
   // Image-space effects, applied after the engine by the pipeline (tools/pipeline.hpp), not by
   // the engines: every engine's frame gets the same pass.
   ImageEffects effects;

@@ -7,7 +7,7 @@ run=$(bash "$script" --list)
 all=$(bash "$script" --list --tests)
 fail=0
 for tool in slurm-wlm munge clang libclang-rt-14-dev libcgal-dev freesasa python3-mdanalysis \
-            libgtest-dev libbenchmark-dev; do
+            libgtest-dev libbenchmark-dev chromium; do
   if grep -qx "$tool" <<<"$run"; then echo "the demo installs the test tool $tool"; fail=1; fi
   if ! grep -qx "$tool" <<<"$all"; then echo "--tests misses $tool"; fail=1; fi
 done
