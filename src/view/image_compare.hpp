@@ -96,8 +96,9 @@ struct FrameComparison {
   std::string masksNote;              // ReferenceMasks::note
   std::size_t silhouette = 0;         // in the silhouette band (ReferenceMasks): masked
   // Both hit at an occlusion edge of the reference inside its covered region (one part of the
-  // surface hides another): PixelMask::occlusion with exact masks, else occlusionEdges. Masked
-  // like the silhouette band, the depth error there reported on its own.
+  // surface hides another): occlusionEdges, and PixelMask::occlusion with exact masks. Left out
+  // of the depth figures (and the per-kind table), the depth error there reported on its own;
+  // kind, id, normal and colour are judged there as the seams allow.
   std::size_t occlusionEdge = 0;
   double occlusionDepthMedian = 0.0, occlusionDepthP99 = 0.0, occlusionDepthMax = 0.0;
   std::size_t coverageMismatch = 0;   // hit/miss differs, outside the silhouette band
@@ -163,8 +164,7 @@ struct CompareThresholds {
   std::vector<std::string> notCompared(const FrameComparison& c) const;
 };
 
-// Occlusion edges of the reference from its buffers alone (1 = edge, per pixel), for a reference
-// without exact masks (ReferenceMasks): hit pixels with a hit neighbour (3×3)
+// Occlusion edges of the reference from its buffers alone (1 = edge, per pixel): hit pixels with a hit neighbour (3×3)
 // whose view depth differs by more than the two surfaces' slopes can explain, i.e. where one part
 // of the surface hides another. Between neighbours p and q the smooth surface under the nearer
 // slope changes view depth by at most about footprint·d·tan θ (θ the angle between the normal

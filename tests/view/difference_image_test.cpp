@@ -70,8 +70,8 @@ TEST(DifferenceImage, ColourDifferencesShowWhenColourIsJudged) {
   const std::vector<float> rgb = differenceImage(test, ref, {}, nullptr, judged);
   EXPECT_EQ(pixel(rgb, 7), named(dc::kColor));
   EXPECT_EQ(pixel(rgb, 8), named(dc::kQuiet));
-  // Colour not judged (gl-vs-embree), or not carried by the test: not shown.
-  const DifferenceScale geometry = DifferenceScale::of(CompareThresholds::preset("gl-vs-embree"), c);
+  // Colour not judged (the foreign preset sets no colour limit), or not carried by the test: not shown.
+  const DifferenceScale geometry = DifferenceScale::of(CompareThresholds::preset("foreign"), c);
   EXPECT_FALSE(geometry.colorLimit.has_value());
   EXPECT_EQ(pixel(differenceImage(test, ref, {}, nullptr, geometry), 7), named(dc::kQuiet));
   TestChannels noColour;
