@@ -87,9 +87,10 @@ std::string sizeMismatch(const std::string& test, int tw, int th, const std::str
 // Another renderer's buffers (TEST and --test-normal) along the reference camera's rays.
 TestImage readForeign(const CompareOptions& o, const view::ForeignBufferOptions& f, const view::FrameBuffers& ref,
                       const std::optional<view::Camera>& camera) {
-  const view::ImageChannels depth = view::readImageChannels(o.test);
+  const view::ImageChannels depth = readingFile(o.test, "the image", [&] { return view::readImageChannels(o.test); });
   std::optional<view::ImageChannels> normals;
-  if (!o.testNormal.empty()) normals = view::readImageChannels(o.testNormal);
+  if (!o.testNormal.empty())
+    normals = readingFile(o.testNormal, "the image", [&] { return view::readImageChannels(o.testNormal); });
   const view::ImageChannels* normalImage = normals ? &*normals : nullptr;
   for (const view::ImageChannels* image : {&depth, normalImage})
     if (image && (image->width != ref.width || image->height != ref.height))
@@ -147,7 +148,7 @@ TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const
   if (foreign) {
     testImage = readForeign(o, foreignOpts, ref, camera);
   } else {
-    testImage.frame = view::readExr(o.test, &testImage.meta);
+    testImage.frame = readingFile(o.test, "the image", [&] { return view::readExr(o.test, &testImage.meta); });
     testImage.description = testImage.meta.count("surftrace:renderer") ? testImage.meta.at("surftrace:renderer") : "?";
   }
   const view::FrameBuffers& test = testImage.frame;
@@ -219,10 +220,10 @@ view::CompareThresholds limitsOf(const CompareOptions& o, const std::string& pre
 void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
-  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
+  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff", build::OutputContent::Binary);
   if (!o.html.empty()) build::prepareOutputPath(o.html, "--html");
   view::ImageMetadata refMeta;
-  const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
+  const view::FrameBuffers ref = readingFile(o.reference, "the image", [&] { return view::readExr(o.reference, &refMeta); });
   std::optional<view::Camera> camera;
   if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
   const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
@@ -327,13 +328,14 @@ void addCompareCommand(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("REFERENCE", o->reference, "Reference EXR; its masks and camera are used")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--report", o->report, "Write the metrics as JSON here");
+  cmd->add_option("--report", o->report, "Write the metrics as JSON here; - for the standard output");
   cmd->add_option("--diff", o->diff,
                   "Write a false-colour difference PNG here (its colours: README, `compare`; its surftrace:legend "
-                  "attribute says them too)");
+                  "attribute says them too); - for the standard output");
   cmd->add_option("--html", o->html,
                   "Write one self-contained HTML page here: test, reference and difference side by side (zoomed "
-                  "together), the signed depth error per patch kind with histograms, and the worst pixels");
+                  "together), the signed depth error per patch kind with histograms, and the worst pixels; - for the "
+                  "standard output");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
                                          "kinds > 99.9%), exact (a re-render by the same engine), foreign (another "
                                          "renderer's buffers: coverage < 0.1%, depth p99 < 1e-3 of the scene, normal p99 "
@@ -358,7 +360,7 @@ void addCompareCommand(CLI::App& app) {
       runCompare(*o);
     } catch (const LimitsExceeded& e) {
       std::printf("%s\n", e.what());
-      std::fflush(stdout);
+      build::finishStandardOutput();  // a closed pipe is an error (1), not a verdict (2)
       std::exit(2);
     }
   });
