@@ -326,7 +326,8 @@ TEST(Output, SymbolicLinksStayLinksAndTheirTargetIsReplaced) {
   const std::vector<std::string> starts = {"{", "SURFTRCE", "", "{"};
   int round = 0;
   for (const std::string kind : {"relative", "absolute", "chain"}) {
-    const fs::path link = dir / "links" / (kind + "-" + std::to_string(round));
+    // Named .stp, as `build -o` wants.
+    const fs::path link = dir / "links" / (kind + "-" + std::to_string(round) + ".stp");
     if (kind == "relative") {
       fs::create_symlink("../elsewhere/out", link);
     } else if (kind == "absolute") {
