@@ -277,8 +277,8 @@ Outputs checkOutputs(const TrajectoryOptions& o, const Shard& shard) {
   if (!out.png.empty()) view::checkImageOutputName(out.png(0), "-o", view::ImageContent::Colour);
   if (!out.exr.empty()) view::checkImageOutputName(out.exr(0), "--exr", view::ImageContent::Buffers);
   if (build::isStandardOutput(o.mp4))
-    throw std::invalid_argument("--mp4 -: the movie cannot go to the standard output (an MP4 is finished by "
-                                "seeking back to its start): give a file name");
+    throw std::invalid_argument("--mp4 " + o.mp4 + ": the movie cannot go to the standard output (an MP4 is "
+                                "finished by seeking back to its start): give a file name");
   if (!o.mp4.empty()) checkMovieName(o.mp4);
   if (!out.png.empty()) build::prepareOutputPath(out.png(0), "-o");
   if (!out.exr.empty()) build::prepareOutputPath(out.exr(0), "--exr");

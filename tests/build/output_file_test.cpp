@@ -260,6 +260,14 @@ TEST(OutputFile, StaleTemporariesOfTheSameOutputAreRemoved) {
   ::waitpid(writer, &status, 0);
 }
 
+// The names a shell gives the standard output are it, and written as "-" is: never opened
+// anew through /proc, never replaced (as root, a rename over /dev/stdout replaced the node).
+TEST(OutputFile, TheStandardOutputHasSeveralNames) {
+  using surftrace::build::isStandardOutput;
+  for (const char* name : {"-", "/dev/stdout", "/dev/fd/1", "/proc/self/fd/1"}) EXPECT_TRUE(isStandardOutput(name)) << name;
+  for (const char* name : {"--", "x", "/dev/stderr", "/dev/fd/3", "./-"}) EXPECT_FALSE(isStandardOutput(name)) << name;
+}
+
 // A write that fails (here: the target is a folder, so the rename fails) leaves no temporary.
 TEST(OutputFile, AFailedWriteLeavesNoTemporary) {
   const fs::path dir = freshFolder("failed");

@@ -312,6 +312,11 @@ TEST(Output, AFifoGetsTheBytes) {
   struct stat st;
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO was replaced by a file";
+  // A pipe named through /dev/fd (bash's >(...) gives such names): the same bytes.
+  const Shell piped = shell("surftrace info " + mol + " --xyzr /dev/fd/3 3>&1 >/dev/null | cat > " +
+                            (dir / "piped.xyzr").string() + "; exit ${PIPESTATUS[0]}");
+  EXPECT_EQ(piped.status, 0) << piped.output;
+  EXPECT_TRUE(contents(dir / "piped.xyzr") == expected) << contents(dir / "piped.xyzr").substr(0, 200);
 }
 
 // A symbolic link (relative, absolute, or a chain of them) stays a link, and its final target
@@ -385,6 +390,11 @@ TEST(Output, DashIsTheStandardOutput) {
   const Shell summary =
       surftrace::tools::test::runShell("\"" SURFTRACE_TOOL "\" info " + mol + " --xyzr - 2>&1 >/dev/null");
   EXPECT_NE(summary.output.find("atoms      327"), std::string::npos) << summary.output;
+  // The names a shell gives the standard output are it too (never opened anew, never replaced).
+  const Shell procSelf =
+      surftrace::tools::test::runShell("\"" SURFTRACE_TOOL "\" info " + mol + " --xyzr /proc/self/fd/1 2>/dev/null");
+  EXPECT_EQ(procSelf.status, 0);
+  EXPECT_TRUE(procSelf.output == contents(dir / "atoms.xyzr")) << procSelf.output.substr(0, 200);
   // build -o -: a patch list; render -o - and --exr -: a PNG, an EXR; compare --report -: JSON.
   const std::string exr = referenceExr(dir);
   struct Case {
@@ -435,8 +445,8 @@ PipeRun runIntoClosedPipe(const std::vector<std::string>& args, std::size_t byte
   for (std::string& w : words) argv.push_back(w.data());
   argv.push_back(nullptr);
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) return {};
-  ::fcntl(fds[1], F_SETPIPE_SZ, 4096);
+  if (::pipe2(fds, O_CLOEXEC) != 0) return {-1, std::string("pipe2: ") + std::strerror(errno)};
+  if (::fcntl(fds[1], F_SETPIPE_SZ, 4096) < 0) return {-1, std::string("F_SETPIPE_SZ: ") + std::strerror(errno)};
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int err = ::open(errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);

@@ -203,7 +203,7 @@ StaleTemporaries& staleTemporaries() {
 }
 
 // The standard output once an option claimed it ("-"): the descriptor its bytes go to, and the
-// option. Process-wide, as the standard output itself is.
+// option with the name it was given ("-o -"). Process-wide, as the standard output itself is.
 struct StandardOutputClaim {
   int fd = -1;
   std::string option;
@@ -214,12 +214,12 @@ StandardOutputClaim& standardOutputClaim() {
   return claim;
 }
 
-void claimStandardOutput(std::string_view option, OutputContent content) {
+void claimStandardOutput(std::string_view option, const fs::path& path, OutputContent content) {
   StandardOutputClaim& claim = standardOutputClaim();
-  const std::string where = std::string(option) + " -";
+  const std::string where = std::string(option) + " " + path.string();
   if (claim.fd >= 0) {
-    if (claim.option == option) return;
-    throw OutputError(where + " and " + claim.option + " - both name the standard output: give one of them a file name");
+    if (claim.option.rfind(std::string(option) + " ", 0) == 0) return;  // the same option again
+    throw OutputError(where + " and " + claim.option + " both name the standard output: give one of them a file name");
   }
   struct stat st;
   if (::fstat(STDOUT_FILENO, &st) != 0) throw OutputError(where + ": the standard output is closed (" + reason(errno) + ")");
@@ -236,7 +236,7 @@ void claimStandardOutput(std::string_view option, OutputContent content) {
     if (null >= 0) ::dup2(null, STDOUT_FILENO), ::close(null);
   }
   claim.fd = fd;
-  claim.option = std::string(option);
+  claim.option = where;
 }
 
 void writeStandardOutput(std::span<const std::byte> bytes) {
@@ -290,7 +290,11 @@ int lostReason() {
 
 }  // namespace
 
-bool isStandardOutput(const fs::path& path) { return path == "-"; }
+bool isStandardOutput(const fs::path& path) {
+  // The names a shell user gives the standard output too: writing through them would open the
+  // file behind it anew (or, run as root, rename a file over the machine's /dev/stdout).
+  return path == "-" || path == "/dev/stdout" || path == "/dev/fd/1" || path == "/proc/self/fd/1";
+}
 
 bool isWrittenInPlace(const fs::path& path) {
   if (isStandardOutput(path)) return true;
@@ -305,10 +309,12 @@ int standardOutputDescriptor() {
 
 void writeFileAtomically(const fs::path& path, std::span<const std::byte> bytes) {
   if (isStandardOutput(path)) return writeStandardOutput(bytes);
-  const fs::path target = finalTarget(path, path.string());
+  // stat(2) and open(2) follow every link, /proc's links to pipes (/dev/fd/N) among them,
+  // which name no path that finalTarget could follow.
   struct stat st;
-  if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
-    return writeInPlace(path, target, st.st_mode, bytes);
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+    return writeInPlace(path, path, st.st_mode, bytes);
+  const fs::path target = finalTarget(path, path.string());
   staleTemporaries().removeFor(target);
   const fs::path temporary = temporaryBeside(target);
   Descriptor fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666));
@@ -334,18 +340,18 @@ void prepareOutputPath(const fs::path& path, std::string_view option, OutputCont
   std::string where(option);
   where.append(" ").append(path.string());
   if (path.empty()) throw OutputError(std::string(option).append(": an empty file name"));
-  if (isStandardOutput(path)) return claimStandardOutput(option, content);
+  if (isStandardOutput(path)) return claimStandardOutput(option, path, content);
+  std::error_code error;
+  if (fs::is_directory(path, error)) throw OutputError(where + ": is a folder; give a file name");
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    // A device, FIFO or socket is written in place: it must be writable; its folder need not be.
+    if (::access(path.c_str(), W_OK) != 0) throw OutputError(where + ": cannot write to it: " + reason(errno));
+    return;
+  }
   const fs::path target = finalTarget(path, where);
   const bool linked = target != path;
   const std::string named = linked ? where + " (a link to " + target.string() + ")" : where;
-  std::error_code error;
-  if (fs::is_directory(target, error)) throw OutputError(named + ": is a folder; give a file name");
-  struct stat st;
-  if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    // A device, FIFO or socket is written in place: it must be writable; its folder need not be.
-    if (::access(target.c_str(), W_OK) != 0) throw OutputError(named + ": cannot write to it: " + reason(errno));
-    return;
-  }
   const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   if (!fs::exists(folder, error)) {
     // A link's target is where the link's owner put it: no folders are made there.

@@ -24,7 +24,8 @@ class OutputError : public std::runtime_error {
 // a terminal.
 enum class OutputContent { Text, Binary };
 
-// "-", given where an output file is asked for, names the standard output.
+// "-", given where an output file is asked for, names the standard output; so do /dev/stdout,
+// /dev/fd/1 and /proc/self/fd/1, which are written as "-" is.
 bool isStandardOutput(const std::filesystem::path& path);
 
 // Whether writeFileAtomically writes `path` in place: "-", or a path that names (through any
