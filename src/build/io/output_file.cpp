@@ -233,7 +233,10 @@ void claimStandardOutput(std::string_view option, const fs::path& path, OutputCo
   // that the standard output holds the file's bytes alone.
   if (::dup2(STDERR_FILENO, STDOUT_FILENO) < 0) {
     const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-    if (null >= 0) ::dup2(null, STDOUT_FILENO), ::close(null);
+    if (null >= 0) {
+      ::dup2(null, STDOUT_FILENO);
+      ::close(null);
+    }
   }
   claim.fd = fd;
   claim.option = where;
