@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build/io/output_file.hpp"
 #include "build/io/trajectory.hpp"
 #include "build/mss/mss_area.hpp"
 #include "build/ses/surface_area.hpp"
@@ -40,6 +41,8 @@ void printPerAtomCsv(const build::Molecule& m,
                 r.name.c_str(), r.element.c_str(), m.radii[i]);
     for (const auto& [name, values] : columns) std::printf(",%.6f", (*values)[i]);
     std::printf("\n");
+    // A reader that stopped early (| head) ends the command here, with the reason.
+    build::checkStandardOutput();
   }
 }
 
@@ -112,7 +115,8 @@ std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, 
 // SurfaceBuilder that keeps its memory frame after frame.
 void runAreaOverTime(const AreaOptions& o) {
   const build::SurfaceRequest request = o.surface.request();
-  build::Trajectory trajectory(o.path, o.trajectory, o.read);
+  build::Trajectory trajectory =
+      readingFile(o.trajectory, "the trajectory", [&] { return build::Trajectory(o.path, o.trajectory, o.read); });
   for (const std::string& note : trajectory.source().notes())
     std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
@@ -140,6 +144,8 @@ void runAreaOverTime(const AreaOptions& o) {
       for (double v : values) std::printf(o.format == "csv" ? ",%.6f" : " %14.4f", v);
       std::printf("\n");
       std::fflush(stdout);
+      // A reader that stopped early stops the run before the next frame is built.
+      build::checkStandardOutput();
     }
     bar.items(n + 1, frames.size(), "frames");
   }

@@ -20,6 +20,7 @@ struct BuildOptions : SurfaceInputOptions {
 // A patch list is SurfTrace's own format, and a file named like a mesh (.obj, .ply) or
 // anything else would be taken for what it is not: the name must say .stp.
 void checkPatchListName(const std::string& path) {
+  if (build::isWrittenInPlace(path)) return;  // "-", /dev/null: no name to say what it holds
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (extension == ".stp") return;
@@ -37,7 +38,7 @@ void runBuild(const BuildOptions& o) {
     throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
                                 "take it as it is");
   checkPatchListName(o.output);
-  build::prepareOutputPath(o.output, "-o");
+  build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
   const auto limit = limitThreads(o.threads);
   const Built b = readAndBuild(o);
   // The atoms go along: the file derives the skin's patches from them (patch_list.hpp, version 3).
@@ -74,7 +75,7 @@ void addBuildCommand(CLI::App& app) {
                                  "cells)");
   addSurfaceInputOptions(*cmd, *o);
   cmd->add_option("-o,--output", o->output, "Patch-list file to write: FILE.stp, SurfTrace's own format (the analytic patches), read by `render`, "
-                 "`area` and `info`")->required();
+                 "`area` and `info`; - for the standard output")->required();
   cmd->callback([o] { runBuild(*o); });
 }
 

@@ -1,9 +1,12 @@
 // The top-level command line both programs share (command_line.hpp).
 #include "command_line.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -11,6 +14,25 @@
 #include "commands.hpp"
 
 namespace surftrace::tools {
+namespace {
+
+// This machine's memory, e.g. "23.4 GiB"; empty when the system does not say.
+std::string physicalMemory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || pageSize <= 0) return {};
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f GiB", static_cast<double>(pages) * static_cast<double>(pageSize) / 0x1p30);
+  return text;
+}
+
+}  // namespace
+
+std::string outOfMemoryMessage(const std::string& file, const char* what) {
+  const std::string memory = physicalMemory();
+  return file + ": not enough memory to hold " + what + " it describes (the allocation failed" +
+         (memory.empty() ? std::string() : "; this machine has " + memory) +
+         "): a damaged or forged header, or a file too large for this machine or for the memory limit (ulimit -v)";
+}
 
 void describeApp(CLI::App& app) {
   app.description(
@@ -160,6 +182,13 @@ int runApp(CLI::App& app, int argc, char** argv) {
     // CLI11 prints the message; its own exit codes (104, 105, ...) mean nothing to a user:
     // 0 for --help and --version, 1 for every error, as --help says.
     return app.exit(e) == 0 ? 0 : 1;
+  } catch (const std::bad_alloc&) {
+    // Where no command said which file asked for it (readingFile): at least the command.
+    std::fflush(stdout);
+    const std::string command = app.get_subcommands().empty() ? "surftrace" : app.get_subcommands().front()->get_name();
+    std::fprintf(stderr, "surftrace: error: out of memory (std::bad_alloc) in `surftrace %s`: the input or the "
+                 "options ask for more memory than this machine has\n", command.c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "surftrace: error: %s\n", e.what());

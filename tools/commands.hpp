@@ -1,6 +1,8 @@
 // The subcommands of `surftrace` and the option groups they share.
 #pragma once
 
+#include <new>
+#include <stdexcept>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +24,25 @@ void printReadNotes(const build::Molecule& molecule);
 // Whether FILE is a patch list (.stp) rather than a structure: it starts with the magic
 // "SURFTRCE", or it is named .stp (then reading it explains what is wrong).
 bool isPatchListInput(const std::string& path);
+
+// The message for a file whose contents did not fit in memory: the file, `what` it holds, and
+// this machine's memory.
+std::string outOfMemoryMessage(const std::string& file, const char* what);
+
+// Runs `read`, which reads `file` (`what`: "the image", "the patch list", ...); a
+// std::bad_alloc or std::length_error from it (a header that claims more than memory holds: a
+// damaged or forged file, or one too large for this machine) becomes an error naming the file
+// and what was too big, rather than "std::bad_alloc" alone.
+template <class Read>
+auto readingFile(const std::string& file, const char* what, Read&& read) -> decltype(read()) {
+  try {
+    return read();
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(outOfMemoryMessage(file, what));
+  } catch (const std::length_error&) {
+    throw std::runtime_error(outOfMemoryMessage(file, what));
+  }
+}
 
 void addInfoCommand(CLI::App& app);
 void addBuildCommand(CLI::App& app);

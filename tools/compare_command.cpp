@@ -105,8 +105,9 @@ struct ForeignFiles {
 
 ForeignFiles readForeignFiles(const CompareOptions& o, const view::FrameBuffers& ref,
                               const std::optional<view::Camera>& camera) {
-  ForeignFiles files{view::readImageChannels(o.test), std::nullopt};
-  if (!o.testNormal.empty()) files.normals = view::readImageChannels(o.testNormal);
+  ForeignFiles files{readingFile(o.test, "the image", [&] { return view::readImageChannels(o.test); }), std::nullopt};
+  if (!o.testNormal.empty())
+    files.normals = readingFile(o.testNormal, "the image", [&] { return view::readImageChannels(o.testNormal); });
   for (const view::ImageChannels* image : {static_cast<const view::ImageChannels*>(&files.depth), files.normalImage()})
     if (image && (image->width != ref.width || image->height != ref.height))
       throw std::invalid_argument(sizeMismatch(image->path, image->width, image->height, o.reference, ref.width, ref.height));
@@ -311,7 +312,7 @@ TestImage readTest(const CompareOptions& o, const view::FrameBuffers& ref, const
                                                               view::CompareThresholds::preset("foreign"), nullptr));
     testImage = readForeign(o, *files, foreignOpts, *camera);
   } else {
-    testImage.frame = view::readExr(o.test, &testImage.meta);
+    testImage.frame = readingFile(o.test, "the image", [&] { return view::readExr(o.test, &testImage.meta); });
     testImage.description = testImage.meta.count("surftrace:renderer") ? testImage.meta.at("surftrace:renderer") : "?";
   }
   const view::FrameBuffers& test = testImage.frame;
@@ -411,10 +412,10 @@ bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, con
 void runCompare(const CompareOptions& o) {
   if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
-  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff");
+  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff", build::OutputContent::Binary);
   if (!o.html.empty()) build::prepareOutputPath(o.html, "--html");
   view::ImageMetadata refMeta;
-  const view::FrameBuffers ref = view::readExr(o.reference, &refMeta);
+  const view::FrameBuffers ref = readingFile(o.reference, "the image", [&] { return view::readExr(o.reference, &refMeta); });
   std::optional<view::Camera> camera;
   if (refMeta.count("surftrace:camera")) camera = view::cameraFromJson(refMeta.at("surftrace:camera"));
   const bool foreign = o.foreignFlags() || !view::hasFrameBufferChannels(o.test);
@@ -541,13 +542,14 @@ void addCompareCommand(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("REFERENCE", o->reference, "Reference EXR; its masks and camera are used")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--report", o->report, "Write the metrics as JSON here");
+  cmd->add_option("--report", o->report, "Write the metrics as JSON here; - for the standard output");
   cmd->add_option("--diff", o->diff,
                   "Write a false-colour difference PNG here (its colours: README, `compare`; its surftrace:legend "
-                  "attribute says them too)");
+                  "attribute says them too); - for the standard output");
   cmd->add_option("--html", o->html,
                   "Write one self-contained HTML page here: test, reference and difference side by side (zoomed "
-                  "together), the signed depth error per patch kind with histograms, and the worst pixels");
+                  "together), the signed depth error per patch kind with histograms, and the worst pixels; - for the "
+                  "standard output");
   cmd->add_option("--preset", o->preset, "Limits: gl-vs-embree (coverage < 0.1%, depth p99 < 1e-3 of the scene, "
                                          "kinds > 99.9%, colour p99 < 1e-3), exact (a re-render by the same engine; "
                                          "colour p99 < 1e-5), foreign (another renderer's buffers: coverage < 0.1%, depth "
@@ -578,7 +580,7 @@ void addCompareCommand(CLI::App& app) {
       runCompare(*o);
     } catch (const LimitsExceeded& e) {
       std::printf("%s\n", e.what());
-      std::fflush(stdout);
+      build::finishStandardOutput();  // a closed pipe is an error (1), not a verdict (2)
       std::exit(2);
     }
   });

@@ -219,7 +219,7 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--camera-out", o.cameraOut,
                  "Write the camera used as JSON: eye, look_at, up, projection, fov_y_degrees/ortho_height, near and "
                  "far tight around the scene, and the OpenGL view_matrix and projection_matrix (column-major), for "
-                 "another renderer to draw the same view");
+                 "another renderer to draw the same view; - for the standard output");
   addEffectOptions(cmd, o);
   addBallAndStickOptions(cmd, o);
   for (const char* name : {"--view", "--eye", "--look-at", "--up", "--fov", "--ortho"})

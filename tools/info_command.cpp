@@ -101,7 +101,7 @@ std::string fixed(double v, int digits = 3) {
 // A patch list holds no atom records: say what it was built from and what it holds, by patch
 // kind (view::kPatchKinds: the SES's and the skin's alike).
 void runPatchListInfo(const InfoOptions& o) {
-  const build::PatchList p = build::readPatchList(o.path);
+  const build::PatchList p = readingFile(o.path, "the patch list", [&] { return build::readPatchList(o.path); });
   const bool skin = p.params.surface == build::SurfaceKind::Mss;
   if (o.json) {
     nlohmann::json j;
@@ -268,7 +268,7 @@ void runInfo(const InfoOptions& o) {
   }
   if (isPatchListInput(o.path)) return runPatchListInfo(o);
   const auto start = std::chrono::steady_clock::now();
-  const build::Molecule m = build::readMolecule(o.path, o.read);
+  const build::Molecule m = readingFile(o.path, "the atoms", [&] { return build::readMolecule(o.path, o.read); });
   if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const MoleculeSummary summary = summarise(m);
@@ -298,7 +298,8 @@ void addInfoCommand(CLI::App& app) {
   cmd->add_option("--xyzr", o->xyzr,
                   "Also write the atoms as every command uses them (after the water, hydrogen, chain, model and "
                   "radius choices) to this file, one 'x y z r' line each, exactly (shortest round-trip digits), "
-                  "so that another renderer draws the same spheres");
+                  "so that another renderer draws the same spheres; - for the standard output (the summary then "
+                  "goes to the standard error)");
   cmd->callback([o] { runInfo(*o); });
 }
 

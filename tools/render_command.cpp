@@ -43,8 +43,8 @@ void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
   checkEngineCanDraw(o.engine, o.image);
   if (!o.output.empty()) view::checkImageOutputName(o.output, "-o", view::ImageContent::Colour);
   if (!o.exr.empty()) view::checkImageOutputName(o.exr, "--exr", view::ImageContent::Buffers);
-  if (!o.output.empty()) build::prepareOutputPath(o.output, "-o");
-  if (!o.exr.empty()) build::prepareOutputPath(o.exr, "--exr");
+  if (!o.output.empty()) build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
+  if (!o.exr.empty()) build::prepareOutputPath(o.exr, "--exr", build::OutputContent::Binary);
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
     throw std::invalid_argument("--frame " + std::to_string(o.frame) + " needs --trajectory FILE (and FILE its topology)");
   if (!fromPatchList) return;
@@ -65,7 +65,7 @@ void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
 
 // The patch list FILE names, held to the options that cannot change it.
 build::PatchList readPatchListInput(const RenderCommandOptions& o) {
-  build::PatchList list = build::readPatchList(o.path);
+  build::PatchList list = readingFile(o.path, "the patch list", [&] { return build::readPatchList(o.path); });
   if (o.surface.surface != "ses" && build::parseSurfaceKind(o.surface.surface) != list.params.surface)
     throw std::invalid_argument(o.path + " is a " + build::surfaceKindName(list.params.surface) + " patch list; --surface " +
                                 o.surface.surface + " needs the structure file");
@@ -87,7 +87,7 @@ build::PatchList readAndBuild(const RenderCommandOptions& o, bool fromPatchList,
   if (fromPatchList) {
     list = readPatchListInput(o);
   } else if (!o.patches.empty()) {
-    list = build::readPatchList(o.patches);
+    list = readingFile(o.patches, "the patch list", [&] { return build::readPatchList(o.patches); });
     build::checkPatchListMatches(list, o.patches, molecule, o.surface.request());
     if (o.surface.dropCavities) list = build::outerComponent(list);
   } else {
@@ -226,10 +226,13 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
   o->frameOption = cmd->add_option("--frame", o->frame, "The frame of --trajectory to render, numbered from 0")
                        ->check(wholeIn(0, 2147483647))
                        ->default_val(0);
-  cmd->add_option("-o,--output", o->output, "PNG (or any OpenImageIO format) colour image to write");
+  cmd->add_option("-o,--output", o->output,
+                  "PNG (or any OpenImageIO format) colour image to write; - for a PNG on the standard output (the "
+                  "summary then goes to the standard error)");
   cmd->add_option("--exr", o->exr,
                   "Multi-channel EXR to write (colour, depth, normal, ids, flags; with Embree also each hit's "
-                  "distance to the edge of its patch and the pixels an edge of the surface crosses, for `compare`)");
+                  "distance to the edge of its patch and the pixels an edge of the surface crosses, for `compare`); "
+                  "- for the standard output");
   addEngineOptions(*cmd, o->engine);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(wholeIn(0, 4096));

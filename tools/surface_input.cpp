@@ -27,7 +27,7 @@ Built readAndBuild(const SurfaceInputOptions& o) {
   auto start = std::chrono::steady_clock::now();
   Built b;
   if (isPatchListInput(o.path)) {
-    b.patches = build::readPatchList(o.path);
+    b.patches = readingFile(o.path, "the patch list", [&] { return build::readPatchList(o.path); });
     if (o.surface.probeGiven() && o.surface.probe != b.patches.params.probeRadius)
       throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +
                                   " Å; --probe " + std::to_string(o.surface.probe) + " cannot change it (rebuild it)");
@@ -35,9 +35,11 @@ Built readAndBuild(const SurfaceInputOptions& o) {
       throw std::invalid_argument(o.path + ": the areas of a " + build::surfaceKindName(b.patches.params.surface) +
                                   " patch list need its structure (per-atom shares): run `area` on the structure");
     b.molecule.source = o.path;
-    b.molecule.atoms.resize(b.patches.params.atomCount);
-    b.molecule.centers.resize(b.patches.params.atomCount);
-    b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
+    readingFile(o.path, "the atoms", [&] {
+      b.molecule.atoms.resize(b.patches.params.atomCount);
+      b.molecule.centers.resize(b.patches.params.atomCount);
+      b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
+    });
     for (std::size_t k = 0; k < b.patches.convex.size(); ++k)
       b.molecule.radii[b.patches.convex.atom[k]] = b.patches.convex.radius[k];
     b.readSeconds = secondsSince(start);

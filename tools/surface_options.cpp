@@ -83,13 +83,15 @@ build::PatchList buildWithNotes(const build::Molecule& molecule, const build::Su
 build::Molecule readInput(const std::string& path, const std::string& trajectory, std::size_t frame,
                           const build::ReadOptions& read) {
   if (trajectory.empty()) {
-    build::Molecule molecule = build::readMolecule(path, read);
+    build::Molecule molecule = readingFile(path, "the atoms", [&] { return build::readMolecule(path, read); });
     printReadNotes(molecule);
     return molecule;
   }
-  build::Trajectory frames(path, trajectory, read);
-  frames.load(frame);
-  return frames.molecule();
+  return readingFile(trajectory, "the frame", [&] {
+    build::Trajectory frames(path, trajectory, read);
+    frames.load(frame);
+    return frames.molecule();
+  });
 }
 
 }  // namespace surftrace::tools

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -66,6 +67,10 @@ bool isImageCommand(std::string_view command) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A reader that closes the pipe early (`surftrace area ... | head`) makes a write fail with
+  // EPIPE, which the commands report (exit 1, naming the standard output and the reason),
+  // rather than kill the program silently (exit 141). Inherited by surftrace_images.
+  std::signal(SIGPIPE, SIG_IGN);
   const std::string_view command = argc > 1 ? argv[1] : "";
   std::string missing;
   if (command != "info" && command != "build" && command != "area") {

@@ -2,6 +2,7 @@
 // compare) among them. `surftrace` runs info, build and area itself and hands every other
 // command line to this program unchanged (surftrace.cpp), so that those three do not load
 // OpenImageIO, Embree and EGL with their hundreds of libraries.
+#include <csignal>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -10,6 +11,8 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
+  // A closed pipe is an error the commands report, not a silent death (surftrace.cpp).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app;
   surftrace::tools::describeApp(app);
   surftrace::tools::addInfoCommand(app);

@@ -103,6 +103,7 @@ int runProgram(const std::vector<std::string>& argv) {
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("cannot start " + argv[0]);
   if (pid == 0) {
+    std::signal(SIGPIPE, SIG_DFL);  // ignored by surftrace (a closed pipe is its error to report), not by ffmpeg
     execvp(args[0], args.data());
     _exit(127);
   }
@@ -275,6 +276,9 @@ Outputs checkOutputs(const TrajectoryOptions& o, const Shard& shard) {
   out.exr = o.exr.empty() ? FramePattern() : FramePattern("--exr", o.exr);
   if (!out.png.empty()) view::checkImageOutputName(out.png(0), "-o", view::ImageContent::Colour);
   if (!out.exr.empty()) view::checkImageOutputName(out.exr(0), "--exr", view::ImageContent::Buffers);
+  if (build::isStandardOutput(o.mp4))
+    throw std::invalid_argument("--mp4 " + o.mp4 + ": the movie cannot go to the standard output (an MP4 is "
+                                "finished by seeking back to its start): give a file name");
   if (!o.mp4.empty()) checkMovieName(o.mp4);
   if (!out.png.empty()) build::prepareOutputPath(out.png(0), "-o");
   if (!out.exr.empty()) build::prepareOutputPath(out.exr(0), "--exr");
@@ -288,6 +292,14 @@ Outputs checkOutputs(const TrajectoryOptions& o, const Shard& shard) {
   out.ffmpeg = findOnPath("ffmpeg");
   if (!out.ffmpeg) throw std::invalid_argument("--mp4 needs ffmpeg on PATH (Debian: apt-get install ffmpeg)");
   return out;
+}
+
+// A pattern whose number names folders (f/%03d/x.png) has a folder for every frame: all of
+// this process's are made and checked before any frame is read, as frame 0's was.
+void prepareFrameFolders(const Outputs& out, const std::vector<std::size_t>& frames) {
+  for (const auto& [pattern, option] : {std::pair{&out.png, "-o"}, std::pair{&out.exr, "--exr"}})
+    if (!pattern->empty() && pattern->numbersFolders())
+      for (std::size_t k : frames) build::prepareOutputPath((*pattern)(k), option);
 }
 
 // --flexible: the atoms that move (empty: all of them).
@@ -348,8 +360,15 @@ class TimingsFile {
   TimingsFile(const std::string& path, bool resume) : path_(path) {
     if (path.empty()) return;
     std::error_code ec;
-    const bool append = resume && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0;
-    file_.reset(std::fopen(path.c_str(), append ? "a" : "w"));
+    const bool toStandardOutput = build::isStandardOutput(path);
+    const bool append = !toStandardOutput && resume && fs::is_regular_file(path, ec) && fs::file_size(path, ec) > 0;
+    if (toStandardOutput) {
+      const int fd = ::dup(build::standardOutputDescriptor());
+      file_.reset(fd < 0 ? nullptr : ::fdopen(fd, "w"));
+      if (!file_ && fd >= 0) ::close(fd);
+    } else {
+      file_.reset(std::fopen(path.c_str(), append ? "a" : "w"));
+    }
     if (!file_) throw build::OutputError("--timings " + path + ": cannot write the file: " + std::strerror(errno));
     if (!append &&
         (std::fputs("frame,time_ps,read_ms,build_ms,scene_ms,render_ms,encode_ms,write_ms,moved_atoms,"
@@ -486,6 +505,7 @@ void FrameLoop::write(Work& w, ProgressBar& bar, std::size_t total) {
   if (!o_.quiet && !isatty(STDERR_FILENO)) {
     std::printf("frame %zu: build %.1f ms, render %.1f ms\n", w.frame, w.buildMs, w.renderMs);
     std::fflush(stdout);
+    build::checkStandardOutput();  // a log reader gone (| head) stops the run with the reason
   }
   bar.items(++written, total, "frames");
 }
@@ -597,11 +617,13 @@ void runTrajectory(const TrajectoryOptions& o) {
   ImageSetup setup = resolveImageOptions(o.image);
   const auto limit = limitThreads(o.threads);
   const auto start = std::chrono::steady_clock::now();
-  build::Trajectory trajectory(o.topology, o.trajectory, o.read);
+  build::Trajectory trajectory = readingFile(
+      o.trajectory, "the trajectory", [&] { return build::Trajectory(o.topology, o.trajectory, o.read); });
   for (const std::string& note : trajectory.source().notes())
     std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
   const std::vector<std::size_t> mine = framesOfShard(frames, shard);
+  prepareFrameFolders(out, mine);
   // The reference frame: the first one selected, whichever shard this is, so that every shard
   // has the same camera and the same rigid atoms.
   trajectory.load(frames.front());
@@ -695,7 +717,8 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
                 "interrupted run leaves none half-written)");
   cmd->add_option("--timings", o->timings,
                   "Write per-frame timings to this CSV, in ms: read, build (or update), scene (Embree's BVH), render "
-                  "(the rays and the image effects), encode (PNG, EXR), write");
+                  "(the rays and the image effects), encode (PNG, EXR), write; - for the standard output (the other "
+                  "lines then go to the standard error)");
   cmd->add_option("--mp4", o->mp4, "Also make an H.264 movie of the PNG frames with ffmpeg (must be on PATH)");
   cmd->add_option("--fps", o->fps, "Frames per second of the --mp4 movie")->check(positive())->default_val(25.0);
   cmd->add_option("--shard", o->shard,

@@ -44,6 +44,8 @@ class FramePattern {
   FramePattern(const std::string& option, const std::string& pattern);
   std::string operator()(std::size_t frame) const;
   bool empty() const { return prefix_.empty() && suffix_.empty(); }
+  // Whether the frame number names a folder (frames/%03d/x.png): each frame's own.
+  bool numbersFolders() const { return suffix_.find('/') != std::string::npos; }
 
  private:
   std::string prefix_, suffix_;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -21,6 +22,13 @@ constexpr double kPi = 3.14159265358979323846;
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 double halfTan(double fovY) { return std::tan(0.5 * fovY * kPi / 180.0); }
+
+// A number in a message, %.6g: "1e+30", not std::to_string's thirty digits.
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
 
 }  // namespace
 
@@ -99,7 +107,7 @@ void Camera::validate() const {
   const glm::dvec3 f = lookAt - eye;
   if (!(glm::length(glm::cross(glm::normalize(f), up)) > 1e-9)) bad("up is parallel to the view direction; pick another --up");
   if (projection == Projection::Perspective && !(fovY > 0.0 && fovY < 180.0))
-    bad("field of view " + std::to_string(fovY) + " must be in (0, 180) degrees");
+    bad("field of view " + shortNumber(fovY) + " must be in (0, 180) degrees");
   if (projection == Projection::Orthographic && !(orthoHeight > 0.0 && std::isfinite(orthoHeight)))
     bad("orthographic height must be finite and > 0");
   if (window) {
@@ -110,9 +118,15 @@ void Camera::validate() const {
   }
   if (!std::isfinite(zNear) || !std::isfinite(zFar)) bad("near and far must be finite");
   if (zNear != 0.0 || zFar != 0.0) {
-    if (!(zNear < zFar)) bad("near " + std::to_string(zNear) + " must be less than far " + std::to_string(zFar));
+    // Seen from far enough, the scene's depth is below a double's resolution at its distance,
+    // and near and far round to one number.
+    if (!(zNear < zFar))
+      bad("near " + shortNumber(zNear) + " must be less than far " + shortNumber(zFar) +
+          (zNear == zFar ? " (the eye is so far from the scene, " + shortNumber(glm::length(lookAt - eye)) +
+                               " Å, that its depth range cannot be told apart in double precision: bring the eye closer)"
+                         : ""));
     if (projection == Projection::Perspective && !(zNear > 0.0))
-      bad("a perspective camera's near " + std::to_string(zNear) + " must be > 0");
+      bad("a perspective camera's near " + shortNumber(zNear) + " must be > 0");
   }
 }
 

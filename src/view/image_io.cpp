@@ -3,6 +3,7 @@
 #include "view/image_io.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -32,8 +33,14 @@ void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
 // Encodes the image with OpenImageIO into memory (the format from the extension of `path`),
 // for build::writeFileAtomically: every write checked, the file whole or not there at all.
 // (OpenImageIO's own file writers let a full disk pass.)
-EncodedImage encode(const std::string& path, const oiio::ImageSpec& spec, oiio::TypeDesc type, const void* pixels) {
+// "-" (the standard output) and /dev/null have no extension: `standardFormat` is their format.
+EncodedImage encode(const std::string& path, const oiio::ImageSpec& spec, oiio::TypeDesc type, const void* pixels,
+                    const char* standardFormat) {
   auto out = oiio::ImageOutput::create(path);
+  if (!out && build::isWrittenInPlace(path)) {
+    static_cast<void>(oiio::geterror());  // clears OpenImageIO's record of the failed lookup
+    out = oiio::ImageOutput::create(standardFormat);
+  }
   if (!out) throw std::runtime_error(path + ": cannot write this image format (" + oiio::geterror() + ")");
   if (!out->supports("ioproxy"))
     throw std::runtime_error(path + ": OpenImageIO's " + out->format_name() + " writer cannot write to memory");
@@ -44,6 +51,22 @@ EncodedImage encode(const std::string& path, const oiio::ImageSpec& spec, oiio::
   if (!out->write_image(type, pixels) || !out->close())
     throw std::runtime_error(path + ": cannot encode the image: " + out->geterror());
   return bytes;
+}
+
+// Why OpenImageIO could not read the pixels of `path`: its own words when it has some (the
+// reader's, else its global ones), else what the file's size says (a PFM cut short gives none).
+std::string readFailure(const std::string& path, oiio::ImageInput& in) {
+  std::string why = in.geterror();
+  if (why.empty()) why = oiio::geterror();
+  if (why.empty()) {
+    const oiio::ImageSpec& spec = in.spec();
+    std::error_code error;
+    const auto bytes = std::filesystem::file_size(path, error);
+    why = "cannot read its pixels: the file is cut short or damaged (its header promises " + std::to_string(spec.width) +
+          "x" + std::to_string(spec.height) + " pixels of " + std::to_string(spec.nchannels) + (spec.nchannels == 1 ? " channel" : " channels") +
+          (error ? std::string(")") : "; it holds " + std::to_string(bytes) + " bytes)");
+  }
+  return path + ": " + why;
 }
 
 void writeEncoded(const std::string& path, const EncodedImage& bytes) {
@@ -59,6 +82,10 @@ void checkImageOutputName(const std::string& path, const std::string& option, Im
   const std::string named = option + " " + path + ": ";
   // The writer that encode() will ask for, chosen by the extension as it will be.
   auto out = oiio::ImageOutput::create(path);
+  if (!out && build::isWrittenInPlace(path)) {  // "-", /dev/null: the default format (encode)
+    static_cast<void>(oiio::geterror());
+    return;
+  }
   if (!out || !out->supports("ioproxy")) {
     static_cast<void>(oiio::geterror());  // clears OpenImageIO's record of the failed lookup
     const std::string what = extension.empty() ? "the name has no extension to choose an image format by"
@@ -69,9 +96,9 @@ void checkImageOutputName(const std::string& path, const std::string& option, Im
                                 "build -o FILE.stp`.)");
   }
   if (content == ImageContent::Buffers && std::string(out->format_name()) != "openexr")
-    throw std::invalid_argument(named + option + " writes every buffer (depth, normal, ids, flags) in named float and " +
-                                "integer channels, which only OpenEXR holds: name it .exr (-o writes the colour image " +
-                                "in other formats)");
+    throw std::invalid_argument(named + option + " needs an .exr name: it writes every buffer (depth, normal, ids, " +
+                                "flags) in named float and integer channels, which only OpenEXR holds: name it .exr (-o " +
+                                "writes the colour image in other formats)");
 }
 
 EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata,
@@ -83,7 +110,7 @@ EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const Ima
   for (std::size_t p = 0; p < f.pixels(); ++p)
     for (int c = 0; c < 3; ++c)
       pixels[3 * p + c] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(f.rgba[4 * p + c], 0.0f, 1.0f)));
-  return encode(path, spec, oiio::TypeDesc::UINT8, pixels.data());
+  return encode(path, spec, oiio::TypeDesc::UINT8, pixels.data(), "png");
 }
 
 void writePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata, int compressionLevel) {
@@ -120,7 +147,7 @@ EncodedImage encodeExr(const std::string& path, const FrameBuffers& f, const Ima
     pixels[stride * p + 12] = f.flags[p];
     if (seam) std::memcpy(&pixels[stride * p + 13], &f.seamDistance[p], sizeof(float));
   }
-  return encode(path, spec, oiio::TypeUnknown, pixels.data());
+  return encode(path, spec, oiio::TypeUnknown, pixels.data(), "openexr");
 }
 
 void writeExr(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata) {
@@ -149,13 +176,13 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
     const int c = channel(name, oiio::TypeDesc::FLOAT);
     std::vector<float> tmp(n);
     if (!in->read_image(0, 0, c, c + 1, oiio::TypeDesc::FLOAT, tmp.data()))
-      throw std::runtime_error(path + ": " + in->geterror());
+      throw std::runtime_error(readFailure(path, *in));
     for (std::size_t p = 0; p < n; ++p) dst[stride * p + static_cast<std::size_t>(offset)] = tmp[p];
   };
   auto readUint = [&](const char* name, std::vector<std::uint32_t>& dst) {
     const int c = channel(name, oiio::TypeDesc::UINT32);
     if (!in->read_image(0, 0, c, c + 1, oiio::TypeDesc::UINT32, dst.data()))
-      throw std::runtime_error(path + ": " + in->geterror());
+      throw std::runtime_error(readFailure(path, *in));
   };
   for (int c = 0; c < 4; ++c) readFloat(kFloatChannels[c], f.rgba, 4, c);
   readFloat("depth.t", f.depth, 1, 0);
@@ -220,7 +247,7 @@ ImageChannels readImageChannels(const std::string& path) {
   }
   image.values.resize(image.pixels() * image.names.size());
   if (!in->read_image(0, 0, 0, spec.nchannels, oiio::TypeDesc::FLOAT, image.values.data()))
-    throw std::runtime_error(path + ": " + in->geterror());
+    throw std::runtime_error(readFailure(path, *in));
   // A PFM stores its bottom row first and OpenImageIO hands its rows over top first: turn them
   // back, so that a buffer written as it was reads as it was.
   if (image.format == "pnm" && spec.format == oiio::TypeDesc::FLOAT) {

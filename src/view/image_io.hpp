@@ -36,6 +36,8 @@ enum class ImageContent { Colour, Buffers };
 // Checks, before any work, that an image named `path` can be written: its extension names a
 // format OpenImageIO encodes into memory (Colour), or it is an OpenEXR (Buffers). Otherwise
 // std::invalid_argument naming `option`, the path, the extension and what to give instead.
+// "-" (the standard output) and a device, FIFO or socket (/dev/null) without a known extension
+// take the default format: PNG for the colour, OpenEXR for the buffers.
 void checkImageOutputName(const std::string& path, const std::string& option, ImageContent content);
 
 // OpenEXR with every buffer, one pixel per ray through the pixel centre:
