@@ -5,6 +5,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,7 @@
 
 #include "build/io/error.hpp"
 #include "build/io/radii.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -482,6 +484,155 @@ TEST(MoleculeGzip, DetectedByMagicBytesAndCrcOfTheDecompressedBytes) {
   }
 }
 
+// A gzip file's bytes inflated with zlib (the reader's own gunzip is what the tests check).
+std::string zlibGunzip(const std::string& bytes) {
+  z_stream zs{};
+  EXPECT_EQ(inflateInit2(&zs, 16 + MAX_WBITS), Z_OK);
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  zs.avail_in = static_cast<uInt>(bytes.size());
+  std::string out;
+  char buffer[1 << 16];
+  int ret = Z_OK;
+  while (ret == Z_OK) {
+    zs.next_out = reinterpret_cast<Bytef*>(buffer);
+    zs.avail_out = sizeof buffer;
+    ret = inflate(&zs, Z_NO_FLUSH);
+    out.append(buffer, sizeof buffer - zs.avail_out);
+  }
+  EXPECT_EQ(ret, Z_STREAM_END);
+  inflateEnd(&zs);
+  return out;
+}
+
+// One gzip member of `text`, deflated by zlib at its best ratio.
+std::string zlibGzip(const std::string& text) {
+  z_stream zs{};
+  EXPECT_EQ(deflateInit2(&zs, 9, Z_DEFLATED, 16 + MAX_WBITS, 9, Z_DEFAULT_STRATEGY), Z_OK);
+  std::string out(deflateBound(&zs, static_cast<uLong>(text.size())), '\0');
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  zs.avail_in = static_cast<uInt>(text.size());
+  zs.next_out = reinterpret_cast<Bytef*>(out.data());
+  zs.avail_out = static_cast<uInt>(out.size());
+  EXPECT_EQ(deflate(&zs, Z_FINISH), Z_STREAM_END);
+  out.resize(zs.total_out);
+  deflateEnd(&zs);
+  return out;
+}
+
+// Every "\n" of `text` replaced by `ending`.
+std::string withLineEnding(const std::string& text, const std::string& ending) {
+  std::string out;
+  for (const char c : text) c == '\n' ? out.append(ending) : out.append(1, c);
+  return out;
+}
+
+// Files written with Windows (CRLF) or classic Mac OS (CR alone) line ends read exactly as
+// their LF originals: the same atoms, centres, radii, names and line numbers, plain and
+// gzipped, in every text format. (A CR-only PDB read as 1 atom of 327, with no note.)
+TEST(MoleculeLineEnds, CrLfAndCrOnlyFilesReadAsTheirLfOriginals) {
+  const Molecule crambin = readMolecule(data("structures/1crn.pdb"));
+  std::ostringstream xyzr, xyz;
+  xyzr.precision(17);
+  xyz.precision(17);
+  xyz << crambin.size() << "\ncrambin\n";
+  for (std::size_t i = 0; i < crambin.size(); ++i) {
+    const glm::dvec3& c = crambin.centers[i];
+    xyzr << c.x << ' ' << c.y << ' ' << c.z << ' ' << crambin.radii[i] << '\n';
+    xyz << crambin.atoms[i].element << ' ' << c.x << ' ' << c.y << ' ' << c.z << '\n';
+  }
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"1crn.pdb", readText(data("structures/1crn.pdb"))},
+      {"1grm.cif", zlibGunzip(readText(data("paper/1grm.cif.gz")))},
+      {"ubiquitin.gro", readText(data("formats/gro/ubiquitin.gro"))},
+      {"1000.pqr", readText(data("small/pqr/1000.pqr"))},
+      {"crambin.xyzr", xyzr.str()},
+      {"crambin.xyz", xyz.str()}};
+  for (const auto& [name, lf] : files) {
+    ASSERT_EQ(lf.find('\r'), std::string::npos) << name << " is not an LF file";
+    const Molecule want = readMoleculeBytes(lf, name);
+    ASSERT_GT(want.size(), 30u) << name;
+    for (const std::string ending : {"\r\n", "\r"}) {
+      const std::string converted = withLineEnding(lf, ending);
+      for (const bool gzipped : {false, true}) {
+        const std::string what = name + (ending == "\r" ? " with CR line ends" : " with CRLF line ends") +
+                                 (gzipped ? ", gzipped" : "");
+        const Molecule got = gzipped ? readMoleculeBytes(storedGzip(converted), name + ".gz")
+                                     : readMoleculeBytes(converted, name);
+        ASSERT_EQ(got.size(), want.size()) << what;
+        EXPECT_EQ(got.centers, want.centers) << what;
+        EXPECT_EQ(got.radii, want.radii) << what;
+        for (std::size_t i = 0; i < got.size(); ++i) {
+          EXPECT_EQ(got.atoms[i].line, want.atoms[i].line) << what << ", atom " << i;
+          EXPECT_EQ(got.atoms[i].name, want.atoms[i].name) << what << ", atom " << i;
+          EXPECT_EQ(got.atoms[i].element, want.atoms[i].element) << what << ", atom " << i;
+        }
+        EXPECT_EQ(got.notes, want.notes) << what;
+      }
+    }
+  }
+  // A radius table too.
+  const fs::path dir = tempDir();
+  writeText(dir / "radii.txt", "C 1.8\r\nN 1.6\rO 1.5\r");
+  const RadiusTable table = RadiusTable::load(dir / "radii.txt");
+  EXPECT_EQ(table.size(), 3u);
+  EXPECT_EQ(table.find("ALA", "O", "O"), 1.5);
+}
+
+// A line longer than kMaxLineBytes is refused, naming the file, the line and the limit, as
+// the bytes arrive: a 1 MB gzip that inflates to one 1 GiB line (1,024 members of 1 MiB of
+// 'A', as `cat` joins them) is refused after inflating about 1 MiB. A line of exactly the
+// limit is read.
+TEST(MoleculeLineEnds, ALineLongerThanTheLimitIsRefusedWithItsNumber) {
+  const auto expectRefused = [](const std::string& bytes, const std::string& name, int line) {
+    try {
+      readMoleculeBytes(bytes, name);
+      ADD_FAILURE() << name << " was read";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.path(), name);
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_THAT(e.what(), HasSubstr(name + ":" + std::to_string(line) + ": the line runs past 1048576 bytes"));
+      EXPECT_LT(std::string(e.what()).size(), 400u);
+    }
+  };
+  ASSERT_EQ(text::kMaxLineBytes, std::size_t{1} << 20);
+  const std::string mib(text::kMaxLineBytes, 'A');
+  const std::string member = zlibGzip(mib);
+  std::string bomb;
+  for (int k = 0; k < 1024; ++k) bomb += member;
+  ASSERT_LT(bomb.size(), std::size_t{2} << 20);
+  expectRefused(bomb, "bomb.pdb.gz", 1);
+  expectRefused(bomb, "bomb.cif.gz", 1);
+  expectRefused("0 0 0 1.5\n" + mib + "7\n", "long.xyzr", 2);
+  expectRefused(zlibGzip("0 0 0 1.5\r\n1 1 1 1.5\r\n" + mib + "7\n"), "long.xyzr.gz", 3);
+  expectRefused("0 0 0 1.5\r1 1 1 1.5\r" + mib + "7\n", "long.xyzr", 3);
+  // At the limit: a comment line of 1 MiB, with every kind of line end around it.
+  for (const std::string ending : {"\n", "\r\n", "\r"}) {
+    const std::string text = "#" + mib.substr(1) + ending + "0 0 0 1.5" + ending + "#" + mib.substr(1);
+    const Molecule m = readMoleculeBytes(text, "limit.xyzr");
+    ASSERT_EQ(m.size(), 1u);
+    EXPECT_EQ(m.atoms[0].line, 2);
+    EXPECT_EQ(readMoleculeBytes(zlibGzip(text), "limit.xyzr.gz").size(), 1u);
+  }
+  // From a file, and in a radius table.
+  const fs::path dir = tempDir();
+  writeText(dir / "long.gro", "title\n1\n" + mib + mib + "\n");
+  try {
+    readMolecule(dir / "long.gro");
+    ADD_FAILURE() << "long.gro was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3) << e.what();
+    EXPECT_THAT(e.what(), HasSubstr("1048576 bytes"));
+  }
+  writeText(dir / "radii.txt", "C 1.8\n#" + mib + "\n");
+  try {
+    RadiusTable::load(dir / "radii.txt");
+    ADD_FAILURE() << "the radius table was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2) << e.what();
+    EXPECT_THAT(e.what(), HasSubstr("radii.txt:2: the line runs past 1048576 bytes"));
+  }
+}
+
 TEST(MoleculeFormat, ExtensionDecidesUnlessTheFormatIsGiven) {
   const fs::path dir = tempDir();
   fs::copy_file(data("structures/1crn.pdb"), dir / "crambin.txt");
@@ -576,10 +727,11 @@ TEST(MoleculeBadInput, XyzrLineWithThreeColumns) {
   expectError(data("bad/short_line.xyzr"), 4, "expected 4 fields (x y z r), got 3");
 }
 
-// A 2 MB line (issue 18: a 20 MB one was echoed whole) is quoted by its first characters
-// and its length, in XYZR, XYZ and a radius table alike.
+// A 1 MB line (issue 18: a 20 MB one was echoed whole; lines past 1 MiB are refused as
+// they arrive) is quoted by its first characters and its length, in XYZR, XYZ and a radius
+// table alike.
 TEST(MoleculeBadInput, HugeLineIsQuotedShort) {
-  const std::string huge(2'000'000, '7');
+  const std::string huge(1'000'000, '7');
   for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
            {"huge.xyzr", "0 0 0 1.5\n1 2 " + huge + "x 1.5\n"},
            {"huge.xyz", "2\ncomment\nC 0 0 0\nC 1 2 " + huge + "x\n"}}) {

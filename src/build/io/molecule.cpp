@@ -53,6 +53,44 @@ std::optional<int> parseInt(std::string_view text) { return parseWhole<int>(text
 // ---------------------------------------------------------------------------------------------
 // Bytes
 
+bool hasGzipMagic(std::string_view bytes) {
+  return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+         static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+// Refuses a line longer than kMaxLineBytes as the text arrives (read from disk or inflated),
+// before a file of one endless line is held whole: a 1 MB gzip inflates to a 1 GB line in
+// seconds. A line ends at "\n", "\r\n" or a lone "\r" (classic Mac OS), as textOfBytes reads.
+class LineLengthGuard {
+ public:
+  explicit LineLengthGuard(const std::string& name) : name_(name) {}
+
+  void feed(const char* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      const char c = data[i];
+      if (c == '\n' || c == '\r') {
+        if (!(c == '\n' && afterCr_)) ++line_;  // "\r\n" ends one line
+        afterCr_ = c == '\r';
+        length_ = 0;
+        continue;
+      }
+      afterCr_ = false;
+      if (++length_ > kMaxLineBytes)
+        throw InputError(name_, line_,
+                         "the line runs past " + std::to_string(kMaxLineBytes) +
+                             " bytes (1 MiB) without ending, longer than any line of a structure file: "
+                             "SurfTrace reads text lines up to that length (is this the right file, or is "
+                             "it damaged?)");
+    }
+  }
+
+ private:
+  const std::string& name_;
+  int line_ = 1;
+  std::size_t length_ = 0;
+  bool afterCr_ = false;
+};
+
 std::string readFileBytes(const fs::path& path, const std::string& name) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InputError(name, 0, "is a directory, not a file");
@@ -60,15 +98,17 @@ std::string readFileBytes(const fs::path& path, const std::string& name) {
   if (!in) throw InputError(name, 0, std::string("cannot open: ") + std::strerror(errno));
   std::string bytes;
   char buffer[1 << 16];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
-    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+  // Plain text is held to its line length as it is read; gzip data as gunzip inflates it.
+  LineLengthGuard guard(name);
+  std::optional<bool> plain;
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (!plain) plain = !hasGzipMagic(std::string_view(buffer, got));
+    if (*plain) guard.feed(buffer, got);
+    bytes.append(buffer, got);
+  }
   if (in.bad()) throw InputError(name, 0, "read error");
   return bytes;
-}
-
-bool hasGzipMagic(const std::string& bytes) {
-  return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
-         static_cast<unsigned char>(bytes[1]) == 0x8b;
 }
 
 int lineOfOffset(const std::string& text, std::size_t offset) {
@@ -86,6 +126,7 @@ std::string gunzip(const std::string& bytes, const std::string& name) {
     ~Closer() { inflateEnd(zs); }
   } closer{&zs};
 
+  LineLengthGuard guard(name);
   std::string out;
   out.resize(std::max<std::size_t>(bytes.size() * 4, 1 << 16));
   std::size_t consumed = 0;
@@ -102,6 +143,7 @@ std::string gunzip(const std::string& bytes, const std::string& name) {
     zs.next_out = reinterpret_cast<Bytef*>(out.data() + produced);
     zs.avail_out = static_cast<uInt>(room);
     const int ret = inflate(&zs, Z_NO_FLUSH);
+    guard.feed(out.data() + produced, room - zs.avail_out);
     produced += room - zs.avail_out;
     if (ret == Z_STREAM_END) {
       const std::size_t left = zs.avail_in + (bytes.size() - consumed);
@@ -933,7 +975,16 @@ std::string text::textOfBytes(std::string bytes, const std::string& name) {
             ? std::string("the file is empty (expected gzip data, as the name ends in .gz)")
             : "the name ends in .gz but the file is not gzip-compressed "
               "(it does not start with the gzip magic bytes 1f 8b)");
+  // (Bytes read by readFileBytes were held to the line length as they came; bytes handed in
+  // from memory are checked here.)
+  if (!gzipped) LineLengthGuard(name).feed(bytes.data(), bytes.size());
   std::string text = gzipped ? gunzip(bytes, name) : std::move(bytes);
+  // A lone CR ends a line (classic Mac OS files, some Windows tools): made a LF in place, so
+  // that every reader, gemmi's too, sees the lines ("\r\n" stays; the readers drop its CR).
+  char* const end = text.data() + text.size();
+  for (char* cr = text.data(); (cr = static_cast<char*>(std::memchr(cr, '\r', static_cast<std::size_t>(end - cr))));
+       ++cr)
+    if (cr + 1 == end || cr[1] != '\n') *cr = '\n';
   checkText(text, name, gzipped);
   return text;
 }

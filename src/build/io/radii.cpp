@@ -7,11 +7,11 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <utility>
 #include <vector>
 
 #include "build/io/error.hpp"
+#include "build/io/line_cursor.hpp"
 #include "build/io/text_fields.hpp"
 
 namespace surftrace::build {
@@ -359,14 +359,14 @@ const char* radiusSourceName(RadiusSource source) {
 RadiusTable RadiusTable::load(const std::filesystem::path& path) {
   RadiusTable table;
   table.path_ = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(table.path_, 0, "cannot open the radius table");
+  // Read as the structure files are: gzipped or not, any line end, lines of bounded length.
+  const std::string file = text::readTextFile(path, table.path_);
 
   std::unordered_map<std::string, int> firstLine;
-  std::string line;
-  int lineNumber = 0;
-  while (std::getline(in, line)) {
-    ++lineNumber;
+  text::LineCursor lines(file);
+  std::string_view line;
+  while (lines.next(line)) {
+    const int lineNumber = lines.number();
     std::string_view text(line);
     if (const std::size_t hash = text.find('#'); hash != std::string_view::npos)
       text = text.substr(0, hash);
@@ -412,7 +412,6 @@ RadiusTable RadiusTable::load(const std::filesystem::path& path) {
                        "'" + key + "' is already given on line " + std::to_string(it->second));
     target->emplace(std::move(key), *radius);
   }
-  if (in.bad()) throw InputError(table.path_, lineNumber, "read error");
   if (table.size() == 0) throw InputError(table.path_, 0, "the radius table has no entries");
   return table;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <charconv>
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -78,9 +79,16 @@ inline bool parseResidueNumber(std::string_view text, int& number, char& icode) 
   return true;
 }
 
+// The longest line a text input may hold, in bytes without its line end. No structure,
+// topology or table format comes near it (a PDB line is 80 bytes, an mmCIF line rarely 200);
+// a longer line is refused as it arrives, before the file is held whole.
+inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
+
 // A text input's bytes as text (molecule.cpp): gunzipped when they start with the gzip magic
-// (every member), refused when the name ends in .gz and they do not, and refused when empty or
-// binary (a control byte: InputError naming the line and offset). `name` stands for the file.
+// (every member), refused when the name ends in .gz and they do not, refused when empty or
+// binary (a control byte: InputError naming the line and offset), and refused at the first
+// line longer than kMaxLineBytes (naming the line). Lines may end in "\n", "\r\n" or a lone
+// "\r": a lone CR is made a "\n" in the text returned. `name` stands for the file.
 std::string textOfBytes(std::string bytes, const std::string& name);
 // The same for a whole file read from disk.
 std::string readTextFile(const std::filesystem::path& path, const std::string& name);
