@@ -33,6 +33,7 @@
 
 #include "build/io/atom_selection.hpp"
 #include "build/io/output_file.hpp"
+#include "build/io/text_fields.hpp"
 #include "build/io/trajectory.hpp"
 #include "build/surface.hpp"
 #include "commands.hpp"
@@ -59,7 +60,7 @@ struct TrajectoryOptions {
   std::string output, exr;
   std::string frames;
   std::string frameCamera = "all";
-  std::string flexible;
+  std::optional<std::string> flexible;  // given, even as ""
   bool resume = false;
   std::string timings;
   std::string mp4;
@@ -302,16 +303,27 @@ void prepareFrameFolders(const Outputs& out, const std::vector<std::size_t>& fra
       for (std::size_t k : frames) build::prepareOutputPath((*pattern)(k), option);
 }
 
-// --flexible: the atoms that move (empty: all of them).
+// --flexible: the atoms that move (none given: all of them).
 struct Flexible {
   std::vector<std::uint32_t> atoms;
   std::vector<char> isFlexible;  // per atom, when atoms is not empty
 };
 
-Flexible flexibleAtoms(const std::string& selection, const build::Molecule& reference) {
+// A selection given but empty (`--flexible ""`, a shell variable left unset) selects no atom
+// and is refused as any selection matching nothing is, not read as "all atoms move".
+Flexible flexibleAtoms(const std::optional<std::string>& selection, const build::Molecule& reference) {
   Flexible f;
-  if (selection.empty()) return f;
-  f.atoms = build::selectAtoms(reference, selection);
+  if (!selection) return f;
+  try {
+    f.atoms = build::selectAtoms(reference, *selection);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("--flexible " + build::text::inQuotes(*selection) + " (atoms of " + reference.source +
+                                "): " + e.what() +
+                                (build::text::trim(*selection).empty()
+                                     ? "; leave --flexible out to move every atom, or give the atoms that move, e.g. "
+                                       "'resid 120-160'"
+                                     : ""));
+  }
   f.isFlexible.assign(reference.size(), 0);
   for (std::uint32_t i : f.atoms) f.isFlexible[i] = 1;
   return f;
@@ -705,7 +717,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
                   "movie does not jitter")
       ->check(CLI::IsMember({"all", "first"}))
       ->default_val("all");
-  cmd->add_option("--flexible", o->flexible,
+  CLI::Option* flexible = cmd->add_option("--flexible", o->flexible,
                   "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
                   "a partial update. MDAnalysis's selection language: name, resname, resid, chain/segid, element, "
                   "index (from 0), atom (from 1; MDAnalysis's bynum), protein, backbone, water, all; several values "
@@ -730,7 +742,10 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       ->check(wholeIn(0, 4096));
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no per-frame lines");
   addMoleculeOptions(*cmd, o->read);
-  cmd->callback([o] { runTrajectory(*o); });
+  cmd->callback([o, flexible] {
+    if (flexible->count() > 0 && !o->flexible) o->flexible.emplace();  // `--flexible ""`: given, empty
+    runTrajectory(*o);
+  });
 }
 
 }  // namespace surftrace::tools

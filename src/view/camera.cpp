@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
@@ -428,13 +431,76 @@ std::string cameraToJson(const Camera& c) {
   return j.dump();
 }
 
-Camera cameraFromJson(const std::string& text) {
+namespace {
+
+// A JSON text parsed with every object's keys checked to differ. nlohmann::json keeps the last
+// of a key given twice, so `"width": 640, ..., "width": 800` would silently render 800 wide;
+// which one the writer meant cannot be known, so a repeated key is an error naming it, where
+// it is and both its values.
+nlohmann::json parseWithoutRepeatedKeys(const std::string& text) {
+  struct Level {
+    bool object = false;
+    std::string key;  // the member being read
+    std::map<std::string, std::string> values;
+  };
+  std::vector<Level> levels;
+  std::string repeated, first, second;  // the first key given twice, its path and values
+  std::size_t repeatedLevel = 0;         // levels.size() where it is; 0 once its second value is read
+  const auto shown = [](const nlohmann::json& value) {
+    std::string s = value.dump();
+    return s.size() <= 40 ? s : s.substr(0, 37) + "...";
+  };
+  const auto member = [&](const std::string& value) {
+    if (levels.empty() || !levels.back().object) return;
+    if (repeatedLevel == levels.size()) second = value, repeatedLevel = 0;
+    levels.back().values.emplace(levels.back().key, value);
+  };
+  using Event = nlohmann::json::parse_event_t;
+  const nlohmann::json::parser_callback_t callback = [&](int, Event event, nlohmann::json& parsed) {
+    switch (event) {
+      case Event::object_start:
+      case Event::array_start:
+        levels.push_back({event == Event::object_start, {}, {}});
+        break;
+      case Event::key: {
+        Level& top = levels.back();
+        top.key = parsed.get<std::string>();
+        if (const auto it = top.values.find(top.key); it != top.values.end() && repeated.empty()) {
+          for (std::size_t k = 0; k + 1 < levels.size(); ++k)
+            if (levels[k].object) repeated += levels[k].key + ".";
+          repeated += top.key;
+          first = it->second;
+          repeatedLevel = levels.size();
+        }
+        break;
+      }
+      case Event::object_end:
+      case Event::array_end:
+        levels.pop_back();
+        member(shown(parsed));
+        break;
+      case Event::value:
+        member(shown(parsed));
+        break;
+    }
+    return true;
+  };
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = nlohmann::json::parse(text, callback);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::invalid_argument(std::string("camera: not JSON: ") + e.what());
   }
+  if (!repeated.empty())
+    throw std::invalid_argument("camera: the key \"" + repeated + "\" is given twice (" + first + ", then " + second +
+                                "): give it once");
+  return j;
+}
+
+}  // namespace
+
+Camera cameraFromJson(const std::string& text) {
+  nlohmann::json j = parseWithoutRepeatedKeys(text);
   if (!j.is_object()) throw std::invalid_argument("camera: expected a JSON object");
   auto at = [&](const char* key) -> const nlohmann::json& {
     if (!j.contains(key)) throw std::invalid_argument(std::string("camera: the key \"") + key + "\" is missing");

@@ -140,6 +140,20 @@ TEST(CameraCli, CameraConflictsAndBadFilesAreNamed) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("--camera " + broken + ": camera: \"view_matrix\" must be 16 numbers"), std::string::npos)
       << r.output;
+  // A key given twice: which was meant cannot be known (nlohmann::json alone keeps the last).
+  const std::string twice = temp("twice.json");
+  std::string text;
+  {
+    std::ifstream in(cam);
+    std::getline(in, text, '\0');
+  }
+  ASSERT_EQ(text.front(), '{');
+  writeText(twice, "{\"width\": 64," + text.substr(1));
+  r = run("render " + input + " --quiet -o " + png + " --camera " + twice);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("--camera " + twice + ": camera: the key \"width\" is given twice (64, then 32)"),
+            std::string::npos)
+      << r.output;
 }
 
 // A trajectory's camera is fixed for the run; --camera-out writes it, and every frame records it.

@@ -420,6 +420,15 @@ TEST(TrajectoryCli, BadInputIsAClearError) {
   EXPECT_NE(r.output.find("expected i/n with 0 <= i < n"), std::string::npos) << r.output;
   r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resid 900-999'");
   EXPECT_NE(r.output.find("selects no atom (the molecule has residues 1 to 214)"), std::string::npos) << r.output;
+  // An empty selection selects no atom either (it used to move every atom, with no note).
+  for (const char* empty : {"''", "' '"}) {
+    r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible " + empty);
+    EXPECT_EQ(r.status, 1) << empty;
+    EXPECT_NE(r.output.find("--flexible " + std::string(empty) + " (atoms of " + kPsf + "): the atom selection is empty; "
+                            "leave --flexible out to move every atom"),
+              std::string::npos)
+        << r.output;
+  }
   r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'residue 9'");
   EXPECT_NE(r.output.find("unknown keyword 'residue'"), std::string::npos) << r.output;
   r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resname ALA adn name CA'");

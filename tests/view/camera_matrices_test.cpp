@@ -201,6 +201,38 @@ TEST(CameraMatrices, BadCamerasAreNamed) {
   EXPECT_NE(message([&] { cameraFromJson(j.dump()); }).find("\"width\" is missing"), std::string::npos);
 }
 
+// A key given twice is an error naming it, where it is and both values (nlohmann::json alone
+// keeps the last: a camera with "width" twice rendered at the second width, silently). The
+// same key in two different objects is no repeat.
+TEST(CameraMatrices, AKeyGivenTwiceIsNamed) {
+  Camera c;
+  c.width = 320;
+  c.window = ViewWindow{-1.0, 1.0, -1.0, 1.0};
+  const std::string json = cameraToJson(c);
+  ASSERT_EQ(json.front(), '{');
+  auto message = [](const std::string& text) {
+    try {
+      cameraFromJson(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("{\"width\": 640, " + json.substr(1)),
+            "camera: the key \"width\" is given twice (640, then 320): give it once");
+  EXPECT_EQ(message(json.substr(0, json.size() - 1) + ", \"eye\": [1, 2, 3]}"),
+            "camera: the key \"eye\" is given twice ([0.0,0.0,10.0], then [1,2,3]): give it once");
+  const std::size_t left = json.find("\"left\":");
+  ASSERT_NE(left, std::string::npos);
+  EXPECT_EQ(message(json.substr(0, left) + "\"left\": {\"x\": [7]}, " + json.substr(left)),
+            "camera: the key \"window.left\" is given twice ({\"x\":[7]}, then -1.0): give it once");
+  // Keys repeated only across objects, or a nested object's keys that an outer key repeats.
+  const Camera d = cameraFromJson(json.substr(0, json.size() - 1) + ", \"note\": {\"width\": 1, \"window\": {\"left\": 2}}}");
+  EXPECT_EQ(d.width, 320);
+  ASSERT_TRUE(d.window);
+  EXPECT_EQ(d.window->left, -1.0);
+}
+
 TEST(CameraMatrices, DepthRangeHoldsEverySphereTightly) {
   Camera c;
   c.eye = {0, 0, 100};
