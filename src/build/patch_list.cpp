@@ -660,6 +660,14 @@ std::vector<unsigned char> encodePatchList(const PatchList& patches, const Patch
     ++arrays;
     size += 4 + name.size() + 4 + 4 + 8 + v.size() * sizeof(v[0]);
   });
+  const std::uint64_t bodySize = size - kHeaderSize - 4;
+  if (patches.params.atomCount > kMaxAtomsPerByte * bodySize)
+    throw std::invalid_argument(
+        "the list speaks of " + std::to_string(patches.params.atomCount) + " atoms but holds " +
+        std::to_string(patches.patchCount()) + " patches in " + std::to_string(bodySize) + " bytes, more than " +
+        std::to_string(kMaxAtomsPerByte) +
+        " atoms a byte, which readers refuse as a damaged file: nearly all of the input's atoms add nothing "
+        "to the surface (copies or near-copies of other atoms, or buried); remove them from the input");
   Writer file(size);
   file.raw(kMagic, sizeof kMagic);
   file.pod(version);
@@ -687,7 +695,12 @@ std::vector<unsigned char> encodePatchList(const PatchList& patches, const Patch
 }
 
 void writePatchList(const std::string& path, const PatchList& patches, const PatchListAtoms& atoms) {
-  const std::vector<unsigned char> bytes = encodePatchList(patches, atoms);
+  std::vector<unsigned char> bytes;
+  try {
+    bytes = encodePatchList(patches, atoms);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
   // Beside the target, checked, then renamed: a full disk or a crash never leaves a
   // half-written file.
   writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(bytes)));
@@ -916,6 +929,13 @@ PatchList parsePatchList(std::span<const unsigned char> bytes, const std::string
   p.params.radiiSet = r.string("radii set");
   p.params.inputCrc32 = r.pod<std::uint32_t>("input checksum");
   p.params.atomCount = r.pod<std::uint32_t>("atom count");
+  // Before anything is sized by it (here or by a caller): see kMaxAtomsPerByte.
+  if (p.params.atomCount > kMaxAtomsPerByte * bodySize)
+    r.fail("atom count = " + std::to_string(p.params.atomCount) + " is more than the file can speak of: its " +
+           std::to_string(bodySize) + " bytes of patches stand for at most " +
+           std::to_string(kMaxAtomsPerByte * bodySize) + " atoms (" + std::to_string(kMaxAtomsPerByte) +
+           " a byte; a real structure's list holds hundreds of bytes an atom), so the file is damaged or "
+           "was not written by surftrace");
   p.componentCount = r.pod<std::uint32_t>("component count");
   const auto arrays = r.pod<std::uint32_t>("array count");
   SkinFile skin;

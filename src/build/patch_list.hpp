@@ -247,6 +247,14 @@ PatchList outerComponent(const PatchList& patches);
 // whose derivation does not give back its stored bits (a list not made by the builder, or no
 // atoms given) is stored whole. Version 1 lists are refused with advice.
 inline constexpr std::uint32_t kPatchFileVersion = 3;
+// The most atoms a list may speak of for each byte of its body. Nothing in the file but
+// params.atomCount says how many atoms there were (those inside another ball, merged or
+// buried have no patch), yet `render`, `area` and `info` size per-atom arrays by it: a forged
+// count of 10^8 in a 160 KB file allocated gigabytes. Lists of real structures hold hundreds
+// of bytes an atom (1AON's SES: 530); a list past the bound is refused by the reader as
+// damaged, and by the writer, which names the count (an input of near-copies, nearly all left
+// out of the surface, can make one).
+inline constexpr std::uint64_t kMaxAtomsPerByte = 16;
 // The atoms a list was built from, input indices as in the list (what `surftrace build` read).
 struct PatchListAtoms {
   std::span<const glm::dvec3> centers;

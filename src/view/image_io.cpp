@@ -2,13 +2,19 @@
 // the channels of any image file another program wrote.
 #include "view/image_io.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <span>
 #include <stdexcept>
+#include <system_error>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -25,6 +31,59 @@ constexpr const char* kUintChannels[] = {"patch.kind", "patch.id", "atom.id", "f
 constexpr int kFloatCount = 9, kUintCount = 4, kChannels = kFloatCount + kUintCount;
 // Written after the others when the frame records it (FrameBuffers::seamDistance).
 constexpr const char* kSeamChannel = "seam.distance";
+
+// Refuses an image whose header claims more pixels than can be read, before anything is
+// allocated for them: a 20-byte PFM header may claim 100000x100000 pixels (std::bad_alloc, or
+// minutes of paging), and an EXR's data window is as easily forged. Checked as `--size` is,
+// against this machine's memory, and for a PFM, whose pixels are stored raw, against the
+// file's own size.
+// The bytes before a PFM's pixels: "PF" or "Pf", the width, the height and the scale, each
+// followed by one white-space byte (0 when the file does not read so: OpenImageIO decides).
+std::uintmax_t pfmHeaderSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[256] = {};
+  in.read(head, sizeof head);
+  const std::size_t n = static_cast<std::size_t>(in.gcount());
+  std::size_t at = 0;
+  for (int token = 0; token < 4; ++token) {
+    while (at < n && std::isspace(static_cast<unsigned char>(head[at]))) ++at;
+    if (at == n) return 0;
+    while (at < n && !std::isspace(static_cast<unsigned char>(head[at]))) ++at;
+    if (at == n) return 0;
+    ++at;  // the one white-space byte after the token
+  }
+  return at;
+}
+
+void checkPixelsFit(const std::string& path, const oiio::ImageSpec& spec, const std::string& format,
+                    double bytesPerPixel) {
+  const double pixels = static_cast<double>(spec.width) * static_cast<double>(spec.height);
+  const std::string claim = std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
+                            std::to_string(spec.nchannels) + (spec.nchannels == 1 ? " channel" : " channels");
+  char text[160];
+  if (format == "pnm" && spec.format == oiio::TypeDesc::FLOAT) {
+    const double stored = 4.0 * pixels * spec.nchannels;
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    const std::uintmax_t header = ec ? 0 : std::min<std::uintmax_t>(pfmHeaderSize(path), size);
+    if (!ec && stored > static_cast<double>(size - header)) {
+      std::snprintf(text, sizeof text, "%.0f bytes of floats, but the file holds %ju after its header", stored,
+                    static_cast<std::uintmax_t>(size - header));
+      throw std::runtime_error(path + ": the header claims " + claim + ", " + text +
+                               " (a truncated file, or a damaged header)");
+    }
+  }
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || pageSize <= 0) return;  // unknown: let the allocation decide
+  const double memory = static_cast<double>(pages) * static_cast<double>(pageSize);
+  const double needed = bytesPerPixel * pixels;
+  if (needed > memory) {
+    std::snprintf(text, sizeof text, "about %.1f GiB to read, more than this machine's %.1f GiB of memory",
+                  needed / 0x1p30, memory / 0x1p30);
+    throw std::runtime_error(path + ": the header claims " + claim + ", which need " + text +
+                             " (a damaged header, or an image too large for this machine)");
+  }
+}
 
 void addMetadata(oiio::ImageSpec& spec, const ImageMetadata& metadata) {
   for (const auto& [key, value] : metadata) spec.attribute(key, value);
@@ -168,6 +227,8 @@ FrameBuffers readExr(const std::string& path, ImageMetadata* metadata) {
       }
     throw std::runtime_error(path + ": no channel '" + name + "'; is this a surftrace EXR?");
   };
+  // The frame's 4 bytes a channel, and each channel read through a buffer of its own.
+  checkPixelsFit(path, spec, in->format_name(), 4.0 * spec.nchannels + 4.0);
   FrameBuffers f;
   f.reset(spec.width, spec.height);
   const std::size_t n = f.pixels();
@@ -236,6 +297,8 @@ ImageChannels readImageChannels(const std::string& path) {
   if (spec.nchannels <= 0 || spec.width <= 0 || spec.height <= 0)
     throw std::runtime_error(path + ": an empty image (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                              ", " + std::to_string(spec.nchannels) + " channels)");
+  // Every channel as float, and OpenImageIO's own buffer of the file's pixels while it reads.
+  checkPixelsFit(path, spec, in->format_name(), 8.0 * spec.nchannels);
   ImageChannels image;
   image.path = path;
   image.format = in->format_name();

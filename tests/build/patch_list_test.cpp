@@ -378,6 +378,42 @@ const Molecule& crambin() {
   return m;
 }
 
+// An atom count beyond what the file can speak of (kMaxAtomsPerByte for each byte of its
+// body), forged behind a valid checksum, is refused at once, naming the file, the field and
+// the value: `info`, `area` and `render` sized per-atom arrays by it (10^8 in a 160 KB file
+// allocated gigabytes). The count the bound allows reads; one more does not. The writer
+// refuses such a list in the same words rather than write a file no reader takes.
+TEST(PatchListFile, AnAtomCountTheFileCannotHoldIsRefused) {
+  const PatchList p = buildSurface(crambin(), {SurfaceKind::Ses, 1.4});
+  const std::string path = tempPath("forged-count.stp");
+  writePatchList(path, p);
+  const std::size_t body = std::filesystem::file_size(path) - 24 - 4;  // header, checksum
+  // The body: u32 surface kind, f64 probe radius, f64 shrink factor, the radii set (u32 length
+  // and its bytes), u32 input checksum, then the u32 atom count.
+  const std::size_t at = 24 + 4 + 8 + 8 + 4 + p.params.radiiSet.size() + 4;
+  const std::uint64_t most = kMaxAtomsPerByte * body;
+  ASSERT_LT(most, 16777215u) << "crambin's list is larger than this test assumes";
+  for (const std::uint32_t forged : {16777215u, 10000000u, 100000000u, 0xFFFFFFFFu, static_cast<std::uint32_t>(most + 1)}) {
+    overwrite(path, "", 0, forged, at);
+    expectRejected(path, "atom count", std::to_string(forged));
+  }
+  overwrite(path, "", 0, static_cast<std::uint32_t>(most), at);
+  EXPECT_EQ(readPatchList(path).params.atomCount, most);
+
+  PatchList many = p;
+  many.params.atomCount = static_cast<std::uint32_t>(most + 1);
+  std::filesystem::remove(tempPath("many.stp"));
+  try {
+    writePatchList(tempPath("many.stp"), many);
+    ADD_FAILURE() << "a list of " << many.params.atomCount << " atoms in " << body << " bytes was written";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(tempPath("many.stp") + ": the list speaks of " + std::to_string(most + 1) + " atoms"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(tempPath("many.stp")));
+}
+
 // One field at a time made impossible in a real list, behind a valid checksum.
 TEST(PatchListValidate, ImpossibleSesFieldsAreRejectedOnLoad) {
   const PatchList p = buildSurface(crambin(), {SurfaceKind::Ses, 1.4, 0.5, false});
