@@ -81,15 +81,19 @@ double resolvingDistance(double spread) {
       c.kept < c.atoms ? " (" + std::to_string(c.kept) + " of them left after merging balls within " +
                              number("%g", r.mergeWithin) + " Å)"
                        : "";
+  const std::string others =
+      c.crowdedAtoms > c.kept ? "; " + std::to_string(c.crowdedAtoms) + " kept atoms lie in such clusters in all, " +
+                                    "the farthest " + number("%.2g", c.largestSpread) + " Å from the atom it crowds"
+                              : "";
   throw std::invalid_argument(
       m.source + ": " + std::to_string(c.atoms) + " atoms lie within " + number("%g", kClusterRadius) + " Å of " +
       atomName(m, c.atom) + " near (" + number("%.6f", c.center.x) + ", " + number("%.6f", c.center.y) + ", " +
       number("%.6f", c.center.z) + ")" + merged + ": a near-coincident cluster (more than " +
       std::to_string(kMaxClusterAtoms) +
-      " atoms there; a real structure has one), whose surface would take time quadratic in its size and which "
-      "contour-buildup cannot resolve exactly. The balls left lie within " + number("%.2g", c.spread) +
-      " Å (|Δc| + |Δr|) of " + atomName(m, c.atom) + "'s. Remove the copies, or merge them with --merge-within " +
-      number("%g", resolvingDistance(c.spread)) +
+      " atoms there; a real structure has one), whose surface would take time growing as the 2.5th power of its "
+      "size, deciding nearly degenerate triples exactly. The balls left lie within " + number("%.2g", c.spread) +
+      " Å (|Δc| + |Δr|) of " + atomName(m, c.atom) + "'s" + others +
+      ". Remove the copies, or merge them with --merge-within " + number("%g", resolvingDistance(c.largestSpread)) +
       " (every ball within that distance of a kept ball is merged into it: the surface of the input with those "
       "atoms moved by at most that much)");
 }

@@ -275,7 +275,7 @@ TEST(AtomCulling, AClusterThatDoesNotMergeIsRefusedWithTheDistanceThatMergesIt) 
     FAIL() << "a 200,000-atom cluster was built";
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("cluster: 200000 atoms lie within 0.01 Å of atom 1 near ("), std::string::npos) << what;
+    EXPECT_NE(what.find("cluster: 200000 atoms lie within 0.5 Å of atom 1 near ("), std::string::npos) << what;
     EXPECT_NE(what.find("near-coincident cluster"), std::string::npos) << what;
     suggested = what.substr(what.find("--merge-within ") + 15);
   }
@@ -323,7 +323,105 @@ TEST(AtomCulling, ClustersInsideAProtein) {
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
     const std::string line = "line " + std::to_string(base.atoms[10].line);
-    EXPECT_NE(what.find("41 atoms lie within 0.01 Å of " + line), std::string::npos) << what;
+    EXPECT_NE(what.find("41 atoms lie within 0.5 Å of " + line), std::string::npos) << what;
+  }
+}
+
+// 216 clusters of k atoms within 1e-4 Å of one another, on a 6 x 6 x 6 grid of 3 Å whose
+// points jitter by 0.3 Å; each cluster's first atom at its centre, the others within 2.5e-5 Å
+// per axis of it (Hausdorff distance < 4.4e-5 Å). Lines number the atoms.
+Molecule gridOfClusters(int k) {
+  Molecule m;
+  m.source = "clusters";
+  std::mt19937_64 rng(29), rngIn(31);  // the clusters' centres do not depend on k
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3), spread(-2.5e-5, 2.5e-5);
+  for (int x = 0; x < 6; ++x)
+    for (int y = 0; y < 6; ++y)
+      for (int z = 0; z < 6; ++z) {
+        const glm::dvec3 centre = 3.0 * glm::dvec3(x, y, z) + glm::dvec3(jitter(rng), jitter(rng), jitter(rng));
+        for (int a = 0; a < k; ++a) {
+          m.centers.push_back(a == 0 ? centre : centre + glm::dvec3(spread(rngIn), spread(rngIn), spread(rngIn)));
+          m.radii.push_back(1.7);
+          m.atoms.emplace_back();
+          m.atoms.back().line = static_cast<int>(m.centers.size());
+        }
+      }
+  return m;
+}
+
+// Near-coincident clusters cost the builders about k^2.5 each (1,000 clusters of 8 atoms within
+// 1e-4 Å: 32 s for the SES), so more than kMaxClusterAtoms (2) atoms within kClusterRadius
+// (0.5 Å) are refused, and the work stays linear however the atoms cluster. A pair (a clash)
+// is built, exactly: its SAS area is the union of the extended balls' (Gauss–Bonnet), and its
+// SES body holds the lone atoms' and lies inside theirs grown by 1e-4 Å (adding or growing balls
+// only grows the SES body). Three are refused, naming where and how many, with the merge
+// distance that resolves them; merged, the surface is the lone atoms' bit for bit.
+TEST(AtomCulling, NearCoincidentTriplesAreRefusedAndPairsBuiltExactly) {
+  const Molecule singles = gridOfClusters(1), pairs = gridOfClusters(2), triples = gridOfClusters(3);
+  const SurfaceRequest ses{SurfaceKind::Ses, kRp}, skin{SurfaceKind::Mss, kRp, 0.5};
+  ASSERT_EQ(kMaxClusterAtoms, 2u);
+  ASSERT_EQ(kClusterRadius, 0.5);
+
+  const SurfaceAreas a = computeAreas(buildSurface(pairs, ses)), lone = computeAreas(buildSurface(singles, ses));
+  // (Over the atoms kept: a few pairs lie within 1e-5 Å and merge, which moves the SAS by up to
+  // ~1e-4 Å² each.)
+  const CullResult cull = cullAtoms(pairs.centers, pairs.radii, {kRp});
+  EXPECT_GT(cull.kept.size(), singles.size() * 3 / 2);
+  std::vector<glm::dvec3> keptCentres;
+  std::vector<double> extended;
+  for (const std::uint32_t i : cull.kept) keptCentres.push_back(pairs.centers[i]), extended.push_back(pairs.radii[i] + kRp);
+  const double unionArea = unionOfBallsAreas(keptCentres, extended).total();
+  EXPECT_NEAR(a.sas, unionArea, 1e-9 * unionArea);
+  Molecule grown = singles;
+  for (double& r : grown.radii) r += 1e-4;
+  const SurfaceAreas outer = computeAreas(buildSurface(grown, ses));
+  EXPECT_GE(a.sesVolume, lone.sesVolume * (1 - 1e-12));
+  EXPECT_LE(a.sesVolume, outer.sesVolume * (1 + 1e-12));
+  EXPECT_EQ(a.components.size(), lone.components.size());
+  EXPECT_LT(lone.sesVolume, outer.sesVolume);
+  // The skin takes pairs too.
+  EXPECT_GT(buildSurface(pairs, skin).mss.size(), buildSurface(singles, skin).mss.size());
+
+  for (const SurfaceRequest& request : {ses, skin}) {
+    const std::string kind = surfaceKindName(request.surface);
+    std::string what = "no error";
+    try {
+      buildSurface(triples, request);
+    } catch (const std::invalid_argument& e) {
+      what = e.what();
+    }
+    EXPECT_EQ(what.find("clusters: 3 atoms lie within 0.5 Å of line "), 0u) << kind << ": " << what;
+    EXPECT_NE(what.find(" kept atoms lie in such clusters in all, the farthest "), std::string::npos) << what;
+    EXPECT_NE(what.find("a near-coincident cluster (more than 2 atoms there; a real structure has one)"),
+              std::string::npos)
+        << what;
+    const std::size_t at = what.find("--merge-within ");
+    ASSERT_NE(at, std::string::npos) << what;
+    SurfaceRequest merged = request;
+    merged.mergeWithin = std::stod(what.substr(at + 15));
+    EXPECT_LE(merged.mergeWithin, 2e-4) << what;
+    std::vector<std::string> notes;
+    PatchList got = buildSurface(triples, merged, &notes);
+    ASSERT_EQ(got.params.atomCount, triples.size());
+    // The keepers are the clusters' first atoms, the lone atoms' centres: index 3c for atom c.
+    for (auto* ids : {&got.convex.atom, &got.tori.atomI, &got.tori.atomJ, &got.concave.atomI, &got.concave.atomJ,
+                      &got.concave.atomK})
+      for (std::uint32_t& i : *ids) {
+        EXPECT_EQ(i % 3, 0u);
+        i /= 3;
+      }
+    for (glm::uvec4& simplex : got.mss.atoms)
+      for (int c = 0; c < 4; ++c)
+        if (simplex[c] != ~0u) {
+          EXPECT_EQ(simplex[c] % 3, 0u);
+          simplex[c] /= 3;
+        }
+    for (std::uint32_t& i : got.cellPlaneAtom)
+      if (i != ~0u) i /= 3;
+    got.params.atomCount = static_cast<std::uint32_t>(singles.size());
+    test::expectSamePatchLists(got, buildSurface(singles, request), kind + " of the merged clusters");
+    ASSERT_EQ(notes.size(), 1u) << kind;
+    EXPECT_NE(notes[0].find("432 atoms lie within"), std::string::npos) << notes[0];
   }
 }
 

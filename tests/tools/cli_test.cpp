@@ -247,7 +247,7 @@ TEST(Cli, NearCoincidentAtomsMergeWithANoteOrAreRefused) {
 
   const Result refused = run("area " + crowd);
   EXPECT_EQ(refused.status, 1) << refused.output;
-  EXPECT_NE(refused.output.find("surftrace: error: " + crowd + ": 40 atoms lie within 0.01 Å of line 1"),
+  EXPECT_NE(refused.output.find("surftrace: error: " + crowd + ": 40 atoms lie within 0.5 Å of line 1"),
             std::string::npos)
       << refused.output;
   const std::size_t at = refused.output.find("--merge-within ");
