@@ -2,6 +2,7 @@
 // the channels of any image file another program wrote.
 #include "view/image_io.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,11 +33,6 @@ constexpr int kFloatCount = 9, kUintCount = 4, kChannels = kFloatCount + kUintCo
 // Written after the others when the frame records it (FrameBuffers::seamDistance).
 constexpr const char* kSeamChannel = "seam.distance";
 
-// Refuses an image whose header claims more pixels than can be read, before anything is
-// allocated for them: a 20-byte PFM header may claim 100000x100000 pixels (std::bad_alloc, or
-// minutes of paging), and an EXR's data window is as easily forged. Checked as `--size` is,
-// against this machine's memory, and for a PFM, whose pixels are stored raw, against the
-// file's own size.
 // The bytes before a PFM's pixels: "PF" or "Pf", the width, the height and the scale, each
 // followed by one white-space byte (0 when the file does not read so: OpenImageIO decides).
 std::uintmax_t pfmHeaderSize(const std::string& path) {
@@ -55,33 +51,42 @@ std::uintmax_t pfmHeaderSize(const std::string& path) {
   return at;
 }
 
+// Refuses an image whose header claims more pixels than can be read, before anything is
+// allocated for them: a 20-byte PFM header may claim 100000x100000 pixels (std::bad_alloc, or
+// minutes of paging), and an EXR's data window is as easily forged. Checked as `--size` is,
+// against the memory this process may have (this machine's, or less under ulimit -v), and for
+// a PFM, whose pixels are stored raw, against the file's own size.
 void checkPixelsFit(const std::string& path, const oiio::ImageSpec& spec, const std::string& format,
                     double bytesPerPixel) {
   const double pixels = static_cast<double>(spec.width) * static_cast<double>(spec.height);
   const std::string claim = std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
                             std::to_string(spec.nchannels) + (spec.nchannels == 1 ? " channel" : " channels");
-  char text[160];
+  char text[200];
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+  double memory = pages > 0 && pageSize > 0 ? static_cast<double>(pages) * static_cast<double>(pageSize) : HUGE_VAL;
+  rlimit limit{};
+  const bool limited = getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+                       static_cast<double>(limit.rlim_cur) < memory;
+  if (limited) memory = static_cast<double>(limit.rlim_cur);
+  const double needed = bytesPerPixel * pixels;
+  if (needed > memory) {
+    std::snprintf(text, sizeof text, "about %.1f GiB to read, more than %s %.1f GiB", needed / 0x1p30,
+                  limited ? "the memory limit's (ulimit -v)" : "this machine's", memory / 0x1p30);
+    throw std::runtime_error(path + ": not enough memory to hold the image it describes: its header claims " + claim +
+                             ", which need " + text + " (a damaged or forged header, or an image too large for this "
+                             "machine)");
+  }
   if (format == "pnm" && spec.format == oiio::TypeDesc::FLOAT) {
     const double stored = 4.0 * pixels * spec.nchannels;
     std::error_code ec;
     const auto size = std::filesystem::file_size(path, ec);
     const std::uintmax_t header = ec ? 0 : std::min<std::uintmax_t>(pfmHeaderSize(path), size);
     if (!ec && stored > static_cast<double>(size - header)) {
-      std::snprintf(text, sizeof text, "%.0f bytes of floats, but the file holds %ju after its header", stored,
+      std::snprintf(text, sizeof text, "%.0f bytes of floats; it holds %ju after its header", stored,
                     static_cast<std::uintmax_t>(size - header));
-      throw std::runtime_error(path + ": the header claims " + claim + ", " + text +
-                               " (a truncated file, or a damaged header)");
+      throw std::runtime_error(path + ": cannot read its pixels: the file is cut short or damaged (its header promises " +
+                               claim + ", " + text + ")");
     }
-  }
-  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || pageSize <= 0) return;  // unknown: let the allocation decide
-  const double memory = static_cast<double>(pages) * static_cast<double>(pageSize);
-  const double needed = bytesPerPixel * pixels;
-  if (needed > memory) {
-    std::snprintf(text, sizeof text, "about %.1f GiB to read, more than this machine's %.1f GiB of memory",
-                  needed / 0x1p30, memory / 0x1p30);
-    throw std::runtime_error(path + ": the header claims " + claim + ", which need " + text +
-                             " (a damaged header, or an image too large for this machine)");
   }
 }
 
