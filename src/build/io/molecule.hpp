@@ -96,7 +96,7 @@ struct Molecule {
   // W, WF or PW waters); read only with ReadOptions::beadRadius.
   bool martini = false;
   std::optional<double> beadRadius;     // the --bead-radius every particle got, when given
-  std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input bytes
+  std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input text, line ends made LF
   SkipReport skipped;
   // Bonds the file states (PDB CONECT, mmCIF _struct_conn links), pairs of serials (AtomRecord::serial),
   // lower first; atoms the selection left out may appear. build/bonds.hpp turns them into bonds.
