@@ -25,6 +25,8 @@
 
 #include <gtest/gtest.h>
 
+#include "fifo_reader.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -108,26 +110,12 @@ TEST(OutputFile, AFifoGetsTheBytes) {
   const fs::path fifo = dir / "fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0666), 0) << std::strerror(errno);
   EXPECT_NO_THROW(prepareOutputPath(fifo, "--xyzr"));
-  // The reader opens first without blocking, then waits (at most 20 s, so that a writer that
-  // renames a file over the FIFO fails the test rather than hangs it) until the writer closes.
-  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
-  ASSERT_GE(reader, 0) << std::strerror(errno);
-  std::string received;
-  std::thread reading([&] {
-    char buffer[4096];
-    for (;;) {
-      pollfd p{reader, POLLIN, 0};
-      if (::poll(&p, 1, 20000) <= 0) break;
-      const ::ssize_t n = ::read(reader, buffer, sizeof buffer);
-      if (n > 0) received.append(buffer, static_cast<std::size_t>(n));
-      else if (n == 0 || errno != EAGAIN) break;
-    }
-  });
+  surftrace::test::FifoReader reader(fifo);
+  ASSERT_TRUE(reader.opened()) << std::strerror(errno);
   std::string sent;
   for (int i = 0; i < 20000; ++i) sent += std::to_string(i) + " 1.5 2.5 1.7\n";  // more than a pipe holds
   EXPECT_NO_THROW(writeFileAtomically(fifo, sent));
-  reading.join();
-  ::close(reader);
+  const std::string& received = reader.finish();
   EXPECT_TRUE(received == sent) << "the reader got " << received.size() << " bytes of " << sent.size();
   struct stat st;
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);

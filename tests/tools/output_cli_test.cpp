@@ -25,6 +25,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fifo_reader.hpp"
 #include "run_tool.hpp"
 
 namespace {
@@ -287,24 +288,10 @@ TEST(Output, AFifoGetsTheBytes) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0666), 0) << std::strerror(errno);
   const std::string mol = data("structures/1crn.pdb");
   ASSERT_EQ(shell("surftrace info " + mol + " --xyzr " + (dir / "atoms.xyzr").string()).status, 0);
-  // Opened first without blocking; then read until the writer closes, 20 s at most, so that a
-  // program that renames a file over the FIFO fails the test rather than hangs it.
-  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
-  ASSERT_GE(reader, 0) << std::strerror(errno);
-  std::string received;
-  std::thread reading([&] {
-    char buffer[4096];
-    for (;;) {
-      pollfd p{reader, POLLIN, 0};
-      if (::poll(&p, 1, 20000) <= 0) break;
-      const ::ssize_t n = ::read(reader, buffer, sizeof buffer);
-      if (n > 0) received.append(buffer, static_cast<std::size_t>(n));
-      else if (n == 0 || errno != EAGAIN) break;
-    }
-  });
+  surftrace::test::FifoReader reader(fifo);
+  ASSERT_TRUE(reader.opened()) << std::strerror(errno);
   const Shell r = shell("surftrace info " + mol + " --xyzr " + fifo.string());
-  reading.join();
-  ::close(reader);
+  const std::string& received = reader.finish();
   EXPECT_EQ(r.status, 0) << r.output;
   const std::string expected = contents(dir / "atoms.xyzr");
   EXPECT_FALSE(expected.empty());
