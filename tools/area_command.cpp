@@ -10,14 +10,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "build/io/output_file.hpp"
-#include "build/io/trajectory.hpp"
-#include "build/mss/mss_area.hpp"
-#include "build/ses/surface_area.hpp"
-#include "build/surface.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "surface_input.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 #include "trajectory_plan.hpp"
 
 namespace surftrace::tools {
@@ -51,8 +49,7 @@ void printPerAtomCsv(const build::Molecule& m,
 void runMssArea(const AreaOptions& o, const Built& b) {
   const auto& m = b.molecule;
   const auto start = std::chrono::steady_clock::now();
-  const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(b.patches)
-                                            : build::computeMssAreas(b.patches, m.centers);
+  const SurfaceAreas a = surfaceAreas(b.patches, m.centers);
   const double areaSeconds = secondsSince(start);
   if (o.format == "json") {
     nlohmann::json j;
@@ -60,9 +57,9 @@ void runMssArea(const AreaOptions& o, const Built& b) {
     j["shrink_factor"] = o.surface.shrink;
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
-    nlohmann::json mss = {{"total", a.total()}, {"volume", a.volume}, {"area_error_estimate", a.areaErrorEstimate},
+    nlohmann::json mss = {{"total", a.total}, {"volume", a.volume}, {"area_error_estimate", a.areaErrorEstimate},
                           {"volume_error_estimate", a.volumeErrorEstimate}, {"per_atom", a.perAtom}};
-    for (std::size_t k = 0; k < build::kMssKindCount; ++k) mss[build::kMssKinds[k].name] = a.byKind[k];
+    for (std::size_t k = 0; k < a.byKind.size(); ++k) mss[a.kindNames[k]] = a.byKind[k];
     j["mss"] = mss;
     std::printf("%s\n", j.dump(1).c_str());
     return;
@@ -73,7 +70,7 @@ void runMssArea(const AreaOptions& o, const Built& b) {
   }
   std::printf("file            %s (%zu atoms, shrink factor %g%s)\n", m.source.c_str(), m.size(), o.surface.shrink,
               o.surface.request().skinIsUnionOfBalls() ? ": the union of the van der Waals balls" : "");
-  std::printf("MSS area        %14.4f Å²  (error estimate %.1e: quadrature and sliver cells)\n", a.total(), a.areaErrorEstimate);
+  std::printf("MSS area        %14.4f Å²  (error estimate %.1e: quadrature and sliver cells)\n", a.total, a.areaErrorEstimate);
   for (std::size_t k = 0; k < build::kMssKindCount; ++k)
     std::printf("  %-13s %14.4f Å²  (%s)\n", build::kMssKinds[k].name, a.byKind[k], build::kMssKinds[k].patches);
   std::printf("MSS volume      %14.4f Å³\n", a.volume);
@@ -102,13 +99,9 @@ void printAreaHeader(const AreaOptions& o, std::size_t atoms, std::size_t frames
 
 // One frame's row of areas over time, in the header's column order.
 std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, const build::Molecule& m) {
-  if (o.surface.surface == "mss") {
-    const build::MssAreas a = o.surface.request().skinIsUnionOfBalls() ? build::unionOfBallsAreas(list)
-                                                      : build::computeMssAreas(list, m.centers);
-    return {a.total(), a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
-  }
-  const build::SurfaceAreas a = build::computeAreas(list);
-  return {a.sas, a.sesTotal(), a.sesConvex, a.sesToroidal, a.sesConcave, a.sesVolume};
+  const SurfaceAreas a = surfaceAreas(list, m.centers);
+  if (o.surface.surface == "mss") return {a.total, a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
+  return {a.sas, a.total, a.byKind[0], a.byKind[1], a.byKind[2], a.volume};
 }
 
 // Areas over time: one row per frame of a trajectory (FILE is its topology), from one
@@ -178,7 +171,7 @@ void runArea(const AreaOptions& o) {
 
 // The SES's areas by patch kind, per atom and per component, and its volume.
 void printSesAreas(const AreaOptions& o, const Built& b) {
-  const build::SurfaceAreas a = build::computeAreas(b.patches);
+  const SurfaceAreas a = surfaceAreas(b.patches, b.molecule.centers);
   const auto& m = b.molecule;
   if (o.format == "json") {
     nlohmann::json j;
@@ -187,32 +180,32 @@ void printSesAreas(const AreaOptions& o, const Built& b) {
     j["atoms"] = m.size();
     j["units"] = {{"area", "Å^2"}, {"volume", "Å^3"}};
     j["sas"] = {{"total", a.sas}, {"per_atom", a.sasPerAtom}};
-    j["ses"] = {{"total", a.sesTotal()}, {"convex", a.sesConvex},     {"toroidal", a.sesToroidal},
-                {"concave", a.sesConcave}, {"volume", a.sesVolume}, {"per_atom", a.sesPerAtom}};
+    j["ses"] = {{"total", a.total},      {"convex", a.byKind[0]}, {"toroidal", a.byKind[1]},
+                {"concave", a.byKind[2]}, {"volume", a.volume}, {"per_atom", a.perAtom}};
     nlohmann::json components = nlohmann::json::array();
-    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}, {"cavity", !c.outer()}});
+    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}, {"cavity", c.cavity}});
     j["ses"]["components"] = components;
     std::printf("%s\n", j.dump(1).c_str());
     return;
   }
   if (o.format == "csv") {
-    printPerAtomCsv(m, {{"sas", &a.sasPerAtom}, {"ses", &a.sesPerAtom}});
+    printPerAtomCsv(m, {{"sas", &a.sasPerAtom}, {"ses", &a.perAtom}});
     return;
   }
   std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), b.patches.params.probeRadius);
   std::printf("SAS area        %14.4f Å²\n", a.sas);
-  std::printf("SES area        %14.4f Å²\n", a.sesTotal());
-  std::printf("  convex        %14.4f Å²\n", a.sesConvex);
-  std::printf("  toroidal      %14.4f Å²\n", a.sesToroidal);
-  std::printf("  concave       %14.4f Å²  (after self-intersection clipping)\n", a.sesConcave);
-  std::printf("SES volume      %14.4f Å³\n", a.sesVolume);
+  std::printf("SES area        %14.4f Å²\n", a.total);
+  std::printf("  convex        %14.4f Å²\n", a.byKind[0]);
+  std::printf("  toroidal      %14.4f Å²\n", a.byKind[1]);
+  std::printf("  concave       %14.4f Å²  (after self-intersection clipping)\n", a.byKind[2]);
+  std::printf("SES volume      %14.4f Å³\n", a.volume);
   if (a.components.size() > 1) {
     // Outer surfaces have a positive volume, cavities a negative one (minus the void they
     // enclose): printed here as the enclosed voids, positive.
     double outerArea = 0.0, cavityArea = 0.0, cavityVolume = 0.0;
     std::size_t outer = 0;
     for (const auto& c : a.components) {
-      if (c.outer()) ++outer, outerArea += c.area;
+      if (!c.cavity) ++outer, outerArea += c.area;
       else cavityArea += c.area, cavityVolume -= c.volume;
     }
     std::printf("components      %zu: %zu outer surface%s %.4f Å², %zu cavities %.4f Å² enclosing %.4f Å³ of void (--drop-cavities drops them)\n",

@@ -8,16 +8,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include <embree3/rtcore_config.h>
-
 #include <nlohmann/json.hpp>
 
-#include "build/io/output_file.hpp"
-#include "build/io/text_fields.hpp"
-#include "build/mss/mss_area.hpp"
-#include "build/surface.hpp"
 #include "option_checks.hpp"
-#include "view/camera.hpp"
+#include "surftrace/files.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -37,35 +31,7 @@ void parseSize(const std::string& text, int& width, int& height) {
     throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, each 1..32768, e.g. 1024x768");
 }
 
-void applyExplicitCamera(ImageSetup& setup) {
-  view::Camera& camera = setup.render.camera;
-  if (setup.lookAt) camera.lookAt = *setup.lookAt;
-  if (setup.eye) camera.eye = *setup.eye;
-  if (setup.up) camera.up = *setup.up;
-  camera.validate();
-}
-
-// The end of every framing: the imported camera or the framed one with --eye/--look-at/--up,
-// and a depth range from the spheres that hold the scene.
-void finishCamera(ImageSetup& setup, std::span<const view::SphereCover> covers) {
-  view::Camera& camera = setup.render.camera;
-  if (setup.imported) {
-    camera = *setup.imported;
-  } else {
-    applyExplicitCamera(setup);
-  }
-  if (!camera.hasDepthRange()) camera = view::withDepthRange(camera, covers);
-  camera.validate();
-}
-
-view::Camera readCameraFile(const std::string& path) {
-  const std::string text = build::text::readTextFile(path, path);
-  try {
-    return view::cameraFromJson(text);
-  } catch (const std::exception& e) {
-    throw std::invalid_argument("--camera " + path + ": " + e.what());
-  }
-}
+view::Camera readCameraFile(const std::string& path) { return readCamera(path, "--camera " + path); }
 
 void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
   const char* group = "Image-space effects (both engines; from the pixel-centre buffers)";
@@ -246,22 +212,22 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
     throw std::invalid_argument("--opacity 0 draws no surface, and nothing else was asked for: add --ball-and-stick "
                                 "or give an opacity above 0");
   ro.effects = resolveEffects(o);
-  setup.viewDirection = view::namedViewDirection(o.view);
+  setup.framing.direction = view::namedViewDirection(o.view);
   if (!(o.fov > 0.0 && o.fov < 180.0))
     throw std::invalid_argument("--fov " + std::to_string(o.fov) + ": the field of view must be in (0, 180) degrees");
-  if (!o.eye.empty()) setup.eye = parseVector("--eye", o.eye);
-  if (!o.lookAt.empty()) setup.lookAt = parseVector("--look-at", o.lookAt);
+  if (!o.eye.empty()) setup.framing.eye = parseVector("--eye", o.eye);
+  if (!o.lookAt.empty()) setup.framing.lookAt = parseVector("--look-at", o.lookAt);
   if (!o.up.empty()) {
-    setup.up = parseVector("--up", o.up);
-    if (*setup.up == glm::dvec3(0.0)) throw std::invalid_argument("--up '" + o.up + "': the up vector must not be zero");
+    setup.framing.up = parseVector("--up", o.up);
+    if (*setup.framing.up == glm::dvec3(0.0)) throw std::invalid_argument("--up '" + o.up + "': the up vector must not be zero");
   }
   if (!o.camera.empty()) {
     for (const CLI::Option* option : o.framingOptions)
       if (option && option->count() > 0)
         throw std::invalid_argument(option->get_name() + " cannot be combined with --camera " + o.camera +
                                     ", which fixes the whole view (edit the file, or drop --camera)");
-    setup.imported = readCameraFile(o.camera);
-    const view::Camera& c = *setup.imported;
+    setup.framing.fixed = readCameraFile(o.camera);
+    const view::Camera& c = *setup.framing.fixed;
     if (o.sizeOption && o.sizeOption->count() > 0 && (c.width != ro.camera.width || c.height != ro.camera.height))
       throw std::invalid_argument("--size " + o.size + " disagrees with --camera " + o.camera + " (" +
                                   std::to_string(c.width) + "x" + std::to_string(c.height) +
@@ -277,9 +243,7 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
 }
 
 void writeCameraOut(const ImageSetup& setup) {
-  if (setup.cameraOut.empty()) return;
-  const auto json = nlohmann::json::parse(view::cameraToJson(setup.render.camera));
-  build::writeFileAtomically(setup.cameraOut, json.dump(2) + "\n");
+  if (!setup.cameraOut.empty()) writeCamera(setup.cameraOut, setup.render.camera);
 }
 
 void checkImageFitsInMemory(const std::string& sizeText, int width, int height) {
@@ -301,111 +265,17 @@ void checkImageFitsInMemory(const std::string& sizeText, int width, int height) 
 }
 
 void frameSurface(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule) {
-  view::Camera& camera = setup.render.camera;
-  if (list.params.surface == build::SurfaceKind::Mss) {
-    // Two bounds of the skin, each loose somewhere: its patches' balls (tight for s near 1,
-    // but for small s a hyperboloid's ball grows as r/√s), and the hull of the atom centres
-    // grown by the largest radius (every ball of the skin's construction is centred in that
-    // hull, and shrunk to radius² <= Σλ_i r_i² <= r_max²; tight as s -> 0). A patch list read
-    // without its structure has the first alone.
-    // A patch of a near-degenerate simplex whose cell is a sliver (build::mssPatchIsNegligible:
-    // four nearly co-spherical atoms) holds next to no skin, but its ball about a far,
-    // ill-conditioned orthocentre would move the view (issue 18): such patches are left out.
-    std::vector<glm::dvec3> centers;
-    std::vector<double> radii;
-    centers.reserve(list.mss.size());
-    radii.reserve(list.mss.size());
-    for (std::size_t k = 0; k < list.mss.size(); ++k) {
-      if (build::mssPatchIsNegligible(list, k)) continue;
-      centers.push_back(list.mss.center[k]);
-      radii.push_back(list.mss.boundRadius[k]);
-    }
-    if (centers.empty()) {  // nothing but slivers (not a skin the builder writes): keep them all
-      centers = list.mss.center;
-      radii = list.mss.boundRadius;
-    }
-    const view::SphereCover patches{centers, radii};
-    if (molecule.centers.empty()) {
-      if (!setup.imported) camera = view::frameSphereCovers(camera, {&patches, 1}, setup.viewDirection);
-      finishCamera(setup, {&patches, 1});
-    } else {
-      const std::vector<double> grown = build::SurfaceRequest::of(list.params).reach(molecule.radii);
-      const view::SphereCover covers[] = {patches, {molecule.centers, grown}};
-      if (!setup.imported) camera = view::frameSphereCovers(camera, covers, setup.viewDirection);
-      finishCamera(setup, covers);
-    }
-  } else {
-    const std::vector<double> reach = build::SurfaceRequest::of(list.params).reach(molecule.radii);
-    if (!setup.imported) camera = view::frameSpheres(camera, molecule.centers, reach, setup.viewDirection);
-    const view::SphereCover cover{molecule.centers, reach};
-    finishCamera(setup, {&cover, 1});
-  }
+  setup.render.camera = surftrace::frameSurface(setup.render.camera, setup.framing, list, molecule);
 }
 
 void frameSpheres(ImageSetup& setup, std::span<const glm::dvec3> centers, std::span<const double> reach) {
-  if (!setup.imported) setup.render.camera = view::frameSpheres(setup.render.camera, centers, reach, setup.viewDirection);
-  const view::SphereCover cover{centers, reach};
-  finishCamera(setup, {&cover, 1});
+  setup.render.camera = surftrace::frameSpheres(setup.render.camera, setup.framing, centers, reach);
 }
 
-view::SphereFraming framingOf(const ImageSetup& setup) {
-  return view::SphereFraming(setup.render.camera, setup.viewDirection);
-}
+view::SphereFraming framingOf(const ImageSetup& setup) { return sphereFraming(setup.render.camera, setup.framing); }
 
 void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing) {
-  if (!setup.imported) setup.render.camera = framing.frame(setup.render.camera);
-  // Every sphere lies in the framing's box: its corners bound the depth range.
-  const std::vector<glm::dvec3> corners = framing.boxCorners();
-  const std::vector<double> zero(corners.size(), 0.0);
-  const view::SphereCover cover{corners, zero};
-  finishCamera(setup, {&cover, 1});
-}
-
-view::ImageMetadata imageMetadata(const ImageRecord& r, const view::Camera& camera) {
-  view::ImageMetadata meta;
-  meta["surftrace:renderer"] = r.engine == "gl"
-                                   ? std::string(kSoftware) + " gl: " + r.glContext
-                                   : std::string(kSoftware) + " embree " + RTC_VERSION_STRING + " (double-precision patches)";
-  meta["surftrace:engine"] = r.engine;
-  meta["surftrace:camera"] = view::cameraToJson(camera);
-  meta["surftrace:surface"] = r.surface;
-  meta["surftrace:probe_radius"] = std::to_string(r.probeRadius);
-  if (r.shrinkFactor) meta["surftrace:shrink_factor"] = std::to_string(*r.shrinkFactor);
-  meta["surftrace:input"] = r.input;
-  if (!r.trajectory.empty()) meta["surftrace:trajectory"] = r.trajectory;
-  if (r.frame) meta["surftrace:frame"] = std::to_string(*r.frame);
-  if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
-  meta["surftrace:color"] = r.color;
-  // Every setting that changes pixels is recorded, so that `compare` can tell two images made
-  // alike from two made differently (tools/image_settings.hpp reads them back).
-  auto triple = [](const glm::dvec3& v) {
-    return detail::shortNumber(v.x) + "," + detail::shortNumber(v.y) + "," + detail::shortNumber(v.z);
-  };
-  if (r.color == "uniform") meta["surftrace:uniform_color"] = triple(r.uniformColor);
-  meta["surftrace:background"] = triple(r.background);
-  meta["surftrace:lighting"] = nlohmann::json{{"model", "Blinn-Phong headlight"},
-                                              {"ambient", r.lighting.ambient},
-                                              {"diffuse", r.lighting.diffuse},
-                                              {"specular", r.lighting.specular},
-                                              {"shininess", r.lighting.shininess},
-                                              {"shadows", r.shadows},
-                                              {"ao_samples", r.aoSamples},
-                                              {"ao_distance", r.aoDistance}}
-                                   .dump();
-  meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);
-  meta["surftrace:command"] = r.commandLine;
-  if (r.opacity < 1.0) {
-    meta["surftrace:opacity"] = std::to_string(r.opacity);
-    meta["surftrace:max_layers"] = std::to_string(r.maxLayers);
-  }
-  if (r.effects.any()) meta["surftrace:effects"] = r.effects.json(camera);
-  if (r.ballAndStick)
-    meta["surftrace:ball_and_stick"] = "{\"ball_scale\": " + detail::shortNumber(r.ballScale) +
-                                       ", \"stick_radius\": " + detail::shortNumber(r.stickRadius) +
-                                       ", \"bonds\": " + std::to_string(r.bonds) + "}";
-  for (const auto& [key, value] : r.engineSettings) meta[key] = value;
-  meta["Software"] = kSoftware;
-  return meta;
+  setup.render.camera = surftrace::frameSpheres(setup.render.camera, setup.framing, framing);
 }
 
 }  // namespace surftrace::tools

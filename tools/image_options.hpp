@@ -17,6 +17,8 @@
 #include "build/patch_list.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
+#include "surftrace/camera.hpp"
+#include "surftrace/image.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 #include "view/render_options.hpp"
@@ -68,12 +70,10 @@ void addImageOptions(CLI::App& cmd, ImageOptions& options);
 // the camera is framed later, when the surface is known.
 struct ImageSetup {
   view::RenderOptions render;
-  glm::dvec3 viewDirection{0, 0, -1};
-  std::optional<glm::dvec3> eye, lookAt, up;
+  // --view, --eye, --look-at, --up; --camera (Framing::fixed: used as it is, no framing; its
+  // depth range is taken from the scene when the file has none).
+  Framing framing;
   glm::vec3 uniformColor{0.8f};
-  // From --camera: used as it is, no framing (its depth range is taken from the scene when the
-  // file has none).
-  std::optional<view::Camera> imported;
   std::string cameraOut;
 };
 ImageSetup resolveImageOptions(const ImageOptions& options);
@@ -104,35 +104,6 @@ void writeCameraOut(const ImageSetup& setup);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
 
-// What an image records about how it was made (its metadata), for `compare` and for people:
-// the one place `render` and `trajectory` write it.
-struct ImageRecord {
-  std::string engine;      // "embree" or "gl"
-  std::string glContext;   // the GL context's description, for engine "gl"
-  std::vector<std::pair<std::string, std::string>> engineSettings;  // the engine's own, as metadata keys
-  std::string surface;     // the --surface option
-  double probeRadius = 0;
-  std::optional<double> shrinkFactor;  // the skin's
-  std::string input, trajectory;
-  std::optional<std::size_t> frame;
-  std::optional<double> timePs;
-  std::string color;
-  glm::dvec3 uniformColor{0.8};        // recorded with --color uniform
-  glm::dvec3 background{1.0};
-  view::Lighting lighting;             // the headlight's terms; recorded with shadows and AO
-  bool shadows = false;
-  int aoSamples = 0;
-  double aoDistance = 8.0;
-  int samplesPerPixel = 1;
-  std::string commandLine;
-  double opacity = 1.0;  // recorded (with maxLayers) only when below 1
-  int maxLayers = 16;
-  view::ImageEffects effects;  // recorded as surftrace:effects when any is on
-  // The ball-and-stick model's settings, recorded as surftrace:ball_and_stick when it is drawn.
-  bool ballAndStick = false;
-  double ballScale = 0.25, stickRadius = 0.15;
-  std::size_t bonds = 0;
-};
-view::ImageMetadata imageMetadata(const ImageRecord& record, const view::Camera& camera);
+// ImageRecord and imageMetadata: surftrace/image.hpp.
 
 }  // namespace surftrace::tools

@@ -13,12 +13,12 @@
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
-#include "build/io/molecule.hpp"
-#include "build/io/output_file.hpp"
-#include "build/patch_list.hpp"
 #include "commands.hpp"
 #include "view/patch_kind.hpp"
 #include "option_checks.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 
@@ -57,11 +57,7 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
                                               {"psf", MoleculeFormat::Psf}}));
 }
 
-bool isPatchListInput(const std::string& path) {
-  if (build::isPatchListFile(path)) return true;
-  const std::string ext = ".stp";
-  return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
-}
+bool isPatchListInput(const std::string& path) { return isPatchListPath(path); }
 
 namespace {
 

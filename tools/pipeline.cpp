@@ -163,25 +163,4 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   return record;
 }
 
-EncodedFiles encodeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
-                         const ImageRecord& record, const view::Camera& camera, int pngLevel) {
-  const view::ImageMetadata meta = imageMetadata(record, camera);
-  EncodedFiles files{png, exr, {}, {}};
-  if (!png.empty()) files.pngBytes = view::encodePng(png, image, meta, pngLevel);
-  if (!exr.empty()) files.exrBytes = view::encodeExr(exr, image, meta);
-  return files;
-}
-
-void writeFiles(const EncodedFiles& files) {
-  if (!files.png.empty())
-    build::writeFileAtomically(files.png, std::as_bytes(std::span<const unsigned char>(files.pngBytes)));
-  if (!files.exr.empty())
-    build::writeFileAtomically(files.exr, std::as_bytes(std::span<const unsigned char>(files.exrBytes)));
-}
-
-void writeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
-                const ImageRecord& record, const view::Camera& camera) {
-  writeFiles(encodeImage(png, exr, image, record, camera));
-}
-
 }  // namespace surftrace::tools

@@ -87,20 +87,6 @@ class FrameRenderer {
 ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, const ImageOptions& image,
                      const std::string& commandLine);
 
-// An image's files encoded in memory: `png` and/or `exr` (an empty name: not written).
-struct EncodedFiles {
-  std::string png, exr;
-  view::EncodedImage pngBytes, exrBytes;
-};
-// Stage "encode": the image to `png` and/or `exr` in memory, with its metadata; `pngLevel` is
-// zlib's level (the pixels do not depend on it).
-EncodedFiles encodeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
-                         const ImageRecord& record, const view::Camera& camera,
-                         int pngLevel = view::kDefaultPngLevel);
-// Stage "write": each encoded file whole or not at all.
-void writeFiles(const EncodedFiles& files);
-// Both stages at once.
-void writeImage(const std::string& png, const std::string& exr, const view::FrameBuffers& image,
-                const ImageRecord& record, const view::Camera& camera);
+// Stages "encode" and "write": encodeImage, writeFiles, writeImage (surftrace/image.hpp).
 
 }  // namespace surftrace::tools

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "build/io/trajectory.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
+#include "surftrace/molecule.hpp"
 
 namespace surftrace::tools {
 
@@ -83,15 +83,11 @@ build::PatchList buildWithNotes(const build::Molecule& molecule, const build::Su
 build::Molecule readInput(const std::string& path, const std::string& trajectory, std::size_t frame,
                           const build::ReadOptions& read) {
   if (trajectory.empty()) {
-    build::Molecule molecule = readingFile(path, "the atoms", [&] { return build::readMolecule(path, read); });
+    build::Molecule molecule = readingFile(path, "the atoms", [&] { return readStructure(path, read); });
     printReadNotes(molecule);
     return molecule;
   }
-  return readingFile(trajectory, "the frame", [&] {
-    build::Trajectory frames(path, trajectory, read);
-    frames.load(frame);
-    return frames.molecule();
-  });
+  return readingFile(trajectory, "the frame", [&] { return readTrajectoryFrame(path, trajectory, frame, read); });
 }
 
 }  // namespace surftrace::tools

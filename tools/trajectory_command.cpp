@@ -333,7 +333,7 @@ Flexible flexibleAtoms(const std::optional<std::string>& selection, const build:
 void frameTrajectory(ImageSetup& setup, const TrajectoryOptions& o, build::Trajectory& trajectory,
                      const std::vector<std::size_t>& frames, const build::Molecule& reference, const Flexible& flexible) {
   const build::SurfaceRequest request = o.surface.request();
-  if (setup.imported && setup.imported->hasDepthRange()) {
+  if (setup.framing.fixed && setup.framing.fixed->hasDepthRange()) {
     // --camera fixes the view and its depth range: no pass over the frames is needed.
     frameSpheres(setup, reference.centers, request.reach(reference.radii));
   } else if (o.frameCamera == "first") {

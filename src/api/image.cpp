@@ -1,0 +1,91 @@
+// Stage "write" and the record of how an image was made (surftrace/image.hpp).
+#include "surftrace/image.hpp"
+
+#include <cstdio>
+#include <span>
+
+#include <embree3/rtcore_config.h>
+#include <nlohmann/json.hpp>
+
+#include "build/io/output_file.hpp"
+#include "surftrace/version.hpp"
+
+namespace surftrace {
+namespace {
+
+// %g-style text of a number: "1024", "0.5", "1e+06".
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+}  // namespace
+
+ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
+  const std::string software = std::string("surftrace ") + version();
+  ImageMetadata meta;
+  meta["surftrace:renderer"] = r.engine == "gl" ? software + " gl: " + r.glContext
+                                                : software + " embree " + RTC_VERSION_STRING + " (double-precision patches)";
+  meta["surftrace:engine"] = r.engine;
+  meta["surftrace:camera"] = cameraToJson(camera);
+  meta["surftrace:surface"] = r.surface;
+  meta["surftrace:probe_radius"] = std::to_string(r.probeRadius);
+  if (r.shrinkFactor) meta["surftrace:shrink_factor"] = std::to_string(*r.shrinkFactor);
+  meta["surftrace:input"] = r.input;
+  if (!r.trajectory.empty()) meta["surftrace:trajectory"] = r.trajectory;
+  if (r.frame) meta["surftrace:frame"] = std::to_string(*r.frame);
+  if (r.timePs) meta["surftrace:time_ps"] = std::to_string(*r.timePs);
+  meta["surftrace:color"] = r.color;
+  // Every setting that changes pixels is recorded, so that `compare` can tell two images made
+  // alike from two made differently (it reads them back).
+  auto triple = [](const glm::dvec3& v) { return shortNumber(v.x) + "," + shortNumber(v.y) + "," + shortNumber(v.z); };
+  if (r.color == "uniform") meta["surftrace:uniform_color"] = triple(r.uniformColor);
+  meta["surftrace:background"] = triple(r.background);
+  meta["surftrace:lighting"] = nlohmann::json{{"model", "Blinn-Phong headlight"},
+                                              {"ambient", r.lighting.ambient},
+                                              {"diffuse", r.lighting.diffuse},
+                                              {"specular", r.lighting.specular},
+                                              {"shininess", r.lighting.shininess},
+                                              {"shadows", r.shadows},
+                                              {"ao_samples", r.aoSamples},
+                                              {"ao_distance", r.aoDistance}}
+                                   .dump();
+  meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);
+  meta["surftrace:command"] = r.commandLine;
+  if (r.opacity < 1.0) {
+    meta["surftrace:opacity"] = std::to_string(r.opacity);
+    meta["surftrace:max_layers"] = std::to_string(r.maxLayers);
+  }
+  if (r.effects.any()) meta["surftrace:effects"] = r.effects.json(camera);
+  if (r.ballAndStick)
+    meta["surftrace:ball_and_stick"] = "{\"ball_scale\": " + shortNumber(r.ballScale) +
+                                       ", \"stick_radius\": " + shortNumber(r.stickRadius) +
+                                       ", \"bonds\": " + std::to_string(r.bonds) + "}";
+  for (const auto& [key, value] : r.engineSettings) meta[key] = value;
+  meta["Software"] = software;
+  return meta;
+}
+
+EncodedFiles encodeImage(const std::string& png, const std::string& exr, const FrameBuffers& image,
+                         const ImageRecord& record, const Camera& camera, int pngLevel) {
+  const ImageMetadata meta = imageMetadata(record, camera);
+  EncodedFiles files{png, exr, {}, {}};
+  if (!png.empty()) files.pngBytes = view::encodePng(png, image, meta, pngLevel);
+  if (!exr.empty()) files.exrBytes = view::encodeExr(exr, image, meta);
+  return files;
+}
+
+void writeFiles(const EncodedFiles& files) {
+  if (!files.png.empty())
+    build::writeFileAtomically(files.png, std::as_bytes(std::span<const unsigned char>(files.pngBytes)));
+  if (!files.exr.empty())
+    build::writeFileAtomically(files.exr, std::as_bytes(std::span<const unsigned char>(files.exrBytes)));
+}
+
+void writeImage(const std::string& png, const std::string& exr, const FrameBuffers& image, const ImageRecord& record,
+                const Camera& camera) {
+  writeFiles(encodeImage(png, exr, image, record, camera));
+}
+
+}  // namespace surftrace
