@@ -10,15 +10,7 @@ find_package(embree 3 REQUIRED)
 find_package(OpenImageIO REQUIRED)
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
 
-# Debian bookworm's OpenImageIO target names /usr/include/opencv4, which does not exist
-# unless OpenCV's headers happen to be installed; CMake rejects a missing include path.
-foreach(_prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
-  get_target_property(_dirs OpenImageIO::OpenImageIO ${_prop})
-  if(_dirs)
-    list(FILTER _dirs EXCLUDE REGEX "opencv4")
-    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${_prop} "${_dirs}")
-  endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/OpenImageIOFix.cmake)  # its include path to opencv4
 
 # gemmi-dev is header-only and ships no CMake config; it needs PEGTL (for CIF) and zlib.
 find_path(GEMMI_INCLUDE_DIR gemmi/mmread.hpp REQUIRED)
@@ -28,6 +20,9 @@ target_include_directories(surftrace_gemmi SYSTEM INTERFACE ${GEMMI_INCLUDE_DIR}
 target_link_libraries(surftrace_gemmi INTERFACE ZLIB::ZLIB)
 
 # GMP (libgmp-dev) for the exact fallback of the SES predicates; it ships no CMake config.
+# Both targets are this build's only (src/build links them as $<BUILD_INTERFACE:...>): the
+# installed package needs no gemmi (its headers are read by .cpp files alone) and finds the GMP
+# libraries again itself, as SurfTrace::gmp (cmake/SurfTraceConfig.cmake.in).
 find_path(GMPXX_INCLUDE_DIR gmpxx.h REQUIRED)
 find_library(GMPXX_LIBRARY gmpxx REQUIRED)
 find_library(GMP_LIBRARY gmp REQUIRED)
