@@ -6,9 +6,10 @@
 #include <memory>
 #include <stdexcept>
 
-#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "surface_input.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 namespace {

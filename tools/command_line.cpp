@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "build/io/output_file.hpp"
 #include "commands.hpp"
+#include "surftrace/files.hpp"
 
 namespace surftrace::tools {
 namespace {

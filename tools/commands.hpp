@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/io/molecule.hpp"
+#include "surftrace/molecule.hpp"
 
 namespace surftrace::tools {
 

@@ -13,15 +13,10 @@
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
-#include "build/io/molecule.hpp"
-#include "build/patch_list.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "surftrace/camera.hpp"
 #include "surftrace/image.hpp"
-#include "view/camera.hpp"
-#include "view/image_io.hpp"
-#include "view/render_options.hpp"
 
 namespace surftrace::tools {
 

@@ -14,9 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "view/patch_kind.hpp"
 #include "option_checks.hpp"
 #include "surftrace/files.hpp"
+#include "surftrace/image.hpp"
 #include "surftrace/molecule.hpp"
 #include "surftrace/surface.hpp"
 

@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 
-#include "build/surface.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 

@@ -6,9 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "build/io/molecule.hpp"
-#include "build/patch_list.hpp"
 #include "surface_options.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 

@@ -12,9 +12,8 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
-#include "build/io/molecule.hpp"
-#include "build/patch_list.hpp"
-#include "build/surface.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 

@@ -18,6 +18,7 @@
 #include "view/frame_buffers.hpp"
 #include "view/image_effects.hpp"
 #include "view/image_io.hpp"
+#include "view/patch_kind.hpp"
 #include "view/render_options.hpp"
 #include "view/shading.hpp"
 
@@ -33,6 +34,9 @@ using view::RenderOptions;
 using view::applyImageEffects;  // silhouettes, creases, depth darkening and cueing, on any engine's buffers
 using view::atomColors;         // (molecule, scheme, uniform colour) -> one colour per atom
 using view::parseColorMode;
+using view::PatchKind;       // what each pixel shows: the patch kinds, stored in EXRs
+using view::kPatchKinds;
+using view::patchCount;      // (patch list, kind) -> how many patches of that kind
 using view::readExr;            // an EXR's buffers and metadata, as writeImage wrote them
 
 // What an image records about how it was made: its metadata (surftrace:* keys), for `compare`

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "build/io/error.hpp"
+#include "build/io/atom_selection.hpp"
 #include "build/io/molecule.hpp"
 #include "build/io/trajectory.hpp"
 
@@ -17,6 +18,7 @@ using build::Molecule;
 using build::MoleculeFormat;
 using build::ReadOptions;
 using build::Trajectory;
+using build::selectAtoms;  // (molecule, "protein and not name H*") -> the indices of the atoms selected
 
 // A structure file (PDB, mmCIF, PQR, XYZR, XYZ, GRO; gzipped too). What the reader assumed
 // where the file was odd but readable is in Molecule::notes. Throws InputError naming the file,
