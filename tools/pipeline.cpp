@@ -6,10 +6,9 @@
 #include <cstdlib>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 #include "build/io/output_file.hpp"
-#include "build/io/trajectory.hpp"
-#include "build/mss/mss_builder.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "view/image_io.hpp"
