@@ -1,7 +1,7 @@
 // The stages `render` and `trajectory` share, in the order an image is made:
 //
 //   read (a structure, a trajectory frame)  ->  atoms with radii  ->  build or update the surface
-//   ->  frame the camera (image_options.hpp)  ->  render (FrameRenderer)  ->  write (writeImage)
+//   ->  frame the camera (image_options.hpp)  ->  render (an Engine: surftrace/engine.hpp)  ->  write (writeImage)
 //
 // `render` runs each stage once; `trajectory` frames once and runs the others per frame inside
 // its TBB pipeline. Each stage is here once, so that an option added to one (an engine, a
@@ -24,6 +24,7 @@
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
 #include "image_options.hpp"
+#include "surftrace/engine.hpp"
 #include "surface_options.hpp"
 #include "view/frame_buffers.hpp"
 #include "view/image_io.hpp"
@@ -45,42 +46,10 @@ struct BallAndStick {
   void describe(ImageRecord& record) const;
 };
 
-// --engine and the GL engine's own options.
-struct EngineOptions {
-  std::string engine = "embree";
-  std::string glTorus = "quartic";
-  std::string glPrimitive = "box";
-  int glSteps = 30;
-};
-void addEngineOptions(CLI::App& cmd, EngineOptions& options);
-// std::invalid_argument when the engine cannot draw what the image options ask for.
-void checkEngineCanDraw(const EngineOptions& engine, const ImageOptions& image);
-
-// Stage "render": draws patch lists with one engine. Embree keeps one device for every frame;
-// GL opens its headless context on first use, in the thread that draws.
-class FrameRenderer {
- public:
-  explicit FrameRenderer(EngineOptions options);
-  ~FrameRenderer();
-  FrameRenderer(const FrameRenderer&) = delete;
-  FrameRenderer& operator=(const FrameRenderer&) = delete;
-
-  // `bar`, when given, shows the progress of one frame. The atoms (`centers`, `radii`: all or
-  // none) let a transparent frame hide the parts of the SES spheres that buried atoms cover.
-  // `model`, when given, is drawn opaque with the surface; options.opacity 0 leaves the surface out.
-  view::FrameBuffers render(const build::PatchList& list, const view::RenderOptions& options,
-                            std::span<const glm::vec3> atomColors, ProgressBar* bar = nullptr,
-                            std::span<const glm::dvec3> centers = {}, std::span<const double> radii = {},
-                            const build::BallStickModel* model = nullptr);
-  // The engine, its context and its own settings, into the image's record.
-  void describe(ImageRecord& record) const;
-  // Seconds the last frame spent building its acceleration structure (Embree; 0 for GL).
-  double sceneSeconds() const;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
+// --engine and the GL engine's own options, into the library's EngineOptions.
+void addEngineOptions(CLI::App& cmd, view::EngineOptions& options);
+// The engine's name, context and settings into the image's record.
+void describeEngine(const view::Engine& engine, ImageRecord& record);
 
 // What an image of `input` records about the surface and the options that made it; frame,
 // time and engine are filled by the stages that know them.

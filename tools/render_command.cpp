@@ -30,7 +30,7 @@ struct RenderCommandOptions {
   int frame = 0;
   CLI::Option* frameOption = nullptr;
   ImageOptions image;
-  EngineOptions engine;
+  view::EngineOptions engine;
   std::string output, exr;
   int threads = 0;
   bool quiet = false;
@@ -38,9 +38,9 @@ struct RenderCommandOptions {
 };
 
 // Every option is checked before the slow work starts, the output paths too.
-void checkRenderOptions(const RenderCommandOptions& o, bool fromPatchList) {
+void checkRenderOptions(const RenderCommandOptions& o, const view::RenderOptions& render, bool fromPatchList) {
   if (o.output.empty() && o.exr.empty()) throw std::invalid_argument("nothing to write: give -o OUT.png and/or --exr OUT.exr");
-  checkEngineCanDraw(o.engine, o.image);
+  view::checkEngineCanDraw(o.engine, render);
   if (!o.output.empty()) view::checkImageOutputName(o.output, "-o", view::ImageContent::Colour);
   if (!o.exr.empty()) view::checkImageOutputName(o.exr, "--exr", view::ImageContent::Buffers);
   if (!o.output.empty()) build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
@@ -162,7 +162,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
   }
   std::printf("%s: %zu atoms, %s, %zu patches (%s); engine %s\n", o.path.c_str(),
               static_cast<std::size_t>(list.params.atomCount), build::surfaceKindName(list.params.surface),
-              list.patchCount(), counts.c_str(), o.engine.engine.c_str());
+              list.patchCount(), counts.c_str(), view::engineKindName(o.engine.kind));
   if (!o.trajectory.empty()) std::printf("frame %d of %s\n", o.frame, o.trajectory.c_str());
   std::printf("read %.1f ms, surface %.1f ms, scene %.1f ms, frame %.1f ms (%dx%d, %s, %.2f Mrays/s), %.1f%% covered\n",
               readSeconds * 1e3, buildSeconds * 1e3, sceneSeconds * 1e3, frame.seconds * 1e3, frame.width,
@@ -175,9 +175,9 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
 
 void runRender(const RenderCommandOptions& o) {
   const bool fromPatchList = isPatchListInput(o.path);
-  checkRenderOptions(o, fromPatchList);
-  const auto limit = limitThreads(o.threads);
   ImageSetup setup = resolveImageOptions(o.image);
+  checkRenderOptions(o, setup.render, fromPatchList);
+  const auto limit = limitThreads(o.threads);
   build::Molecule molecule;
   double readSeconds = 0.0, buildSeconds = 0.0;
   const build::PatchList list = readAndBuild(o, fromPatchList, molecule, readSeconds, buildSeconds);
@@ -189,15 +189,17 @@ void runRender(const RenderCommandOptions& o) {
   const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
   const build::BallStickModel model =
       ballAndStick.on ? ballAndStick.model(molecule.centers, molecule.radii) : build::BallStickModel();
-  FrameRenderer renderer(o.engine);
-  ProgressBar bar(!o.quiet && o.engine.engine == "embree", "rendering");
-  const view::FrameBuffers frame =
-      renderer.render(list, setup.render, colors, &bar, molecule.centers, molecule.radii, &model);
+  const std::unique_ptr<view::Engine> engine = makeEngine(o.engine);
+  // GL reports no progress: its frame is one draw.
+  ProgressBar bar(!o.quiet && o.engine.kind == view::EngineKind::Embree, "rendering");
+  view::Frame request{&list, molecule.centers, molecule.radii, colors, &model, setup.render};
+  request.options.progress = [&bar](double f) { bar.update(f); };
+  const view::FrameBuffers frame = engine->render(request);
   ImageRecord record = recordOfRender(o, list, fromPatchList);
-  renderer.describe(record);
+  describeEngine(*engine, record);
   ballAndStick.describe(record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);
-  printRenderSummary(o, list, frame, readSeconds, buildSeconds, renderer.sceneSeconds());
+  printRenderSummary(o, list, frame, readSeconds, buildSeconds, engine->sceneSeconds());
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -40,8 +41,6 @@
 #include "image_options.hpp"
 #include "option_checks.hpp"
 #include "pipeline.hpp"
-#include "trace/patch_scene.hpp"
-#include "trace/render.hpp"
 #include "trajectory_plan.hpp"
 #include "view/atom_colors.hpp"
 #include "view/camera.hpp"
@@ -57,6 +56,7 @@ struct TrajectoryOptions {
   build::ReadOptions read;
   SurfaceOptions surface;
   ImageOptions image;
+  view::EngineOptions engine;
   std::string output, exr;
   std::string frames;
   std::string frameCamera = "all";
@@ -246,7 +246,7 @@ struct Work {
   double readMs = 0.0, buildMs = 0.0, sceneMs = 0.0, renderMs = 0.0, encodeMs = 0.0, writeMs = 0.0;
   std::size_t moved = 0, recomputed = 0, patches = 0;
   build::PatchList list;
-  std::vector<glm::dvec3> centers;  // the frame's atoms, for a transparent frame (FrameRenderer::render)
+  std::vector<glm::dvec3> centers;  // the frame's atoms, for a transparent frame (view::Frame)
   build::BallStickModel model;      // --ball-and-stick: the frame's (the topology's bonds)
   view::FrameBuffers image;
 };
@@ -419,10 +419,10 @@ class FrameLoop {
             const Flexible& flexible, const ImageSetup& setup, std::vector<glm::vec3> colors, const Outputs& out)
       : o_(o), trajectory_(trajectory), reference_(reference), flexible_(flexible), setup_(setup),
         colors_(std::move(colors)), out_(out), builder_(o.surface.request()), current_(reference),
-        renderer_(EngineOptions{}), timings_(o.timings, o.resume), ballAndStick_(BallAndStick::of(o.image, reference)) {
+        engine_(makeEngine(o.engine)), timings_(o.timings, o.resume),
+        ballAndStick_(BallAndStick::of(o.image, reference)) {
     record_ = recordOf(o.surface, o.topology, o.image, o.commandLine);
     record_.trajectory = o.trajectory;
-    renderer_.describe(record_);
     ballAndStick_.describe(record_);
   }
 
@@ -448,7 +448,8 @@ class FrameLoop {
   build::SurfaceBuilder builder_;
   build::Molecule current_;
   bool built_ = false;
-  FrameRenderer renderer_;
+  const std::unique_ptr<view::Engine> engine_;
+  bool described_ = false;  // record_ holds the engine's description (after the first frame)
   TimingsFile timings_;
   const BallAndStick ballAndStick_;  // bonds of the reference frame, once, for every frame
   ImageRecord record_;
@@ -488,9 +489,19 @@ std::shared_ptr<Work> FrameLoop::readAndBuild(std::size_t frame) {
 
 void FrameLoop::render(Work& w) {
   const auto t = std::chrono::steady_clock::now();
-  w.image = renderer_.render(w.list, setup_.render, colors_, nullptr, w.centers, current_.radii, &w.model);
-  w.sceneMs = renderer_.sceneSeconds() * 1e3;
+  // The atoms' radii do not change from frame to frame (the next frame's read changes the
+  // centres alone, which w.centers copied).
+  const std::span<const double> radii = w.centers.empty() ? std::span<const double>() : current_.radii;
+  w.image = engine_->render({&w.list, w.centers, radii, colors_, &w.model, setup_.render});
+  w.sceneMs = engine_->sceneSeconds() * 1e3;
   w.renderMs = millisecondsSince(t) - w.sceneMs;
+  // The engine's description into every frame's record, once, after the first frame (GL's
+  // context opens with it). This stage is serial and frame k is written only after this stage
+  // has drawn it, so every write reads record_ after this, and no write runs beside it.
+  if (!described_) {
+    describeEngine(*engine_, record_);
+    described_ = true;
+  }
   w.list = build::PatchList();
 }
 
@@ -627,6 +638,7 @@ void runTrajectory(const TrajectoryOptions& o) {
   const Shard shard = shardFromEnvironment(o.shard);
   const Outputs out = checkOutputs(o, shard);
   ImageSetup setup = resolveImageOptions(o.image);
+  view::checkEngineCanDraw(o.engine, setup.render);
   const auto limit = limitThreads(o.threads);
   const auto start = std::chrono::steady_clock::now();
   build::Trajectory trajectory = readingFile(
@@ -738,6 +750,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
                   "from 0 in --frames order), so that n shards write each selected frame once. Without it, a Slurm "
                   "array task's SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT choose the shard");
   addImageOptions(*cmd, o->image);
+  addEngineOptions(*cmd, o->engine);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(wholeIn(0, 4096));
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no per-frame lines");

@@ -42,8 +42,8 @@ using view::readExr;            // an EXR's buffers and metadata, as writeImage 
 // What an image records about how it was made: its metadata (surftrace:* keys), for `compare`
 // and for people. The one place `render`, `trajectory` and programs write it.
 struct ImageRecord {
-  std::string engine;      // "embree" or "gl"
-  std::string glContext;   // the GL context's description, for engine "gl"
+  std::string engine;      // "embree" or "gl" (EngineDescription::name)
+  std::string renderer;    // the engine and its version or context (EngineDescription::renderer)
   std::vector<std::pair<std::string, std::string>> engineSettings;  // the engine's own, as metadata keys
   std::string surface;     // "ses", "mss", "vdw" or "sas"
   double probeRadius = 0;

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <span>
 
-#include <embree3/rtcore_config.h>
 #include <nlohmann/json.hpp>
 
 #include "build/io/output_file.hpp"
@@ -25,8 +24,7 @@ std::string shortNumber(double v) {
 ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
   const std::string software = std::string("surftrace ") + version();
   ImageMetadata meta;
-  meta["surftrace:renderer"] = r.engine == "gl" ? software + " gl: " + r.glContext
-                                                : software + " embree " + RTC_VERSION_STRING + " (double-precision patches)";
+  meta["surftrace:renderer"] = r.renderer.empty() ? software : software + " " + r.renderer;
   meta["surftrace:engine"] = r.engine;
   meta["surftrace:camera"] = cameraToJson(camera);
   meta["surftrace:surface"] = r.surface;

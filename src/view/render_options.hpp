@@ -34,7 +34,7 @@ struct RenderOptions {
   // kPixelSilhouette and kPixelOcclusion flags, from rays through the pixels' corners: one
   // more ray per pixel). Embree only; the GL path leaves them out.
   bool referenceMasks = false;
-  // Image-space effects, applied after the engine by the pipeline (tools/pipeline.hpp), not by
+  // Image-space effects, applied after the engine by Engine::render (view/engine.hpp), not by
   // the engines: every engine's frame gets the same pass.
   ImageEffects effects;
   // The side k of the k×k grid of colour samples a pixel gets: samplesPerPixel rounded up to a

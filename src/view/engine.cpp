@@ -1,0 +1,45 @@
+// The rules every engine follows (engine.hpp).
+#include "view/engine.hpp"
+
+#include <stdexcept>
+
+#include "view/image_effects.hpp"
+
+namespace surftrace::view {
+
+FrameBuffers Engine::render(const Frame& asked) {
+  if (!asked.surface) throw std::invalid_argument("Engine::render: the frame has no patch list (Frame::surface is null)");
+  if (asked.centers.size() != asked.radii.size())
+    throw std::invalid_argument("Engine::render: " + std::to_string(asked.centers.size()) + " atom centres but " +
+                                std::to_string(asked.radii.size()) + " radii: give both for every atom, or neither");
+  Frame frame = asked;
+  // Opacity 0 is no surface at all: the model alone, drawn opaque. The engine sees an empty
+  // list (of the same surface) at opacity 1, so that no engine needs a case of its own.
+  build::PatchList empty;
+  if (frame.options.opacity == 0.0) {
+    empty.params = asked.surface->params;
+    frame.surface = &empty;
+    frame.options.opacity = 1.0;
+  }
+  if (frame.model && frame.model->empty()) frame.model = nullptr;
+  FrameBuffers buffers = draw(frame);
+  // The one place the image-space effects run: on the buffers, whichever engine filled them.
+  applyImageEffects(buffers, frame.options.effects, frame.options.camera, frame.options.background);
+  return buffers;
+}
+
+EngineKind parseEngineKind(const std::string& name) {
+  if (name == "embree") return EngineKind::Embree;
+  if (name == "gl") return EngineKind::Gl;
+  throw std::invalid_argument("unknown engine '" + name + "': use embree or gl");
+}
+
+const char* engineKindName(EngineKind kind) { return kind == EngineKind::Gl ? "gl" : "embree"; }
+
+void checkEngineCanDraw(const EngineOptions& engine, const RenderOptions& options) {
+  if (engine.kind == EngineKind::Gl && (options.samplesPerPixel > 1 || options.shadows || options.aoSamples > 0))
+    throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
+                                "--spp/--shadows/--ao or use --engine embree");
+}
+
+}  // namespace surftrace::view
