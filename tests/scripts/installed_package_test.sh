@@ -3,7 +3,7 @@
 # prefix, examples/cpp configured and built there against find_package(SurfTrace) alone (no
 # path into the source or build tree), then run on 1CRN. Its SES area must be the one
 # `surftrace area --format json` prints, to the last digit, and its PNG a 256x256 image with
-# something drawn in it.
+# something drawn in it, the pixels of `surftrace render` with the same choices.
 #   installed_package_test.sh SOURCE_DIR BUILD_DIR SURFTRACE CXX_COMPILER BUILD_TYPE CXX_FLAGS EXE_LINKER_FLAGS
 set -euo pipefail
 source_dir=$1 build_dir=$2 surftrace=$3 compiler=$4 build_type=$5 cxx_flags=${6-} linker_flags=${7-}
@@ -55,4 +55,8 @@ PY
 info=$(iinfo --stats "$work/1crn.png") || fail "the example's PNG is not an image iinfo can read"
 grep -q ": *256 x *256," <<<"$info" || fail "the example's PNG is not 256x256: $info"
 grep -q "Constant: No" <<<"$info" || fail "the example's PNG is one colour (nothing drawn): $info"
-echo "the example's PNG is a 256x256 image with the surface drawn in it"
+# The library through the installed package draws what the program draws from the same choices.
+"$surftrace" render "$structure" -o "$work/cli.png" --size 256x256 --color element >/dev/null
+hashes=$(iinfo --hash "$work/1crn.png" "$work/cli.png" | grep -o 'SHA-1: .*' | sort -u | wc -l)
+[ "$hashes" -eq 1 ] || fail "the example's pixels differ from \`surftrace render --size 256x256 --color element\`'s"
+echo "the example's PNG is a 256x256 image of the surface, pixel for pixel \`surftrace render\`'s"
