@@ -9,7 +9,6 @@
 #include <memory>
 #include <vector>
 
-#include <surftrace/engine.hpp>
 #include <surftrace/surftrace.hpp>
 
 int main(int argc, char** argv) {
