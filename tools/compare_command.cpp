@@ -20,7 +20,7 @@
 #include "view/foreign_buffers.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
-#include "render_settings.hpp"
+#include "view/render_settings.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -386,13 +386,13 @@ view::CompareThresholds limitsOf(const CompareOptions& o, const std::string& pre
 // settings).
 bool checkSettings(const CompareOptions& o, const view::ImageMetadata& test, const view::ImageMetadata& ref,
                    std::string& lines) {
-  const SettingsComparison s = compareSettings(test, ref);
+  const view::SettingsComparison s = view::compareSettings(test, ref);
   if (!s.differences.empty() && !o.ignoreSettings)
     throw std::invalid_argument(o.test + " and " + o.reference + " were rendered with different settings (their surftrace: "
-                                "metadata): " + describe(s.differences) +
+                                "metadata): " + view::describe(s.differences) +
                                 ". Compare renderings made with the same settings, or pass --ignore-settings (the "
                                 "preset's colour limit is then not applied)");
-  if (!s.differences.empty()) lines += "settings  differ (--ignore-settings): " + describe(s.differences) + "\n";
+  if (!s.differences.empty()) lines += "settings  differ (--ignore-settings): " + view::describe(s.differences) + "\n";
   auto list = [](const std::vector<std::string>& names) {
     std::string text;
     for (const auto& n : names) {
