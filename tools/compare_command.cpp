@@ -1,8 +1,8 @@
 // `surftrace compare`: two renderings of one view, pixel by pixel, with pass/fail limits; the
 // rendering under test may be SurfTrace's EXR or another renderer's depth and normal buffers.
 #include <cmath>
-#include <iterator>
 #include <cstdio>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -48,14 +48,15 @@ struct LimitsExceeded : std::runtime_error {
 };
 
 // The rendering under test as the flags say: SurfTrace's own EXR, or another renderer's buffers
-// when a flag says so or TEST lacks SurfTrace's channels.
+// when a flag says so or TEST lacks SurfTrace's channels. Each file is read under readingFile, so
+// that one too large for memory is named.
 CompareTest readTest(const CompareOptions& o) {
   if (!o.foreignFlags() && view::hasFrameBufferChannels(o.test))
     return readingFile(o.test, "the image", [&] { return readSurfTraceTest(o.test); });
   CompareTest test;
   test.name = o.test;
   test.foreign = ForeignBuffers{readingFile(o.test, "the image", [&] { return view::readImageChannels(o.test); }),
-                                      std::nullopt, foreignOptions(o)};
+                                std::nullopt, foreignOptions(o)};
   if (!o.testNormal.empty())
     test.foreign->normals = readingFile(o.testNormal, "the image", [&] { return view::readImageChannels(o.testNormal); });
   return test;

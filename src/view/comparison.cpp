@@ -334,7 +334,12 @@ CompareTest readCompareTest(const std::string& path, const std::optional<Foreign
   return readSurfTraceTest(path);
 }
 
-CompareResult compare(const CompareTest& test, const CompareReference& reference, const CompareSettings& settings) {
+namespace {
+
+// compare, taking the test's SurfTrace buffers from `frame` (a copy of test.frame, or test.frame
+// itself moved in).
+CompareResult compareWith(FrameBuffers&& frame, const CompareTest& test, const CompareReference& reference,
+                          const CompareSettings& settings) {
   const FrameBuffers& ref = reference.frame;
   const Camera* camera = reference.camera ? &*reference.camera : nullptr;
   CompareResult r;
@@ -364,7 +369,7 @@ CompareResult compare(const CompareTest& test, const CompareReference& reference
     r.testDescription = std::move(reading.description);
     r.testDetails = std::move(reading.details);
   } else {
-    r.testFrame = test.frame;
+    r.testFrame = std::move(frame);
     r.testDescription = test.metadata.count("surftrace:renderer") ? test.metadata.at("surftrace:renderer") : "?";
   }
   if (r.testFrame.width != ref.width || r.testFrame.height != ref.height)
@@ -409,6 +414,17 @@ CompareResult compare(const CompareTest& test, const CompareReference& reference
       if (!hint.empty()) r.hints.push_back(std::move(hint));
   }
   return r;
+}
+
+}  // namespace
+
+CompareResult compare(const CompareTest& test, const CompareReference& reference, const CompareSettings& settings) {
+  return compareWith(test.foreign ? FrameBuffers{} : FrameBuffers(test.frame), test, reference, settings);
+}
+
+CompareResult compare(CompareTest&& test, const CompareReference& reference, const CompareSettings& settings) {
+  FrameBuffers frame = std::move(test.frame);
+  return compareWith(std::move(frame), test, reference, settings);
 }
 
 std::string CompareResult::verdict() const {

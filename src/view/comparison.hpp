@@ -119,6 +119,8 @@ struct CompareResult {
 // renderer's buffers, or a depth value is impossible in its declared convention (with a hint
 // at the convention that reads it).
 CompareResult compare(const CompareTest& test, const CompareReference& reference, const CompareSettings& settings = {});
+// The same, moving the test's SurfTrace buffers into the result rather than copying them.
+CompareResult compare(CompareTest&& test, const CompareReference& reference, const CompareSettings& settings = {});
 
 // The difference image (RGB, row 0 at the top, the reference's size; colours as
 // kDifferenceLegend says), scaled to the limits the result was judged by.
