@@ -34,11 +34,10 @@ struct CompareOptions {
 ForeignBufferOptions foreignOptions(const CompareOptions& o) {
   ForeignBufferOptions f;
   f.depthChannel = o.depthChannel;
-  if (o.depthConvention == "view-z") f.depthConvention = DepthConvention::ViewZ;
-  if (o.depthConvention == "ray") f.depthConvention = DepthConvention::Ray;
-  if (o.testOrigin == "top-left") f.origin = RowOrigin::TopLeft;
-  if (o.normalSpace == "world") f.normalSpace = NormalSpace::World;
-  if (o.normalEncoding == "unorm") f.normalEncoding = NormalEncoding::Unorm;
+  if (!o.depthConvention.empty()) f.depthConvention = depthConventionNamed(o.depthConvention);
+  if (!o.testOrigin.empty()) f.origin = rowOriginNamed(o.testOrigin);
+  if (!o.normalSpace.empty()) f.normalSpace = normalSpaceNamed(o.normalSpace);
+  if (!o.normalEncoding.empty()) f.normalEncoding = normalEncodingNamed(o.normalEncoding);
   return f;
 }
 

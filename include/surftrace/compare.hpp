@@ -22,6 +22,10 @@ using view::ForeignBufferOptions;
 using view::NormalEncoding;
 using view::NormalSpace;
 using view::RowOrigin;
+using view::depthConventionNamed;
+using view::normalEncodingNamed;
+using view::normalSpaceNamed;
+using view::rowOriginNamed;
 // Reading them from files or memory.
 using view::compareReference;
 using view::memoryChannels;

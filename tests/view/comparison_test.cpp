@@ -126,6 +126,27 @@ TEST(Comparison, SurfTraceBuffersInMemoryAgainstThemselvesPassExact) {
   EXPECT_FALSE(compare(same, reference(), strict).passed());
 }
 
+// The conventions by the names the command line's flags and the Python module's keywords take.
+TEST(Comparison, ConventionsByName) {
+  EXPECT_EQ(depthConventionNamed("window"), DepthConvention::Window);
+  EXPECT_EQ(depthConventionNamed("view-z"), DepthConvention::ViewZ);
+  EXPECT_EQ(depthConventionNamed("ray"), DepthConvention::Ray);
+  EXPECT_EQ(rowOriginNamed("bottom-left"), RowOrigin::BottomLeft);
+  EXPECT_EQ(rowOriginNamed("top-left"), RowOrigin::TopLeft);
+  EXPECT_EQ(normalSpaceNamed("view"), NormalSpace::View);
+  EXPECT_EQ(normalSpaceNamed("world"), NormalSpace::World);
+  EXPECT_EQ(normalEncodingNamed("signed"), NormalEncoding::Signed);
+  EXPECT_EQ(normalEncodingNamed("snorm"), NormalEncoding::Signed);
+  EXPECT_EQ(normalEncodingNamed("unorm"), NormalEncoding::Unorm);
+  try {
+    depthConventionNamed("viewz");
+    FAIL() << "no error for an unknown name";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown depth convention 'viewz': expected one of window, view-z, ray");
+  }
+  EXPECT_THROW(rowOriginNamed("top"), std::invalid_argument);
+}
+
 TEST(Comparison, BuffersThatDoNotFitAreErrorsNamingThem) {
   EXPECT_THROW(memoryChannels("depth", 4, 4, {"Z"}, std::vector<float>(15)), std::invalid_argument);
   const FrameBuffers& f = reference().frame;
