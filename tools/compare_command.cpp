@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "surftrace/compare.hpp"
-#include "view/image_io.hpp"
+#include "surftrace/files.hpp"
+#include "view/image_io.hpp"  // checkImageOutputName
 
 namespace surftrace::tools {
 namespace {
@@ -50,14 +50,14 @@ struct LimitsExceeded : std::runtime_error {
 // when a flag says so or TEST lacks SurfTrace's channels. Each file is read under readingFile, so
 // that one too large for memory is named.
 CompareTest readTest(const CompareOptions& o) {
-  if (!o.foreignFlags() && view::hasFrameBufferChannels(o.test))
+  if (!o.foreignFlags() && hasFrameBufferChannels(o.test))
     return readingFile(o.test, "the image", [&] { return readSurfTraceTest(o.test); });
   CompareTest test;
   test.name = o.test;
-  test.foreign = ForeignBuffers{readingFile(o.test, "the image", [&] { return view::readImageChannels(o.test); }),
+  test.foreign = ForeignBuffers{readingFile(o.test, "the image", [&] { return readImageChannels(o.test); }),
                                 std::nullopt, foreignOptions(o)};
   if (!o.testNormal.empty())
-    test.foreign->normals = readingFile(o.testNormal, "the image", [&] { return view::readImageChannels(o.testNormal); });
+    test.foreign->normals = readingFile(o.testNormal, "the image", [&] { return readImageChannels(o.testNormal); });
   return test;
 }
 
@@ -77,22 +77,22 @@ CompareSettings settingsOf(const CompareOptions& o) {
 }
 
 void runCompare(const CompareOptions& o) {
-  if (!o.report.empty()) build::prepareOutputPath(o.report, "--report");
+  if (!o.report.empty()) prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
-  if (!o.diff.empty()) build::prepareOutputPath(o.diff, "--diff", build::OutputContent::Binary);
-  if (!o.html.empty()) build::prepareOutputPath(o.html, "--html");
+  if (!o.diff.empty()) prepareOutputPath(o.diff, "--diff", OutputContent::Binary);
+  if (!o.html.empty()) prepareOutputPath(o.html, "--html");
   const CompareReference ref =
       readingFile(o.reference, "the image", [&] { return readCompareReference(o.reference); });
   const CompareResult r = surftrace::compare(readTest(o), ref, settingsOf(o));
   std::printf("%s", r.settingsLines.c_str());
   std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), r.testDescription.c_str(),
               r.testDetails.c_str(), o.reference.c_str(), r.referenceDescription.c_str(), r.figures.summary().c_str());
-  if (!o.report.empty()) build::writeFileAtomically(o.report, r.json() + "\n");
+  if (!o.report.empty()) writeFileAtomically(o.report, r.json() + "\n");
   if (!r.presetChoice.empty()) std::printf("%s\n", r.presetChoice.c_str());
   std::vector<float> diff;
   if (!o.diff.empty() || !o.html.empty()) diff = differenceImage(r, ref);
   if (!o.diff.empty()) writeDifference(o.diff, r, diff);
-  if (!o.html.empty()) build::writeFileAtomically(o.html, comparisonPage(r, ref, diff));
+  if (!o.html.empty()) writeFileAtomically(o.html, comparisonPage(r, ref, diff));
   if (r.passed()) {
     std::printf("%s\n", r.verdict().c_str());
     return;
@@ -190,7 +190,7 @@ void addCompareCommand(CLI::App& app) {
       runCompare(*o);
     } catch (const LimitsExceeded& e) {
       std::printf("%s\n", e.what());
-      build::finishStandardOutput();  // a closed pipe is an error (1), not a verdict (2)
+      finishStandardOutput();  // a closed pipe is an error (1), not a verdict (2)
       std::exit(2);
     }
   });

@@ -28,7 +28,9 @@ using view::normalSpaceNamed;
 using view::rowOriginNamed;
 // Reading them from files or memory.
 using view::compareReference;
+using view::hasFrameBufferChannels;  // whether a file is SurfTrace's EXR or another renderer's buffers
 using view::memoryChannels;
+using view::readImageChannels;       // another renderer's buffer from any file OpenImageIO reads
 using view::readCompareReference;
 using view::readCompareTest;
 using view::readForeignTest;
