@@ -10,6 +10,7 @@
 #pragma once
 
 #include "surftrace/camera.hpp"
+#include "surftrace/compare.hpp"
 #include "surftrace/engine.hpp"
 #include "surftrace/files.hpp"
 #include "surftrace/image.hpp"

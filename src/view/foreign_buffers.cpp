@@ -73,6 +73,38 @@ const char* originName(RowOrigin o) { return o == RowOrigin::BottomLeft ? "botto
 const char* spaceName(NormalSpace s) { return s == NormalSpace::View ? "view" : "world"; }
 const char* encodingName(NormalEncoding e) { return e == NormalEncoding::Signed ? "signed" : "unorm"; }
 
+namespace {
+
+// The value of `values` whose name (by `nameOf`) is `name`; `what` names the setting in the error.
+template <class Enum, std::size_t N>
+Enum named(const std::string& name, const char* what, const Enum (&values)[N], const char* (*nameOf)(Enum)) {
+  std::string known;
+  for (const Enum v : values) {
+    if (name == nameOf(v)) return v;
+    known += std::string(known.empty() ? "" : ", ") + nameOf(v);
+  }
+  throw std::invalid_argument("unknown " + std::string(what) + " '" + name + "': expected one of " + known);
+}
+
+}  // namespace
+
+DepthConvention depthConventionNamed(const std::string& name) {
+  static constexpr DepthConvention kAll[] = {DepthConvention::Window, DepthConvention::ViewZ, DepthConvention::Ray};
+  return named(name, "depth convention", kAll, conventionName);
+}
+RowOrigin rowOriginNamed(const std::string& name) {
+  static constexpr RowOrigin kAll[] = {RowOrigin::BottomLeft, RowOrigin::TopLeft};
+  return named(name, "row origin", kAll, originName);
+}
+NormalSpace normalSpaceNamed(const std::string& name) {
+  static constexpr NormalSpace kAll[] = {NormalSpace::View, NormalSpace::World};
+  return named(name, "normal space", kAll, spaceName);
+}
+NormalEncoding normalEncodingNamed(const std::string& name) {
+  static constexpr NormalEncoding kAll[] = {NormalEncoding::Signed, NormalEncoding::Unorm};
+  return named(name == "snorm" ? std::string("signed") : name, "normal encoding", kAll, encodingName);
+}
+
 DepthToRay::DepthToRay(const Camera& camera, DepthConvention convention) : frame_(camera.frame()), convention_(convention) {
   if (convention != DepthConvention::Window) return;
   if (!camera.hasDepthRange())

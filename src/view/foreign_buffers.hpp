@@ -31,6 +31,12 @@ const char* conventionName(DepthConvention c);  // "window", "view-z", "ray": th
 const char* originName(RowOrigin o);            // "bottom-left", "top-left"
 const char* spaceName(NormalSpace s);           // "view", "world"
 const char* encodingName(NormalEncoding e);     // "signed", "unorm"
+// The other way round, for a program that takes the names (the Python module's keywords): throw
+// std::invalid_argument naming the value and the names known. "snorm" is "signed".
+DepthConvention depthConventionNamed(const std::string& name);
+RowOrigin rowOriginNamed(const std::string& name);
+NormalSpace normalSpaceNamed(const std::string& name);
+NormalEncoding normalEncodingNamed(const std::string& name);
 
 // How to read another renderer's buffers.
 struct ForeignBufferOptions {

@@ -1,4 +1,4 @@
-// The render settings an image records in its metadata (imageMetadata, image_options.hpp), read
+// The render settings an image records in its metadata (imageMetadata, tools/image_options.hpp), read
 // back so that `compare` can tell two images made alike from two made differently.
 #pragma once
 
@@ -7,7 +7,7 @@
 
 #include "view/image_io.hpp"
 
-namespace surftrace::tools {
+namespace surftrace::view {
 
 // One setting that changes pixels, as the two images record it (canonical text: numbers
 // rounded to 6 digits, JSON re-serialised).
@@ -27,9 +27,9 @@ struct SettingsComparison {
 // background, lighting (headlight terms, shadows, ambient occlusion), samples per pixel,
 // opacity (and layers), image-space effects and the ball-and-stick model. Opacity, effects and
 // the model are recorded only when they are on, so their absence means opaque, none, none.
-SettingsComparison compareSettings(const view::ImageMetadata& test, const view::ImageMetadata& reference);
+SettingsComparison compareSettings(const ImageMetadata& test, const ImageMetadata& reference);
 
 // "colour scheme: test element, reference patch; background: ..."
 std::string describe(const std::vector<SettingDifference>& differences);
 
-}  // namespace surftrace::tools
+}  // namespace surftrace::view

@@ -1,5 +1,5 @@
 // The render settings an image's metadata records, compared between two images (render_settings.hpp).
-#include "render_settings.hpp"
+#include "view/render_settings.hpp"
 
 #include <cstdio>
 #include <functional>
@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-namespace surftrace::tools {
+namespace surftrace::view {
 namespace {
 
-std::optional<std::string> recorded(const view::ImageMetadata& meta, const std::string& key) {
+std::optional<std::string> recorded(const ImageMetadata& meta, const std::string& key) {
   const auto it = meta.find(key);
   if (it == meta.end()) return std::nullopt;
   return it->second;
@@ -43,14 +43,14 @@ std::string canonicalJson(const std::string& text) {
 // does not record it.
 struct Setting {
   const char* name;
-  std::function<std::optional<std::string>(const view::ImageMetadata&)> read;
+  std::function<std::optional<std::string>(const ImageMetadata&)> read;
   // Compared only when this holds for both images (e.g. the uniform colour under --color uniform).
-  std::function<bool(const view::ImageMetadata&)> applies = [](const view::ImageMetadata&) { return true; };
+  std::function<bool(const ImageMetadata&)> applies = [](const ImageMetadata&) { return true; };
 };
 
 std::vector<Setting> settings() {
   auto plain = [](const char* key, std::string (*canon)(const std::string&)) {
-    return [key, canon](const view::ImageMetadata& m) -> std::optional<std::string> {
+    return [key, canon](const ImageMetadata& m) -> std::optional<std::string> {
       const auto v = recorded(m, key);
       if (!v) return std::nullopt;
       return canon(*v);
@@ -58,19 +58,19 @@ std::vector<Setting> settings() {
   };
   // Recorded only when on: absent means off (every SurfTrace image that records a colour scheme).
   auto whenOn = [](const char* key, const char* off) {
-    return [key, off](const view::ImageMetadata& m) -> std::optional<std::string> {
+    return [key, off](const ImageMetadata& m) -> std::optional<std::string> {
       if (const auto v = recorded(m, key)) return canonicalJson(*v);
       if (!recorded(m, "surftrace:color")) return std::nullopt;
       return std::string(off);
     };
   };
-  auto opacity = [](const view::ImageMetadata& m) -> std::optional<std::string> {
+  auto opacity = [](const ImageMetadata& m) -> std::optional<std::string> {
     if (const auto v = recorded(m, "surftrace:opacity"))
       return numbers(*v) + " (" + numbers(recorded(m, "surftrace:max_layers").value_or("?")) + " layers)";
     if (!recorded(m, "surftrace:color")) return std::nullopt;
     return std::string("1 (opaque)");
   };
-  auto lighting = [](const view::ImageMetadata& m) -> std::optional<std::string> {
+  auto lighting = [](const ImageMetadata& m) -> std::optional<std::string> {
     const auto v = recorded(m, "surftrace:lighting");
     if (!v) return std::nullopt;
     nlohmann::json j = nlohmann::json::parse(*v, nullptr, false);
@@ -79,7 +79,7 @@ std::vector<Setting> settings() {
     if (j.value("ao_samples", 0) == 0) j.erase("ao_distance");
     return j.dump();
   };
-  auto uniform = [](const view::ImageMetadata& m) { return recorded(m, "surftrace:color").value_or("") == "uniform"; };
+  auto uniform = [](const ImageMetadata& m) { return recorded(m, "surftrace:color").value_or("") == "uniform"; };
   return {{"colour scheme", plain("surftrace:color", [](const std::string& s) { return s; })},
           {"uniform colour", plain("surftrace:uniform_color", numbers), uniform},
           {"background", plain("surftrace:background", numbers)},
@@ -92,7 +92,7 @@ std::vector<Setting> settings() {
 
 }  // namespace
 
-SettingsComparison compareSettings(const view::ImageMetadata& test, const view::ImageMetadata& reference) {
+SettingsComparison compareSettings(const ImageMetadata& test, const ImageMetadata& reference) {
   SettingsComparison out;
   for (const Setting& s : settings()) {
     if (!s.applies(test) || !s.applies(reference)) continue;
@@ -113,4 +113,4 @@ std::string describe(const std::vector<SettingDifference>& differences) {
   return text;
 }
 
-}  // namespace surftrace::tools
+}  // namespace surftrace::view
