@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "build/io/molecule.hpp"
+#include "build/io/stp_file.hpp"
 #include "build/surface.hpp"
 #include "build/patch_list.hpp"
 #include "gl/gl_context.hpp"

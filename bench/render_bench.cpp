@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include "build/atom_spheres.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"

@@ -42,7 +42,7 @@ void runBuild(const BuildOptions& o) {
   build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
   const auto limit = limitThreads(o.threads);
   const Built b = readAndBuild(o);
-  // The atoms go along: the file derives the skin's patches from them (patch_list.hpp, version 3).
+  // The atoms go along: the file derives the skin's patches from them (build/io/stp_file.hpp, version 3).
   const auto writeStart = std::chrono::steady_clock::now();
   build::writePatchList(o.output, b.patches, {b.molecule.centers, b.molecule.radii});
   const double writeSeconds = secondsSince(writeStart);

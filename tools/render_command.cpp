@@ -9,7 +9,9 @@
 
 #include "build/io/molecule.hpp"
 #include "build/io/output_file.hpp"
+#include "build/io/stp_file.hpp"
 #include "build/surface.hpp"
+#include "build/surface_components.hpp"
 #include "commands.hpp"
 #include "image_options.hpp"
 #include "option_checks.hpp"
@@ -103,9 +105,7 @@ build::PatchList readAndBuild(const RenderCommandOptions& o, bool fromPatchList,
 void frameRender(ImageSetup& setup, const build::PatchList& list, const build::Molecule& molecule, bool fromPatchList,
                  const std::string& path) {
   if (fromPatchList && list.params.surface != build::SurfaceKind::Mss) {
-    const double extend = list.params.surface == build::SurfaceKind::Ses ? list.params.probeRadius : 0.0;
-    std::vector<double> reach(list.convex.radius);
-    for (double& r : reach) r += extend;
+    const std::vector<double> reach = build::SurfaceRequest::of(list.params).reachOfSpheres(list.convex.radius);
     if (list.convex.size() == 0) throw std::invalid_argument(path + ": the patch list has no convex patches to frame");
     frameSpheres(setup, list.convex.center, reach);
   } else {

@@ -6,7 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
-
+#include "build/io/stp_file.hpp"
+#include "build/surface_components.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "build/mss/mss_builder.hpp"
+#include "build/surface_limits.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "surftrace/molecule.hpp"
@@ -24,14 +24,16 @@ build::SurfaceRequest SurfaceOptions::request() const {
 
 void addShrinkOption(CLI::App& cmd, double& shrink) {
   char range[64];
-  std::snprintf(range, sizeof range, "[%g, 1]", build::kMinShrinkFactor);
+  std::snprintf(range, sizeof range, "[%g, %g]", build::kMinShrinkFactor, build::kMaxShrinkFactor);
   cmd.add_option("--shrink", shrink,
                  std::string("MSS shrink factor s in ") + range +
                      ": small s is smooth and wraps the molecule loosely, s -> 1 approaches the atoms; s = 1 is "
                      "exactly the union of the van der Waals balls (the vdW surface, built as whole spheres)")
       ->check(CLI::Validator(
           [range = std::string(range)](const std::string& v) {
-            const std::string problem = detail::checkNumber(v, build::kMinShrinkFactor, 1.0, false, false);
+            // build::validShrinkFactor's range, which buildSurface and the patch list's checks take too.
+            const std::string problem =
+                detail::checkNumber(v, build::kMinShrinkFactor, build::kMaxShrinkFactor, false, false);
             if (problem.empty()) return problem;
             return problem + (std::strtod(v.c_str(), nullptr) > 0.0 && std::strtod(v.c_str(), nullptr) < build::kMinShrinkFactor
                                   ? " (below it double precision no longer carries the skin's areas and volume, "

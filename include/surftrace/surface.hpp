@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "build/bonds.hpp"
+#include "build/io/stp_file.hpp"
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
 #include "surftrace/molecule.hpp"

@@ -1,7 +1,7 @@
 // Stage "read" (surftrace/molecule.hpp).
 #include "surftrace/molecule.hpp"
 
-#include "build/patch_list.hpp"
+#include "build/io/stp_file.hpp"
 
 namespace surftrace {
 

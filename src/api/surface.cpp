@@ -4,8 +4,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "build/io/stp_file.hpp"
 #include "build/mss/mss_area.hpp"
 #include "build/ses/surface_area.hpp"
+#include "build/surface_components.hpp"
 
 namespace surftrace {
 

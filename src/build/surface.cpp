@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "build/atom_spheres.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/moved_atoms.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "build/surface_components.hpp"
 
 namespace surftrace::build {
 
@@ -39,6 +41,11 @@ std::vector<double> SurfaceRequest::reach(std::span<const double> radii) const {
       break;
   }
   return reach;
+}
+
+std::vector<double> SurfaceRequest::reachOfSpheres(std::span<const double> sphereRadii) const {
+  if (surface == SurfaceKind::Vdw || surface == SurfaceKind::Sas) return {sphereRadii.begin(), sphereRadii.end()};
+  return reach(sphereRadii);
 }
 
 namespace {
@@ -157,6 +164,11 @@ CullResult cullFor(const Molecule& m, const SurfaceRequest& r) {
 }  // namespace
 
 PatchList buildSurface(const Molecule& m, const SurfaceRequest& r, std::vector<std::string>* notes) {
+  // Past 1 the request would be built as the vdW spheres; below kMinShrinkFactor (and NaN)
+  // buildMss refuses it, saying why.
+  if (r.skinIsUnionOfBalls() && !validShrinkFactor(r.shrinkFactor))
+    throw std::invalid_argument("MSS shrink factor " + number("%g", r.shrinkFactor) + " is not in [" +
+                                number("%g", kMinShrinkFactor) + ", 1]");
   const CullResult cull = cullFor(m, r);
   if (notes) *notes = cullNotes(m, cull, r);
   std::vector<glm::dvec3> keptCenters;

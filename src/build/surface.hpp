@@ -11,6 +11,7 @@
 #include "build/atom_culling.hpp"
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
+#include "build/surface_limits.hpp"
 
 namespace surftrace::build {
 
@@ -19,13 +20,13 @@ namespace surftrace::build {
 struct SurfaceRequest {
   SurfaceKind surface = SurfaceKind::Ses;
   double probeRadius = 1.4;    // SES, SAS
-  double shrinkFactor = 0.5;   // MSS, in (0, 1]; 1 is the union of the van der Waals balls
+  double shrinkFactor = 0.5;   // MSS, validShrinkFactor: [kMinShrinkFactor, 1]; 1 is the vdW balls
   bool dropCavities = false;   // SES: the outer component only
 
   // The request a patch list was built for (its surface, probe and shrink factor).
   static SurfaceRequest of(const SurfaceParams& params);
   // The skin at s = 1 is exactly the union of the van der Waals balls: built as the vdW spheres.
-  bool skinIsUnionOfBalls() const { return surface == SurfaceKind::Mss && shrinkFactor >= 1.0; }
+  bool skinIsUnionOfBalls() const { return surface == SurfaceKind::Mss && shrinkIsUnionOfBalls(shrinkFactor); }
   // The kind of the patch list buildSurface makes: Vdw for the skin at s = 1, else `surface`.
   SurfaceKind builtKind() const { return skinIsUnionOfBalls() ? SurfaceKind::Vdw : surface; }
   // How far the surface reaches beyond each atom's centre (for framing from the atoms alone):
@@ -35,6 +36,11 @@ struct SurfaceRequest {
   // frustum and the orthographic window are convex, so balls of r_max about the centres frame
   // it (the balls r_i/√s it also lies in grow without bound as s -> 0).
   std::vector<double> reach(std::span<const double> radii) const;
+  // The same from a list's convex spheres when its atoms are not at hand (a patch list file
+  // alone): an SES sphere is its atom's, so it reaches rp further; the vdW and SAS lists'
+  // spheres are the surface itself. The skin's patches are not spheres of atoms: for it this
+  // is reach(sphereRadii), as if they were the atoms' radii.
+  std::vector<double> reachOfSpheres(std::span<const double> sphereRadii) const;
   // Atoms whose balls lie within this distance (Å, >= kMinMergeDistance) of a kept atom's are
   // merged into it before the build (atom_culling.hpp).
   double mergeWithin = kMinMergeDistance;
@@ -44,7 +50,8 @@ struct SurfaceRequest {
 SurfaceKind parseSurfaceKind(const std::string& name);
 
 // The SES by contour-buildup, the MSS from feasible power cells (s = 1: the vdW spheres), or
-// the vdW or SAS spheres; params carry the molecule's radii set and input checksum.
+// the vdW or SAS spheres; params carry the molecule's radii set and input checksum. Throws
+// std::invalid_argument for an MSS request whose shrink factor is not validShrinkFactor.
 //
 // Built from the atoms cullAtoms keeps: for the SES, SAS and vdW surface an atom whose
 // (extended) ball lies inside another's adds nothing and is left out, exactly; for every

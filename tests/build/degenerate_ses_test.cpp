@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "build/io/stp_file.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "build/ses/surface_area.hpp"

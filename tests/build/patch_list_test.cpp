@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "build/io/molecule.hpp"
+#include "build/io/stp_file.hpp"
 #include "build/surface.hpp"
 #include "patch_compare.hpp"
 

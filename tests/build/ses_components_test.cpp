@@ -14,6 +14,7 @@
 #include "build/io/molecule.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/ses/surface_area.hpp"
+#include "build/surface_components.hpp"
 #include "oracles/ses_oracle.hpp"
 
 namespace surftrace::build {

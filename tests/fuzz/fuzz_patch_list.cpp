@@ -23,7 +23,9 @@
 #include <tbb/global_control.h>
 
 #include "build/patch_list.hpp"
+#include "build/io/stp_file.hpp"
 #include "build/ses/surface_area.hpp"
+#include "build/surface_components.hpp"
 #include "gl/gpu_kinds.hpp"
 #include "trace/concave_patch.hpp"
 #include "trace/mss_patch.hpp"

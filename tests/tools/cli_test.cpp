@@ -17,6 +17,7 @@
 
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
+#include "build/io/stp_file.hpp"
 #include "run_tool.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"

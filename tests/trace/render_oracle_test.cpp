@@ -13,6 +13,7 @@
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "build/ses/surface_area.hpp"
+#include "build/surface_components.hpp"
 #include "oracles/ses_oracle.hpp"
 #include "trace/render.hpp"
 

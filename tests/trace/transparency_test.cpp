@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "build/atom_spheres.hpp"
 #include "build/io/molecule.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"

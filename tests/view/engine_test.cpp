@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "build/atom_spheres.hpp"
 #include "view/engine.hpp"
 
 namespace surftrace::view {

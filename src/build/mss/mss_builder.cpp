@@ -315,20 +315,23 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
   }
 }
 
+// The rule of surface_limits.hpp: [kMinShrinkFactor, 1), s = 1 being the vdW spheres.
 void checkShrink(double s) {
-  if (!(s > 0.0 && s < 1.0))
-    throw std::invalid_argument("MSS shrink factor must lie in (0, 1), got " + std::to_string(s) +
-                                " (s = 1 is the union of the van der Waals balls: use the vdw surface)");
-  if (s < kMinShrinkFactor) {
-    char text[320];
+  if (skinBuiltWithCells(s)) return;
+  char text[320];
+  if (s > 0.0 && s < kMinShrinkFactor)
     std::snprintf(text, sizeof text,
                   "MSS shrink factor %g is below %g, the smallest this program serves: the atoms' weights "
                   "r^2/s grow as 1/s, and below it double precision no longer carries the skin's areas and "
                   "volume (by then the skin is within 0.1 %% of its s -> 0 limit, the atoms' hull grown by "
                   "their radii)",
                   s, kMinShrinkFactor);
-    throw std::invalid_argument(text);
-  }
+  else
+    std::snprintf(text, sizeof text,
+                  "MSS shrink factor must lie in [%g, 1), got %g (s = 1 is the union of the van der Waals balls: "
+                  "use the vdw surface)",
+                  kMinShrinkFactor, s);
+  throw std::invalid_argument(text);
 }
 
 }  // namespace

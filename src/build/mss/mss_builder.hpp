@@ -9,11 +9,12 @@
 #include <glm/vec3.hpp>
 
 #include "build/patch_list.hpp"
+#include "build/surface_limits.hpp"
 
 namespace surftrace::build {
 
 struct MssParams {
-  double shrink = 0.5;  // s in (0, 1); s = 1 is the union of balls (use atomSpheres)
+  double shrink = 0.5;  // s in [kMinShrinkFactor, 1): skinBuiltWithCells (surface_limits.hpp)
   // Scales the feasibility radius ρ_i (>= 1). Only tests change it: at large values every
   // cell is the whole power cell, and the list must not change (feasible cells are exact).
   double feasibleScale = 1.0;
@@ -33,16 +34,8 @@ struct MssParams {
 // Order: patches by kind (convex, edge, face, concave: the simplex's size), then by their
 // lowest atom, then by the other atoms, so each kind is one range (mssKindRange). The list
 // is identical (order and bits) for any number of threads. Throws std::invalid_argument for
-// s outside [kMinShrinkFactor, 1). Fills params.surface, shrinkFactor and atomCount.
+// s outside [kMinShrinkFactor, 1) (skinBuiltWithCells). Fills params.surface, shrinkFactor and atomCount.
 PatchList buildMss(std::span<const glm::dvec3> centers, std::span<const double> radii, const MssParams& params);
-
-// The smallest shrink factor served. The weights r²/s grow as 1/s, and the skin's areas and
-// volume (double precision) lose their digits as they do: measured on 1VIS (2488 atoms), the
-// volume is continuous in s down to 1e-4 (74,552 Å³ at 1e-3, 74,906 at 1e-4, converging
-// linearly in s) and wrong from 1e-5 (+1.5 %; negative at 1e-7); 1CRN holds down to 1e-7. A
-// factor of 10 below what held on 1VIS, for larger molecules; at 1e-3 the skin's volume is
-// within 0.1 % of its s -> 0 limit. buildMss and MssBuilder throw std::invalid_argument below it.
-inline constexpr double kMinShrinkFactor = 1e-3;
 
 struct MssUpdateStats {
   std::size_t moved = 0;       // atoms whose centre changed

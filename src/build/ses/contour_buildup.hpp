@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "build/patch_list.hpp"
+#include "build/surface_limits.hpp"
 
 namespace surftrace::build {
 
@@ -39,13 +40,8 @@ struct SesParams {
 // the lower of the two numbers.
 PatchList buildSes(std::span<const glm::dvec3> centers, std::span<const double> radii, const SesParams& params);
 
-// The largest probe radius double precision serves: 2^19 times the smallest atom radius.
-// Patch areas are differences of terms of order rp² that cancel to areas of order r²; their
-// rounding error grows as about 0.1 ε (rp/r)² of the total (measured on 1CRN against the
-// convex hull of its balls, tests/build/ses_hull_test.cpp: 7e-6 at rp = 5.9e5 r, 9e-4 at
-// 5.9e6 r, where answers of 3e17 Å² begin further on), so the limit keeps it under 1e-5.
-// Past it the SES differs from the convex hull of the atoms by less than that anyway.
-inline constexpr double kMaxProbeToRadius = 0x1p19;
+// The largest probe radius served, kMaxProbeToRadius times the smallest atom radius
+// (surface_limits.hpp).
 double maxProbeRadius(std::span<const double> radii);
 // Throws std::invalid_argument naming the limit and why when probeRadius > maxProbeRadius.
 void checkProbeRadius(double probeRadius, std::span<const double> radii);
