@@ -2,12 +2,15 @@
 #include "build/patch_list.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <regex>
+#include <set>
 
 #include <glm/geometric.hpp>
 #include <zlib.h>
@@ -690,6 +693,90 @@ TEST(PatchListValidate, DamagedSkinReferencesAreRejectedOnLoad) {
       EXPECT_NE(what.find(c.field + (c.value.empty() ? "" : " = " + c.value)), std::string::npos) << what;
       EXPECT_NE(what.find("damaged"), std::string::npos) << what;
     }
+  }
+}
+
+// Reading a .stp needs the list, its checks and the skin's geometry, never a builder: every
+// header the reader's translation unit reaches (quoted includes, followed through src/) is
+// outside build/ses/, build/mss/ but skin_geometry.hpp, and the builders' pipeline.
+TEST(PatchListFile, TheReaderIncludesNoBuilder) {
+  const std::filesystem::path src = std::filesystem::path(SURFTRACE_SOURCE_DIR) / "src";
+  const std::regex include("^\\s*#\\s*include\\s+\"([^\"]+)\"");
+  const std::regex builder("build/(ses/.*|mss/(?!skin_geometry\\.hpp$).*|surface\\.hpp|neighbour_grid\\.hpp|atom_culling\\.hpp)");
+  std::set<std::string> seen;
+  std::vector<std::string> todo{"build/io/stp_file.cpp"};
+  while (!todo.empty()) {
+    const std::string file = todo.back();
+    todo.pop_back();
+    if (!seen.insert(file).second) continue;
+    std::ifstream in(src / file);
+    ASSERT_TRUE(in) << (src / file) << " (reached from build/io/stp_file.cpp)";
+    std::string line;
+    std::smatch m;
+    while (std::getline(in, line))
+      if (std::regex_search(line, m, include)) {
+        const std::string header = m[1];
+        EXPECT_FALSE(std::regex_match(header, builder)) << file << " includes the builder header " << header;
+        if (std::filesystem::exists(src / header)) todo.push_back(header);
+      }
+  }
+  EXPECT_GT(seen.size(), 3u);
+}
+
+// The shrink factors served are s in [1e-3, 1] (the --shrink option's range), with s = 1 the
+// vdW spheres: buildSurface, the patch list's checks and the .stp reader take exactly those.
+TEST(ShrinkFactor, OneRangeForRequestBuilderAndFile) {
+  const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/small/tiny.pdb");
+  for (double s : {-0.5, 0.0, 1e-200, 5e-4, 0.000999, 1e-3, 0.25, 0.5, 0.999, 1.0, 1.0000001, 1.5, HUGE_VAL,
+                   std::nan("")}) {
+    SCOPED_TRACE("s = " + testing::PrintToString(s));
+    const bool served = s >= 0.001 && s <= 1.0;
+    EXPECT_EQ(validShrinkFactor(s), served);
+    EXPECT_EQ(skinBuiltWithCells(s), served && s < 1.0);
+    PatchList list;
+    try {
+      list = buildSurface(m, {SurfaceKind::Mss, 1.4, s, false});
+    } catch (const std::invalid_argument&) {
+      EXPECT_FALSE(served) << "buildSurface refused a served shrink factor";
+      continue;
+    }
+    ASSERT_TRUE(served) << "buildSurface built an MSS request the option refuses";
+    EXPECT_EQ(list.params.surface, s == 1.0 ? SurfaceKind::Vdw : SurfaceKind::Mss);
+    EXPECT_EQ(list.params.shrinkFactor, s);
+    EXPECT_NO_THROW(parsePatchList(encodePatchList(list, {m.centers, m.radii}), "served.stp"));
+  }
+  // A skin list speaks of a factor below 1e-3 or at 1 only when damaged: the reader refuses it
+  // as the builder does (an empty list: nothing else in it to refuse).
+  for (double s : {5e-4, 1.0}) {
+    PatchList skin;
+    skin.params.surface = SurfaceKind::Mss;
+    skin.params.shrinkFactor = s;
+    try {
+      skin.validate();
+      ADD_FAILURE() << "an MSS list at s = " << s << " validates";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("params.shrinkFactor"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Framing a list file alone reaches as far as framing its structure: each convex sphere's
+// reach is its atom's (SurfaceRequest::reach), for the SES (r + rp), SAS (spheres of r + rp) and
+// vdW spheres (also the skin at s = 1).
+TEST(SurfaceReach, ConvexSpheresReachAsFarAsTheirAtoms) {
+  const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/small/tiny.pdb");
+  for (const SurfaceRequest& r : {SurfaceRequest{SurfaceKind::Ses, 1.4, 0.5, false},
+                                  SurfaceRequest{SurfaceKind::Ses, 3.0, 0.5, false},
+                                  SurfaceRequest{SurfaceKind::Sas, 1.4, 0.5, false},
+                                  SurfaceRequest{SurfaceKind::Vdw, 1.4, 0.5, false},
+                                  SurfaceRequest{SurfaceKind::Mss, 1.4, 1.0, false}}) {
+    const PatchList list = buildSurface(m, r);
+    SCOPED_TRACE(std::string(surfaceKindName(list.params.surface)) + " rp " + std::to_string(r.probeRadius));
+    ASSERT_GT(list.convex.size(), 0u);
+    const std::vector<double> fromList = SurfaceRequest::of(list.params).reachOfSpheres(list.convex.radius);
+    const std::vector<double> fromAtoms = r.reach(m.radii);
+    ASSERT_EQ(fromList.size(), list.convex.size());
+    for (std::size_t k = 0; k < list.convex.size(); ++k) EXPECT_EQ(fromList[k], fromAtoms[list.convex.atom[k]]) << k;
   }
 }
 
