@@ -84,7 +84,8 @@ static_assert(shared::kBallKind == static_cast<std::uint32_t>(view::PatchKind::B
 static_assert(shared::kConvexKind == static_cast<std::uint32_t>(view::PatchKind::Convex) &&
               shared::kToroidalKind == static_cast<std::uint32_t>(view::PatchKind::Toroidal) &&
               shared::kConcaveKind == static_cast<std::uint32_t>(view::PatchKind::Concave) &&
-              shared::kSkinConvexKind == static_cast<std::uint32_t>(view::PatchKind::SkinConvex));
+              shared::kSkinConvexKind == static_cast<std::uint32_t>(view::kFirstSkinKind),
+              "gpu_shared.h's kind codes are view::PatchKind's (the one table)");
 
 // The records and atoms of one kind, ready for upload.
 template <class Kind> struct GpuKindPatches {

@@ -26,7 +26,7 @@ std::size_t patchCount(const build::PatchList& list, PatchKind kind) {
     case PatchKind::SkinEdge:
     case PatchKind::SkinFace:
     case PatchKind::SkinConcave: {
-      const auto range = build::mssKindRange(list.mss, static_cast<build::MssKind>(static_cast<std::uint32_t>(kind) - 4));
+      const auto range = build::mssKindRange(list.mss, mssKindOf(kind));
       return range.second - range.first;
     }
     case PatchKind::Ball:

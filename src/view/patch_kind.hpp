@@ -12,8 +12,11 @@
 
 namespace surftrace::view {
 
-// Patch kinds as written to the `patch.kind` image channel (0 = no hit).
-// 1-3 are the SES's, 4-7 the molecular skin's (one per Delaunay simplex dimension).
+// Patch kinds as written to the `patch.kind` image channel (0 = no hit): the one source of the
+// kind codes. 1-3 are the SES's, 4-7 the molecular skin's (one per Delaunay simplex dimension,
+// kFirstSkinKind + MssKind), 8-9 the ball-and-stick model's. Reference EXRs hold these numbers:
+// they never change (pinned below); gl/shaders/gpu_shared.h's are tied to them by static_assert
+// (gl/gpu_kinds.hpp), and the renderers' kind tables by their rows' `kind`.
 enum class PatchKind : std::uint32_t {
   None = 0,
   Convex = 1,
@@ -47,17 +50,50 @@ inline constexpr PatchKindInfo kPatchKinds[] = {
     {PatchKind::Ball, "ball", {0.55f, 0.55f, 0.60f}},
     {PatchKind::Stick, "stick", {0.70f, 0.70f, 0.72f}},
 };
-// The rows before kSurfaceKindCount are the surface's (what a patch list holds); the rest are
-// the ball-and-stick model's, which the renderers take beside the list (build::BallStickModel)
-// and draw opaque.
-inline constexpr std::size_t kSurfaceKindCount = 7;
-constexpr bool isModelKind(PatchKind kind) { return kind == PatchKind::Ball || kind == PatchKind::Stick; }
-// The view kind of an MSS patch kind, and back.
-constexpr PatchKind skinKind(build::MssKind k) { return static_cast<PatchKind>(4 + static_cast<std::uint32_t>(k)); }
 inline constexpr std::size_t kPatchKindCount = std::size(kPatchKinds);
 
 // The row of a kind that holds patches (not None).
 constexpr std::size_t kindRow(PatchKind kind) { return static_cast<std::size_t>(kind) - 1; }
+
+// The rows before kSurfaceKindCount are the surface's (what a patch list holds); the rest are
+// the ball-and-stick model's, which the renderers take beside the list (build::BallStickModel)
+// and draw opaque.
+inline constexpr std::size_t kSurfaceKindCount = kindRow(PatchKind::Ball);
+constexpr bool isModelKind(PatchKind kind) { return kind == PatchKind::Ball || kind == PatchKind::Stick; }
+// The skin's kinds: one row per build::MssKind, in that order, from kFirstSkinKind.
+inline constexpr PatchKind kFirstSkinKind = PatchKind::SkinConvex;
+// The view kind of an MSS patch kind, and back (for the skin's kinds only).
+constexpr PatchKind skinKind(build::MssKind k) {
+  return static_cast<PatchKind>(static_cast<std::uint32_t>(kFirstSkinKind) + static_cast<std::uint32_t>(k));
+}
+constexpr build::MssKind mssKindOf(PatchKind kind) {
+  return static_cast<build::MssKind>(static_cast<std::uint32_t>(kind) - static_cast<std::uint32_t>(kFirstSkinKind));
+}
+
+// The codes stored in images: a new kind takes the next number, never an old one's.
+static_assert(static_cast<std::uint32_t>(PatchKind::None) == 0 && static_cast<std::uint32_t>(PatchKind::Convex) == 1 &&
+                  static_cast<std::uint32_t>(PatchKind::Toroidal) == 2 &&
+                  static_cast<std::uint32_t>(PatchKind::Concave) == 3 &&
+                  static_cast<std::uint32_t>(PatchKind::SkinConvex) == 4 &&
+                  static_cast<std::uint32_t>(PatchKind::SkinEdge) == 5 &&
+                  static_cast<std::uint32_t>(PatchKind::SkinFace) == 6 &&
+                  static_cast<std::uint32_t>(PatchKind::SkinConcave) == 7 &&
+                  static_cast<std::uint32_t>(PatchKind::Ball) == 8 && static_cast<std::uint32_t>(PatchKind::Stick) == 9,
+              "patch.kind codes are stored in reference EXRs: never renumber them");
+// Row k is kind k + 1; the skin's rows are build::kMssKinds' in order; the model's rows are last.
+constexpr bool kindTableInOrder() {
+  for (std::size_t k = 0; k < kPatchKindCount; ++k) {
+    if (static_cast<std::size_t>(kPatchKinds[k].kind) != k + 1) return false;
+    if (isModelKind(kPatchKinds[k].kind) != (k >= kSurfaceKindCount)) return false;
+  }
+  for (std::size_t m = 0; m < build::kMssKindCount; ++m)
+    if (kindRow(skinKind(build::kMssKinds[m].kind)) != kindRow(kFirstSkinKind) + m ||
+        mssKindOf(skinKind(build::kMssKinds[m].kind)) != build::kMssKinds[m].kind)
+      return false;
+  return kindRow(kFirstSkinKind) + build::kMssKindCount == kSurfaceKindCount;
+}
+static_assert(kindTableInOrder(), "view::kPatchKinds: row k is kind k + 1, the skin's rows follow build::kMssKinds, "
+                                  "and the model's rows come last");
 
 const char* patchKindName(PatchKind kind);  // "none" for None
 glm::vec3 kindColor(PatchKind kind);         // black for None

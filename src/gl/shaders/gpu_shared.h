@@ -27,7 +27,8 @@ const int kLayerDepthUnit = 4;        // sampler2D layerDepth (R: t, +inf where 
 const int kAccumulatedUnit = 5;       // sampler2D accumulated: Σ α(1 − α)^k c_k, coverage 1 − (1 − α)^n
 const int kOpaqueColorUnit = 6;       // sampler2D opaqueColor: the opaque geometry's colour, alpha its coverage
 
-// The `patch.kind` codes (view::PatchKind); the frame's kinds[code − 1] is the kind's row.
+// The `patch.kind` codes: view::PatchKind's, the one table (gl/gpu_kinds.hpp static_asserts they
+// agree); the frame's kinds[code − 1] is the kind's row.
 const uint kConvexKind = 1u;
 const uint kToroidalKind = 2u;
 const uint kConcaveKind = 3u;
