@@ -26,8 +26,8 @@ inline constexpr double kMaxShrinkFactor = 1.0;
 // The shrink factors served: s in [kMinShrinkFactor, 1] (NaN is not). What --shrink takes,
 // what buildSurface builds, and what a patch list of any kind may store.
 constexpr bool validShrinkFactor(double s) { return s >= kMinShrinkFactor && s <= kMaxShrinkFactor; }
-// At s = 1 the skin is exactly the union of the van der Waals balls (ORACLES C.1: the mixed
-// cells collapse onto the atoms' own power cells), built (buildSurface) and stored (a Vdw list with
+// At s = 1 the skin is exactly the union of the van der Waals balls (μ_X = ν_X: only the atoms'
+// own power cells keep a volume, each holding its atom's ball), built (buildSurface) and stored (a Vdw list with
 // shrinkFactor 1) as the vdW spheres.
 constexpr bool shrinkIsUnionOfBalls(double s) { return s >= kMaxShrinkFactor; }
 // The factors of a skin made of mixed cells: what buildMss and MssBuilder take and what an Mss
