@@ -13,7 +13,7 @@
 #include "option_checks.hpp"
 #include "surftrace/compare.hpp"
 #include "surftrace/files.hpp"
-#include "view/image_io.hpp"  // checkImageOutputName
+#include "surftrace/image.hpp"
 
 namespace surftrace::tools {
 namespace {

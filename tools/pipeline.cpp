@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "build/io/output_file.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
-#include "view/image_io.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/image.hpp"
 
 namespace surftrace::tools {
 

@@ -19,16 +19,12 @@
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
-#include "build/bonds.hpp"
-#include "build/io/molecule.hpp"
-#include "build/patch_list.hpp"
-#include "build/surface.hpp"
 #include "image_options.hpp"
-#include "surftrace/engine.hpp"
 #include "surface_options.hpp"
-#include "view/frame_buffers.hpp"
-#include "view/image_io.hpp"
-#include "view/render_options.hpp"
+#include "surftrace/engine.hpp"
+#include "surftrace/image.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 

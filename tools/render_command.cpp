@@ -7,18 +7,14 @@
 #include <vector>
 
 
-#include "build/io/molecule.hpp"
-#include "build/io/output_file.hpp"
-#include "build/io/stp_file.hpp"
-#include "build/surface.hpp"
-#include "build/surface_components.hpp"
 #include "commands.hpp"
 #include "image_options.hpp"
 #include "option_checks.hpp"
 #include "pipeline.hpp"
-#include "view/atom_colors.hpp"
-#include "view/image_io.hpp"
-#include "view/patch_kind.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/image.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 namespace {

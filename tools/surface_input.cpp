@@ -6,10 +6,9 @@
 #include <memory>
 #include <stdexcept>
 
-#include "build/io/stp_file.hpp"
-#include "build/surface_components.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 void addSurfaceInputOptions(CLI::App& cmd, SurfaceInputOptions& o) {

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "build/surface_limits.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 
 namespace surftrace::tools {
 

@@ -32,19 +32,16 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_pipeline.h>
 
-#include "build/io/atom_selection.hpp"
-#include "build/io/output_file.hpp"
-#include "build/io/text_fields.hpp"
-#include "build/io/trajectory.hpp"
-#include "build/surface.hpp"
 #include "commands.hpp"
 #include "image_options.hpp"
 #include "option_checks.hpp"
 #include "pipeline.hpp"
+#include "surftrace/camera.hpp"
+#include "surftrace/files.hpp"
+#include "surftrace/image.hpp"
+#include "surftrace/molecule.hpp"
+#include "surftrace/surface.hpp"
 #include "trajectory_plan.hpp"
-#include "view/atom_colors.hpp"
-#include "view/camera.hpp"
-#include "view/image_io.hpp"
 
 namespace surftrace::tools {
 namespace {

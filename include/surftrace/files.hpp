@@ -4,6 +4,7 @@
 #pragma once
 
 #include "build/io/output_file.hpp"
+#include "build/io/text_fields.hpp"
 
 namespace surftrace {
 
@@ -14,5 +15,6 @@ using build::isStandardOutput;      // "-"
 using build::isWrittenInPlace;      // "-", a device, a FIFO, a socket: no temporary, no rename
 using build::prepareOutputPath;     // an output name checked before the work (folder, permissions, kind)
 using build::writeFileAtomically;   // bytes to a path, whole or not at all
+using build::text::readTextFile;    // a text file whole, any line ends, named in errors
 
 }  // namespace surftrace

@@ -25,6 +25,8 @@
 namespace surftrace {
 
 using view::ColorMode;
+using view::ImageContent;
+using view::checkImageOutputName;  // an image file name checked before the work: its format holds what it must
 using view::EncodedImage;
 using view::FrameBuffers;
 using view::ImageEffects;

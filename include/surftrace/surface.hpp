@@ -12,6 +12,8 @@
 #include "build/io/stp_file.hpp"
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
+#include "build/surface_components.hpp"
+#include "build/surface_limits.hpp"
 #include "surftrace/molecule.hpp"
 
 namespace surftrace {
@@ -28,6 +30,12 @@ using build::buildSurface;            // (molecule, request, notes) -> patch lis
 using build::checkPatchListMatches;   // a patch list read from a file, held to a molecule and a request
 using build::parseSurfaceKind;        // "ses", "mss", "vdw", "sas"
 using build::surfaceKindName;
+using build::kMaxShrinkFactor;  // the skin's shrink factor s: in [kMinShrinkFactor, kMaxShrinkFactor]
+using build::kMinShrinkFactor;
+using build::validShrinkFactor;
+using build::kMaxShrinkFactor;     // the skin's shrink factor s: in [kMinShrinkFactor, kMaxShrinkFactor]
+using build::kMinShrinkFactor;
+using build::validShrinkFactor;
 
 // The patch list of a `.stp` file (std::invalid_argument / InputError naming what is wrong),
 // and the file itself, written whole or not at all; `atoms` (centres and radii) are kept with
