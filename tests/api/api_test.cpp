@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -15,19 +14,15 @@
 #include <glm/vec4.hpp>
 
 #include "surftrace/surftrace.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// A folder of its own under TMPDIR, removed with the object.
+// The test's own folder (temp_dir.hpp).
 struct TempFolder {
-  std::filesystem::path path;
-  TempFolder() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "surftrace-api-XXXXXX").string();
-    path = mkdtemp(pattern.data());
-  }
-  ~TempFolder() { std::filesystem::remove_all(path); }
+  std::filesystem::path path = testTempDir();
 };
 
 // An XYZR file of the given spheres (x y z r per line).

@@ -16,6 +16,7 @@
 
 #include "build/io/molecule.hpp"
 #include "oracles/python_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -26,14 +27,7 @@ using ::testing::HasSubstr;
 fs::path data(const std::string& relative) { return fs::path(SURFTRACE_TEST_DATA) / relative; }
 
 // A fresh directory for one test's files.
-fs::path tempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) / "surftrace_atom_selection_test" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path tempDir() { return ::surftrace::test::freshTempDir("files"); }
 
 // Every atom of the file, in file order, as a trajectory's topology is read (water kept; the
 // massless sites of TIP4P waters, MW, are left out: AtomRecord::fileIndex keeps their place).

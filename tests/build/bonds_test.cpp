@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "oracles/python_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -18,14 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using Pair = std::pair<std::uint32_t, std::uint32_t>;
 
-fs::path tempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) / "surftrace_bonds_test" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path tempDir() { return ::surftrace::test::freshTempDir("files"); }
 
 // The oracle's pairs ("i j" lines); a test failure if it cannot run.
 std::set<Pair> oracleBonds(const std::vector<std::string>& args) {

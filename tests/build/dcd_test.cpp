@@ -26,6 +26,7 @@
 #include "build/io/error.hpp"
 #include "build/io/trajectory.hpp"
 #include "oracles/python_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -49,16 +50,7 @@ void writeBytes(const fs::path& path, const Bytes& bytes) {
 }
 
 // A fresh directory for one test's files.
-fs::path tempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = std::string(info->test_suite_name()) + "." + info->name();
-  std::replace(name.begin(), name.end(), '/', '_');
-  const fs::path dir = fs::path(::testing::TempDir()) /
-                       ("surftrace_dcd_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path tempDir() { return ::surftrace::test::freshTempDir("files"); }
 
 // ---------------------------------------------------------------------------------------------
 // The file's records, found by the test itself (Fortran unformatted: marker, payload, marker),

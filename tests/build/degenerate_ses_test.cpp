@@ -19,6 +19,7 @@
 #include "build/io/molecule.hpp"
 #include "build/ses/surface_area.hpp"
 #include "oracles/ses_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -175,7 +176,7 @@ INSTANTIATE_TEST_SUITE_P(Ses, Cospherical, testing::Values(0, 1, 2, 3), [](const
 });
 
 std::string bytesOf(const PatchList& p, const std::string& name) {
-  const std::string path = testing::TempDir() + "degenerate_" + name + ".stp";
+  const std::string path = (::surftrace::test::testTempDir() / ("degenerate_" + name + ".stp")).string();
   writePatchList(path, p);
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

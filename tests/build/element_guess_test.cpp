@@ -15,6 +15,7 @@
 #include "build/io/molecule.hpp"
 #include "build/io/radii.hpp"
 #include "oracles/python_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -28,7 +29,7 @@ fs::path data(const std::string& relative) { return fs::path(SURFTRACE_TEST_DATA
 // A scratch folder of this test's own.
 fs::path scratch() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() /
+  const fs::path dir = ::surftrace::test::testTempDir() /
                        ("surftrace_element_" + std::string(info->test_suite_name()) + "_" + info->name());
   fs::create_directories(dir);
   return dir;

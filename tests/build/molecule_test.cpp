@@ -22,6 +22,7 @@
 #include "build/io/error.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/text_fields.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -51,14 +52,7 @@ std::vector<std::string> lines(const std::string& text) {
 }
 
 // A fresh directory for one test's files.
-fs::path tempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) / "surftrace_molecule_test" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path tempDir() { return ::surftrace::test::freshTempDir("files"); }
 
 // The InputError that reading `path` throws; a test failure if it throws none.
 InputError readError(const fs::path& path, const ReadOptions& options = {}) {
@@ -743,7 +737,7 @@ TEST(MoleculeBadInput, HugeLineIsQuotedShort) {
       EXPECT_THAT(e.what(), HasSubstr("characters)")) << name << ": " << e.what();
     }
   }
-  const fs::path dir = fs::path(testing::TempDir()) / "huge_radii";
+  const fs::path dir = ::surftrace::test::testTempDir() / "huge_radii";
   fs::create_directories(dir);
   {
     std::ofstream(dir / "radii.txt") << "C 1.7 " << huge << "\n";

@@ -26,6 +26,7 @@
 #include <gtest/gtest.h>
 
 #include "fifo_reader.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -35,10 +36,7 @@ using surftrace::build::prepareOutputPath;
 using surftrace::build::writeFileAtomically;
 
 fs::path freshFolder(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("surftrace_output_file_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 std::string contents(const fs::path& path) {

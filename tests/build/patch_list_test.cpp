@@ -21,12 +21,13 @@
 #include "build/io/stp_file.hpp"
 #include "build/surface.hpp"
 #include "patch_compare.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
 
 std::string tempPath(const std::string& name) {
-  return (std::filesystem::path(testing::TempDir()) / name).string();
+  return (::surftrace::test::testTempDir() / name).string();
 }
 
 std::vector<unsigned char> slurp(const std::string& path) {

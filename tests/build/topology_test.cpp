@@ -26,6 +26,7 @@
 #include "build/io/topology_formats.hpp"
 #include "build/io/trajectory.hpp"
 #include "oracles/python_oracle.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::build {
 namespace {
@@ -78,14 +79,7 @@ std::string joinLines(const std::vector<std::string>& lines) {
 }
 
 // A fresh directory for one test's files.
-fs::path tempDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::path(::testing::TempDir()) / "surftrace_topology_test" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path tempDir() { return ::surftrace::test::freshTempDir("files"); }
 
 // ---------------------------------------------------------------------------------------------
 // The MDAnalysis oracles

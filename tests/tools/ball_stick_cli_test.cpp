@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/image_io.hpp"
 #include "view/patch_kind.hpp"
 
@@ -21,10 +22,7 @@ const std::string kData = SURFTRACE_TEST_DATA;
 const std::string kCrambin = kData + "/structures/1crn.pdb";
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("ball_stick_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 void render(const std::string& args, const fs::path& exr) {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -22,7 +23,7 @@ namespace {
 using test::Result;
 Result run(const std::string& args) { return test::runTool(args); }
 std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
-std::string temp(const std::string& name) { return (std::filesystem::path(testing::TempDir()) / name).string(); }
+std::string temp(const std::string& name) { return (::surftrace::test::testTempDir() / name).string(); }
 
 nlohmann::json readJson(const std::string& path) {
   std::ifstream in(path);

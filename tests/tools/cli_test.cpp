@@ -19,11 +19,13 @@
 #include "build/patch_list.hpp"
 #include "build/io/stp_file.hpp"
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
 namespace {
 
+using surftrace::test::testTempDir;
 using surftrace::tools::test::Result;
 Result run(const std::string& args) { return surftrace::tools::test::runTool(args); }
 
@@ -75,13 +77,13 @@ TEST(Cli, HemeProteinWorksOutOfTheBox) {
   EXPECT_EQ(j["radii"]["sources"]["Bondi 1964"], 1259);
   const Result text = run("info " + data("structures/1mbn.pdb.gz"));
   EXPECT_NE(text.output.find("Alvarez 2013 1 atom"), std::string::npos) << text.output;
-  const std::string png = (std::filesystem::path(testing::TempDir()) / "1mbn.png").string();
+  const std::string png = (testTempDir() / "1mbn.png").string();
   const Result render = run("render " + data("structures/1mbn.pdb.gz") + " --size 32x32 --quiet -o " + png);
   EXPECT_EQ(render.status, 0) << render.output;
 }
 
 TEST(Cli, BadInputIsAClearErrorNotACrash) {
-  const std::string path = (std::filesystem::path(testing::TempDir()) / "nan.xyzr").string();
+  const std::string path = (testTempDir() / "nan.xyzr").string();
   std::ofstream(path) << "0 0 0 1.5\n1 nan 0 1.5\n";
   const Result r = run("info " + path);
   EXPECT_EQ(r.status, 1) << r.output;
@@ -108,7 +110,7 @@ TEST(Cli, SkinAreaBuildAndShrinkErrors) {
   EXPECT_GT(double(j["volume"]), 0.0);
   for (const char* kind : {"convex", "edge", "face", "concave"}) EXPECT_GT(double(j[kind]), 0.0) << kind;
 
-  const std::string stp = (std::filesystem::path(testing::TempDir()) / "1grm_mss.stp").string();
+  const std::string stp = (testTempDir() / "1grm_mss.stp").string();
   const Result b = run("build --surface mss --shrink 0.5 " + data("paper/1grm.pdb.gz") + " -o " + stp);
   ASSERT_EQ(b.status, 0) << b.output;
   EXPECT_NE(b.output.find("edge hyperboloids"), std::string::npos) << b.output;
@@ -154,7 +156,7 @@ TEST(Cli, SkinAreaBuildAndShrinkErrors) {
 // no 300-digit limits of double from the option library.
 TEST(Cli, OptionErrorsAreReadable) {
   const std::string mol = data("structures/1crn.pdb");
-  const std::string png = (std::filesystem::path(testing::TempDir()) / "o.png").string();
+  const std::string png = (testTempDir() / "o.png").string();
   struct Case {
     std::string args, mustSay;
   };
@@ -214,7 +216,7 @@ TEST(Cli, AreaJsonHasTheDocumentedShape) {
 }
 
 TEST(Cli, BuildWritesAReadablePatchList) {
-  const std::string out = (std::filesystem::path(testing::TempDir()) / "1grm.stp").string();
+  const std::string out = (testTempDir() / "1grm.stp").string();
   const Result r = run("build " + data("paper/1grm.pdb.gz") + " --probe 1.4 -o " + out);
   ASSERT_EQ(r.status, 0) << r.output;
   const auto p = surftrace::build::readPatchList(out);
@@ -229,7 +231,7 @@ TEST(Cli, BuildWritesAReadablePatchList) {
 // their per-atom areas are 0; a cluster that does not merge is refused in a line that says
 // where and which --merge-within resolves it, and that distance does.
 TEST(Cli, NearCoincidentAtomsMergeWithANoteOrAreRefused) {
-  const std::string dir = testing::TempDir();
+  const std::string dir = testTempDir().string();
   const std::string copies = (std::filesystem::path(dir) / "copies.xyzr").string();
   const std::string crowd = (std::filesystem::path(dir) / "crowd.xyzr").string();
   {
@@ -268,7 +270,7 @@ TEST(Cli, NearCoincidentAtomsMergeWithANoteOrAreRefused) {
 // `render` writes a PNG and an EXR of the requested size whose metadata holds the camera,
 // and a patch list built earlier renders the same image as building it on the fly.
 TEST(Cli, RenderWritesImagesWithTheirCamera) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string png = (dir / "r.png").string(), exr = (dir / "r.exr").string(), exr2 = (dir / "r2.exr").string(),
                     stp = (dir / "r.stp").string();
   const Result r = run("render " + data("structures/1crn.pdb") + " --size 64x48 --quiet -o " + png + " --exr " + exr);
@@ -297,7 +299,7 @@ TEST(Cli, RenderWritesImagesWithTheirCamera) {
 // crossing's (those of the opaque image), the colour differs; the GL engine peels it (still
 // refusing what it cannot draw with it, e.g. --shadows) and a value outside (0, 1] is refused.
 TEST(Cli, OpacityIsRecordedAndGlPeelsIt) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string opaque = (dir / "o.exr").string(), clear = (dir / "t.exr").string();
   ASSERT_EQ(run("render " + data("structures/1crn.pdb") + " --size 48x48 --quiet --exr " + opaque).status, 0);
   const Result r = run("render " + data("structures/1crn.pdb") + " --size 48x48 --opacity 0.5 --max-layers 6 --exr " + clear);
@@ -328,7 +330,7 @@ TEST(Cli, OpacityIsRecordedAndGlPeelsIt) {
 // framing takes the tighter of the patches' balls (loose as r/√s for small s) and the hull
 // of the atoms grown by the largest radius (issue 23: 0.2 % of the pixels at s = 0.01 before).
 TEST(Cli, WideSkinFillsThePicture) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   struct Fill {
     double fraction;
     bool touchesBorder;
@@ -365,7 +367,7 @@ TEST(Cli, WideSkinFillsThePicture) {
 // the skin rendered from its patch list alone (which frames on the patches' balls): the look-at
 // point by 3.1 Å and the eye 12 Å further. The jittered cube is framed as the exact one.
 TEST(Cli, SliverPatchesDoNotMoveTheSkinsFraming) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const char* exact[] = {"0 0 0", "3 0 0", "0 3 0", "3 3 0", "0 0 3", "3 0 3", "0 3 3", "3 3 3"};
   const char* jittered[] = {"-5.4658828123790234e-12 9.2459007166876556e-12 -7.4733820269828078e-12",
                             "3.0000000000040963 -8.2962946389849461e-12 -5.0511803014182982e-12",
@@ -403,7 +405,7 @@ TEST(Cli, SliverPatchesDoNotMoveTheSkinsFraming) {
 // `info --xyzr` writes the atoms as the commands use them (issue 20): read back, they are the
 // same doubles as the structure gives with the same choices (water dropped, chains chosen).
 TEST(Cli, InfoWritesTheAtomsAsXyzrExactly) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string xyzr = (dir / "1vis_chainA.xyzr").string();
   const Result r = run("info " + data("paper/1vis.pdb.gz") + " --chains A --xyzr " + xyzr);
   ASSERT_EQ(r.status, 0) << r.output;
@@ -447,7 +449,7 @@ void expectSameImage(const std::string& a, const std::string& b, const std::stri
 // the image the structure gives, buffer for buffer and bit for bit, on both engines, with
 // the same camera; `area` of it gives the structure's areas.
 TEST(Cli, PatchListRendersAsTheStructureDoes) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string mol = data("structures/1crn.pdb"), stp = (dir / "crn.patches").string();
   ASSERT_EQ(run("build " + mol + " -o " + stp + ".stp").status, 0);  // `build` names it .stp
   std::filesystem::rename(stp + ".stp", stp);
@@ -477,7 +479,7 @@ TEST(Cli, PatchListRendersAsTheStructureDoes) {
 }
 
 TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
-  const std::string out = (std::filesystem::path(testing::TempDir()) / "x.png").string();
+  const std::string out = (testTempDir() / "x.png").string();
   const std::string mol = data("structures/1crn.pdb");
   struct Case {
     std::string args, mustSay;
@@ -502,7 +504,7 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
   EXPECT_NE(none.status, 0);
   EXPECT_NE(none.output.find("nothing to write"), std::string::npos) << none.output;
   // A patch list of another molecule is refused, not rendered as a wrong picture.
-  const std::string stp = (std::filesystem::path(testing::TempDir()) / "other.stp").string();
+  const std::string stp = (testTempDir() / "other.stp").string();
   ASSERT_EQ(run("build " + data("small/1grm_single.pdb") + " -o " + stp).status, 0);
   const Result other = run("render " + mol + " --quiet -o " + out + " --patches " + stp);
   EXPECT_NE(other.status, 0);
@@ -513,7 +515,7 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
 // which: an SES against the vdW spheres, the skin against the SES and a blank image against a
 // real one all fail (exit 2); a re-render passes `exact`, GL against Embree `gl-vs-embree`.
 TEST(Cli, CompareDefaultsToTheStrictPresetOfItsEngines) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string mol = data("structures/1crn.pdb");
   const std::string camera = " --size 48x48 --eye 9,10,60 --look-at 9,10,7 --fov 40 --quiet --exr ";
   auto render = [&](const std::string& name, const std::string& args) {
@@ -573,7 +575,7 @@ TEST(Cli, DropCavitiesKeepsTheOuterSurface) {
 // (1AON once showed 52 holes, up to 21.8 Å deep at 256², where pieces of outer surfaces cut
 // off at self-intersection circles were labelled cavities).
 TEST(Cli, DropCavitiesChangesNoPixel) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   for (const char* file : {"structures/1crn.pdb", "paper/1vis.pdb.gz", "paper/1aon.pdb.gz"}) {
     const std::string all = (dir / "all.exr").string(), outer = (dir / "outer.exr").string();
     const std::string common = " --size 96x96 --quiet --exr ";
@@ -596,7 +598,7 @@ TEST(Cli, DropCavitiesChangesNoPixel) {
 // every buffer bit for bit, on both engines, through the structure's camera (`render` frames a
 // skin's list without its structure otherwise: render_command.cpp, frameRender).
 TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
-  const auto dir = std::filesystem::path(testing::TempDir());
+  const auto dir = testTempDir();
   const std::string mol = data("paper/1grm.pdb.gz"), stp = (dir / "grm_mss.stp").string();
   ASSERT_EQ(run("build " + mol + " --surface mss --shrink 0.5 -o " + stp).status, 0);
   for (const std::string engine : {"embree", "gl"}) {
@@ -614,7 +616,7 @@ TEST(Cli, SkinPatchListRendersAsTheStructureDoes) {
 }
 
 TEST(Cli, DamagedStpBehindAValidChecksumIsAnErrorNotACrash) {
-  const std::string stp = (std::filesystem::path(testing::TempDir()) / "1crn-damaged.stp").string();
+  const std::string stp = (testTempDir() / "1crn-damaged.stp").string();
   const Result b = run("build " + data("structures/1crn.pdb") + " -o " + stp);
   ASSERT_EQ(b.status, 0) << b.output;
   std::vector<unsigned char> bytes;

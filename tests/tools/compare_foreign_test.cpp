@@ -17,6 +17,7 @@
 
 #include "oracles/gl_sphere_buffers.hpp"
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -26,7 +27,7 @@ namespace {
 namespace oracle = ::surftrace::test;  // (tools::test is run_tool.hpp's)
 using test::Result;
 Result run(const std::string& args) { return test::runTool(args); }
-std::string temp(const std::string& name) { return (std::filesystem::path(testing::TempDir()) / name).string(); }
+std::string temp(const std::string& name) { return (::surftrace::test::testTempDir() / name).string(); }
 bool has(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
 nlohmann::json matrixJson(const glm::dmat4& m) {

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/image_compare.hpp"
 #include "view/image_io.hpp"
 
@@ -27,7 +28,7 @@ namespace fs = std::filesystem;
 using test::Result;
 // From the repository root, where the data's relative paths point.
 Result run(const std::string& args) { return test::runTool(args, SURFTRACE_SOURCE_DIR); }
-std::string temp(const std::string& name) { return (fs::path(testing::TempDir()) / ("compare_report_" + name)).string(); }
+std::string temp(const std::string& name) { return (::surftrace::test::testTempDir() / ("compare_report_" + name)).string(); }
 bool has(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
 nlohmann::json readJson(const std::string& path) {

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -34,10 +35,7 @@ Result run(const std::string& args) { return test::runTool(args); }
 bool has(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("verdict_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 // 1CRN rendered with `args` into dir/name.exr.

@@ -10,6 +10,7 @@
 
 #include "oracles/python_oracle.hpp"
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/image_io.hpp"
 
 namespace surftrace::tools::test {
@@ -21,10 +22,7 @@ const std::string kData = SURFTRACE_TEST_DATA;
 const std::string kCrambin = kData + "/structures/1crn.pdb";
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("effects_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 std::string render(const std::string& args, const fs::path& exr) {

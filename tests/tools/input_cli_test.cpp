@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -18,7 +19,7 @@ Result run(const std::string& args) { return surftrace::tools::test::runTool(arg
 std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
 
 std::string writeText(const std::string& file, const std::string& text) {
-  const std::filesystem::path path = std::filesystem::path(testing::TempDir()) / file;
+  const std::filesystem::path path = ::surftrace::test::testTempDir() / file;
   std::ofstream(path, std::ios::binary) << text;
   return path.string();
 }
@@ -107,13 +108,13 @@ TEST(InputCli, MartiniNeedsBeadRadius) {
 // A coarse-grained trajectory drawn on purpose (the GRO file is its own one-frame trajectory).
 TEST(InputCli, MartiniTrajectoryDrawsWithBeadRadius) {
   const std::string gro = data("formats/gro/martini.gro");
-  const std::string frames = (std::filesystem::path(testing::TempDir()) / "martini_%05d.png").string();
+  const std::string frames = (::surftrace::test::testTempDir() / "martini_%05d.png").string();
   const Result refused = run("trajectory " + gro + " " + gro + " --size 32x32 -o " + frames);
   EXPECT_NE(refused.status, 0);
   EXPECT_TRUE(contains(refused.output, "--bead-radius R")) << refused.output;
   const Result drawn = run("trajectory --bead-radius 2.35 " + gro + " " + gro + " --size 32x32 -o " + frames);
   ASSERT_EQ(drawn.status, 0) << drawn.output;
-  EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(testing::TempDir()) / "martini_00000.png"));
+  EXPECT_TRUE(std::filesystem::exists(::surftrace::test::testTempDir() / "martini_00000.png"));
 }
 
 TEST(InputCli, EveryReadingCommandTakesBeadRadius) {

@@ -10,6 +10,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/image_io.hpp"
 
 namespace surftrace::tools::test {
@@ -20,10 +21,7 @@ namespace fs = std::filesystem;
 const std::string kCrambin = std::string(SURFTRACE_TEST_DATA) + "/structures/1crn.pdb";
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("surftrace_install_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 // 'path', for a shell. (Built with +=: GCC 12 warns, wrongly, of an overlapping copy in

@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::tools::test {
 namespace {
@@ -33,10 +34,7 @@ const std::string kDcd = std::string(SURFTRACE_TEST_DATA) + "/trajectories/adk_d
 constexpr std::size_t kFrames = 98;
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("surftrace_interrupt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 // Starts `surftrace args...` with stdout and stderr appended to `log` (no terminal).

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -22,10 +23,7 @@ Result shell(const std::string& script) {
 }
 
 fs::path folder(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("surftrace_messages_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 // A grey PFM whose header says width x height and whose pixels are `bytes` zero bytes.

@@ -27,6 +27,7 @@
 
 #include "fifo_reader.hpp"
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -45,10 +46,7 @@ Shell shell(const std::string& script) {
 
 // A fresh folder for one test.
 fs::path folder(const std::string& name) {
-  const fs::path dir = fs::path(testing::TempDir()) / ("surftrace_output_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 // Files left in `dir`, temporary ones included.

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace {
 
@@ -55,7 +56,7 @@ class Reference : public testing::TestWithParam<std::string> {};
 
 TEST_P(Reference, EmbreeReproducesTheStoredImage) {
   const std::string name = GetParam();
-  const std::string out = (fs::path(testing::TempDir()) / (name + "_embree.exr")).string();
+  const std::string out = (::surftrace::test::testTempDir() / (name + "_embree.exr")).string();
   const Result r = run("render " + recipe(name) + " --quiet --exr " + out);
   ASSERT_EQ(r.status, 0) << r.output;
   const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset exact" + kExactColor);
@@ -66,10 +67,10 @@ TEST_P(Reference, EmbreeReproducesTheStoredImage) {
 
 TEST_P(Reference, GlAgreesWithTheReference) {
   const std::string name = GetParam();
-  const std::string out = (fs::path(testing::TempDir()) / (name + "_gl.exr")).string();
+  const std::string out = (::surftrace::test::testTempDir() / (name + "_gl.exr")).string();
   const Result r = run("render " + recipe(name) + " --engine gl --quiet --exr " + out);
   ASSERT_EQ(r.status, 0) << r.output;
-  const std::string diff = (fs::path(testing::TempDir()) / (name + "_gl_diff.png")).string();
+  const std::string diff = (::surftrace::test::testTempDir() / (name + "_gl_diff.png")).string();
   const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset " + glPreset(name) + " --diff " + diff);
   EXPECT_EQ(c.status, 0) << c.output << "\ndifference image: " << diff;
   std::printf("%s, GL vs reference:\n%s", name.c_str(), c.output.c_str());
@@ -80,7 +81,7 @@ TEST_P(Reference, GlAgreesWithTheReference) {
 // where tori and clipped concave triangles fill the view.
 TEST(Reference, GlWithThePapersPrimitiveAgreesWithTheReference) {
   for (const std::string name : {"crambin-spindle-torus-closeup", "1vis-clipped-concave-closeup"}) {
-    const std::string out = (fs::path(testing::TempDir()) / (name + "_gl_cylinder.exr")).string();
+    const std::string out = (::surftrace::test::testTempDir() / (name + "_gl_cylinder.exr")).string();
     const Result r = run("render " + recipe(name) + " --engine gl --gl-primitive cylinder --quiet --exr " + out);
     ASSERT_EQ(r.status, 0) << r.output;
     const Result c = run("compare " + out + " reference/" + name + "/image.exr --preset gl-vs-embree");
@@ -108,7 +109,7 @@ TEST(Reference, ComparisonFailsOnADifferentImage) {
 // The colour is compared too: the same geometry without the silhouettes is refused for its
 // settings (the reference records its effects), and fails on its colour when they are set aside.
 TEST(Reference, ComparisonFailsOnADifferentColour) {
-  const std::string out = (fs::path(testing::TempDir()) / "no_silhouettes.exr").string();
+  const std::string out = (::surftrace::test::testTempDir() / "no_silhouettes.exr").string();
   std::string args = recipe("crambin-silhouettes-darkening");
   const std::string flag = " --silhouettes";
   ASSERT_NE(args.find(flag), std::string::npos) << args;

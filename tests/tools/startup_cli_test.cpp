@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::tools::test {
 namespace {
@@ -22,10 +23,7 @@ const fs::path kTool = SURFTRACE_TOOL;
 const fs::path kImageTool = kTool.parent_path() / "surftrace_images";
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("surftrace_startup_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 std::string bytesOf(const fs::path& path) {

@@ -20,6 +20,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -32,12 +33,7 @@ const std::string kData = SURFTRACE_TEST_DATA;
 const std::string kPsf = kData + "/trajectories/adk_dims/adk.psf.gz";
 const std::string kDcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
 
-fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("surftrace_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path freshDirectory(const std::string& name) { return ::surftrace::test::freshTempDir(name); }
 
 std::string vec(const glm::dvec3& v) {
   std::ostringstream out;
@@ -401,48 +397,50 @@ TEST(TrajectoryCli, AreasOverTimeOneRowPerFrame) {
 
 TEST(TrajectoryCli, BadInputIsAClearError) {
   const std::string sample = kData + "/trajectories/sampletrajectory/sampletrajectory.dcd";
-  Result r = runTool("trajectory " + kPsf + " " + sample + " -o /tmp/x/%d.png");
+  // Output names in a folder of the test's own, though no frame is written.
+  const std::string x = (::surftrace::test::testTempDir() / "x").string();
+  Result r = runTool("trajectory " + kPsf + " " + sample + " -o " + x + "/%d.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("115 atoms per frame"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("3341"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/frame.png");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/frame.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.output.find("no conversion for the frame number"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d_%d.png");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d_%d.png");
   EXPECT_NE(r.output.find("more than one conversion"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%s.png");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%s.png");
   EXPECT_NE(r.output.find("'%s' is not %d"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --frames 100:");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --frames 100:");
   EXPECT_NE(r.output.find("frame 100 does not exist: the trajectory holds frames 0 to 97"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --frames 0:10:0");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --frames 0:10:0");
   EXPECT_NE(r.output.find("the step must be at least 1"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --shard 4/4");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --shard 4/4");
   EXPECT_NE(r.output.find("expected i/n with 0 <= i < n"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resid 900-999'");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --flexible 'resid 900-999'");
   EXPECT_NE(r.output.find("selects no atom (the molecule has residues 1 to 214)"), std::string::npos) << r.output;
   // An empty selection selects no atom either (it used to move every atom, with no note).
   for (const char* empty : {"''", "' '"}) {
-    r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible " + empty);
+    r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --flexible " + empty);
     EXPECT_EQ(r.status, 1) << empty;
     EXPECT_NE(r.output.find("--flexible " + std::string(empty) + " (atoms of " + kPsf + "): the atom selection is empty; "
                             "leave --flexible out to move every atom"),
               std::string::npos)
         << r.output;
   }
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'residue 9'");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --flexible 'residue 9'");
   EXPECT_NE(r.output.find("unknown keyword 'residue'"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'resname ALA adn name CA'");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --flexible 'resname ALA adn name CA'");
   EXPECT_NE(r.output.find("at word 4 'name': needs 'and' or 'or' before it"), std::string::npos) << r.output;
-  r = runTool("trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png --flexible 'atom 3000-3400'");
+  r = runTool("trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png --flexible 'atom 3000-3400'");
   EXPECT_NE(r.output.find("atom 3000-3400: the topology has 3341 atoms"), std::string::npos) << r.output;
   r = runTool("trajectory " + kPsf + " " + kDcd);
   EXPECT_NE(r.output.find("nothing to write"), std::string::npos) << r.output;
-  r = runTool("render " + kPsf + " -o /tmp/x.png");
+  r = runTool("render " + kPsf + " -o " + x + ".png");
   EXPECT_NE(r.output.find("a PSF is a topology without coordinates"), std::string::npos) << r.output;
-  r = runTool("render " + kDcd + " -o /tmp/x.png");
+  r = runTool("render " + kDcd + " -o " + x + ".png");
   EXPECT_NE(r.output.find("is a trajectory (.dcd)"), std::string::npos) << r.output;
   const std::string cmd = std::string("SLURM_ARRAY_TASK_ID=x SLURM_ARRAY_TASK_COUNT=4 ") + SURFTRACE_TOOL +
-                          " trajectory " + kPsf + " " + kDcd + " -o /tmp/x/%d.png 2>&1 | grep -q \"SLURM_ARRAY_TASK_ID='x'\"";
+                          " trajectory " + kPsf + " " + kDcd + " -o " + x + "/%d.png 2>&1 | grep -q \"SLURM_ARRAY_TASK_ID='x'\"";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
 }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/image_io.hpp"
 
 namespace surftrace::tools::test {
@@ -20,10 +21,7 @@ const std::string kPsf = std::string(SURFTRACE_TEST_DATA) + "/trajectories/adk_d
 const std::string kDcd = std::string(SURFTRACE_TEST_DATA) + "/trajectories/adk_dims/adk_dims.dcd";
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("surftrace_usability_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 bool says(const Result& r, const std::string& text) { return r.output.find(text) != std::string::npos; }

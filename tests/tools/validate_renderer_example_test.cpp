@@ -16,6 +16,7 @@
 
 #include "oracles/python_oracle.hpp"
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -28,10 +29,7 @@ const std::string kMolecule = std::string(SURFTRACE_TEST_DATA) + "/structures/1c
 const std::string kFlags = " --depth-convention window --test-origin bottom-left --test-normal normal.pfm --normal-space view";
 
 std::filesystem::path freshDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return ::surftrace::test::freshTempDir(name);
 }
 
 test::Result runIn(const std::filesystem::path& dir, const std::string& args) { return test::runTool(args, dir.string()); }

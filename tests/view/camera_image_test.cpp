@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -278,7 +279,7 @@ FrameBuffers randomFrame(int w, int h) {
 
 // Every channel survives the EXR round trip bit for bit, integer ids included.
 TEST(ImageIo, ExrRoundTripIsExact) {
-  const auto path = (std::filesystem::temp_directory_path() / "surftrace_roundtrip.exr").string();
+  const auto path = (surftrace::test::testTempDir() / "surftrace_roundtrip.exr").string();
   const FrameBuffers f = randomFrame(37, 23);
   writeExr(path, f, {{"surftrace:camera", "{\"x\":1}"}});
   ImageMetadata meta;
@@ -298,7 +299,7 @@ TEST(ImageIo, ExrRoundTripIsExact) {
 }
 
 TEST(ImageIo, PngHoldsTheClampedColour) {
-  const auto path = (std::filesystem::temp_directory_path() / "surftrace_colour.png").string();
+  const auto path = (surftrace::test::testTempDir() / "surftrace_colour.png").string();
   FrameBuffers f = randomFrame(5, 3);
   for (std::size_t p = 0; p < f.pixels(); ++p)
     for (int c = 0; c < 4; ++c) f.rgba[4 * p + c] = static_cast<float>((p * 4 + c) % 11) / 10.0f;
@@ -320,7 +321,7 @@ TEST(ImageIo, PngLevelChangesTheBytesNotThePixels) {
   FrameBuffers f = randomFrame(64, 48);
   for (std::size_t p = 0; p < f.pixels(); ++p)
     for (int c = 0; c < 4; ++c) f.rgba[4 * p + c] = static_cast<float>((p / 7 + 3 * c) % 13) / 12.0f;
-  const auto dir = std::filesystem::temp_directory_path();
+  const auto dir = surftrace::test::testTempDir();
   std::vector<std::vector<unsigned char>> decoded;
   std::vector<std::uintmax_t> sizes;
   for (int level : {1, kDefaultPngLevel, 9}) {
@@ -346,7 +347,7 @@ TEST(ImageIo, PngLevelChangesTheBytesNotThePixels) {
 }
 
 TEST(ImageIo, ForeignFileIsAClearError) {
-  const auto path = (std::filesystem::temp_directory_path() / "surftrace_foreign.png").string();
+  const auto path = (surftrace::test::testTempDir() / "surftrace_foreign.png").string();
   FrameBuffers f = randomFrame(4, 4);
   writePng(path, f, {});
   try {

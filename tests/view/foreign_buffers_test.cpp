@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "oracles/gl_sphere_buffers.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/foreign_buffers.hpp"
 #include "view/image_compare.hpp"
@@ -27,7 +28,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kWidth = 48, kHeight = 32;
 
-std::string temp(const std::string& name) { return (std::filesystem::path(testing::TempDir()) / name).string(); }
+std::string temp(const std::string& name) { return (::surftrace::test::testTempDir() / name).string(); }
 
 const std::vector<glm::dvec4> kSpheres = {{1.0, 2.0, -3.0, 2.5}, {2.6, 0.8, -1.5, 1.5}, {-0.6, 3.1, -3.6, 1.8}};
 

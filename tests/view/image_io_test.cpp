@@ -15,12 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
 #include "view/frame_buffers.hpp"
 
 namespace surftrace::view {
 namespace {
 
-std::string temp(const std::string& name) { return (std::filesystem::path(testing::TempDir()) / name).string(); }
+std::string temp(const std::string& name) { return (::surftrace::test::testTempDir() / name).string(); }
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -1,0 +1,150 @@
+# The labels of the tests GoogleTest finds in the test programs. CTest includes this file
+# (TEST_INCLUDE_FILES, set in tests/CMakeLists.txt) after the lists of discovered tests, because
+# their names are known only once the programs are built; tests/CMakeLists.txt defines
+# SURFTRACE_TEST_PROGRAMS and, for each program, SURFTRACE_LABELS_<program> (its own labels).
+#
+# Every test gets exactly one of
+#   fast    2 s at most: `ctest --preset ci -L fast` is the developer's quick check;
+#   slow    the rest: the tests listed below, which took more than 2 s on a 2-core machine
+#           (the smaller of two full runs, ctest -j2, other builds beside them);
+# and, where it applies,
+#   gl      draws through EGL/OpenGL (llvmpipe where there is no GPU);
+#   oracle  compared with an independent program: MDAnalysis (Python), FreeSASA, CGAL;
+#   cli     runs the surftrace program;
+#   script  a shell or CMake script (add_test in tests/CMakeLists.txt, labelled there).
+# A new test is `fast` until it is listed here; tests/check_labels.cmake fails a test run in
+# which some test has neither `fast` nor `slow`, or a label not named above.
+
+# Regular expressions, each matched against the whole test name.
+set(slow_tests
+  # build_tests
+  "ContourBuildup\\.SealedCavityIsItsOwnComponent"
+  "ElementGuess\\.AgreesWithMDAnalysis"
+  "ExactPredicates\\.ProbeErrorBoundHoldsOnHardTriples"
+  "MssAreas\\.(MatchesTheAdaptiveReferencePatchByPatch|SameValuesForAnyThreadCount|SignJitteredCubeHasTheExactCubesAreas|SignJitteredLatticeHasTheExactLatticesAreas)"
+  "NeighbourGrid\\.MatchesBruteForceOnSampleOf1aon"
+  "PatchListValidate\\.RealListsLoadAndRoundTrip"
+  "Ses/Cospherical\\..*"
+  "SesComponents\\.(CrambinCavityMatchesGridOracle|IsoperimetricOnProteins)"
+  "SphericalRegion\\..*"
+  "SurfaceBuilder\\.(FlexibleAtomsSkinEqualsFreshBuilds|SesFrameAfterFrameEqualsFreshBuilds|SkinFrameAfterFrameEqualsFreshBuilds)"
+  "TriangleCone\\.AgreesWithSampledTriangle"
+  # gl_tests
+  "GlBallAndStick\\.ModelUnderTheOpaqueSesMeetsTheGlVsEmbreePreset"
+  "GlContext\\.OpensWithAnEmptyEnvironment"
+  "GlPeelMerge\\..*"
+  "GlPeelOpaque\\..*"
+  "GlPrimitive\\.EyeInsideAndBesideCylinders"
+  "Surfaces/GlPeel\\..*"
+  "Views/GlPrimitiveViews\\..*"
+  "Views/GlVsEmbree\\..*"
+  # mss_oracle_tests
+  "MssOracle\\.(EveryPatchIsSkinInItsOwnMixedCell|VolumeMatchesMonteCarloOfTheSkinFunction)"
+  # oracle_tests
+  "SesOracle\\.MatchesSampledSasOnRandomClusters"
+  # reader_tests
+  "Bonds\\.(ConectRecordsOfHeteroGroupsMatchMdanalysisOn1grm|DistanceRuleMatchesMdanalysisGuessOn1crn)"
+  "Dcd\\.(FileCutInsideTheHeaderIsAnInputError|TruncatedLastFrameIsLeftOut)"
+  # about 50 s each where the shared data set (shared/data) is present, skipped where it is not
+  "Dcd\\.SharedDataMatchesMDAnalysis"
+  "XtcReader\\.MatchesMdanalysisOnSharedData"
+  "TextFramesSharedData\\..*"
+  "Files/DcdAgainstMDAnalysis\\..*"
+  "Files/GroTopology\\..*"
+  "Files/TextFrames\\.EqualMDAnalysis(/.*)?"
+  "SelectionAgreesWithMDAnalysisOnInsertionCodes\\..*"
+  "TextFramesGro\\.TriclinicBoxMatchesMDAnalysis"
+  "Topologies/SelectionAgreesWithMDAnalysis\\..*"
+  "XtcReader\\.(HandWrittenFramesMatchMdanalysis|MatchesMdanalysisOnTestData|TruncatedLastFrameIsLeftOutWithNote)"
+  # ses_hull_tests
+  "SesHull\\..*"
+  # ses_oracle_tests
+  "ConcaveArea\\..*"
+  "Ses/RealMolecule\\.PatchPointsLieOnTheSes(/.*)?"
+  "SesVolume\\..*"
+  # tools_tests
+  "BallStickCli\\.(BadOptionsAreRefusedNamingThem|GlMatchesEmbreeAloneAndUnderTheSurface|TrajectoryFramesGetTheModel|UnderATransparentSurfaceTheModelShows)"
+  "CameraCli\\..*"
+  "Cases/Reference\\..*"
+  "Cli\\.(CompareDefaultsToTheStrictPresetOfItsEngines|DropCavitiesChangesNoPixel|HelpTeachesTheCommands|HemeProteinWorksOutOfTheBox|OpacityIsRecordedAndGlPeelsIt|OptionErrorsAreReadable|PatchListRendersAsTheStructureDoes|RenderRejectsImpossibleOptionsClearly|RenderWritesImagesWithTheirCamera|SkinAreaBuildAndShrinkErrors|SkinPatchListRendersAsTheStructureDoes|SliverPatchesDoNotMoveTheSkinsFraming|WideSkinFillsThePicture)"
+  "CompareDiff\\..*"
+  "CompareExample\\..*"
+  "CompareForeign\\..*"
+  "CompareHtml\\..*"
+  "CompareMasks\\..*"
+  "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
+  "EngineCli\\.(TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
+  "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"
+  "InputCli\\.(EveryReadingCommandTakesBeadRadius|MartiniTrajectoryDrawsWithBeadRadius)"
+  "Install\\..*"
+  "Interrupt\\..*"
+  "Messages\\..*"
+  "Output\\.(AClosedPipeStopsALongRunEarly|DashIsTheStandardOutput|DevicesAreWrittenInPlace|FilesOnAFullDiskAreErrorsAndLeaveNothing|ImageNamesAreCheckedBeforeTheWork|ParseErrorsExitOne|PathsAreCheckedBeforeTheWork|SymbolicLinksStayLinksAndTheirTargetIsReplaced|TrajectoryFramesAreWholeAndResumeChecksThem)"
+  "Reference\\..*"
+  "Startup\\..*"
+  "TrajectoryCli\\..*"
+  "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"
+  # trace_tests
+  "Molecules/RenderOnSkin\\.HitsAreCertifiedAndNoRayCrossesTheBody(/.*)?"
+  "Molecules/SesCrossings\\..*"
+  "MssPatch\\.MatchesBruteForceOracleOnRealPatches"
+  "SkinCrossings\\.CountAndPlaceMatchTheSkinOracle"
+  "StickPatch\\.MatchesBruteForceOracle"
+  "VdwCrossings\\.CountAndPlaceMatchTheUnionOfBalls"
+)
+
+# The tests outside gl_tests that render with --engine gl (found by their code, helpers included).
+set(gl_tests
+  "BallStickCli\\.Gl.*"
+  "Cli\\.(OpacityIsRecordedAndGlPeelsIt|PatchListRendersAsTheStructureDoes|SkinPatchListRendersAsTheStructureDoes|CompareDefaultsToTheStrictPresetOfItsEngines)"
+  "CompareMasks\\.(TheKindCheckCoversMostHitsOf1aonAt256|AReferenceWithoutSeamDistancesFallsBackToTheNeighbourhoodRule)"
+  "CompareDiff\\.GlWithinTheLimitsLooksQuiet"
+  "CompareVerdict\\.ColourIsJudgedBetweenEnginesByDefault"
+  "EffectsCli\\.Gl.*"
+  "EngineCli\\.TrajectoryGl.*Frames.*"
+  "Install\\.InstalledProgramsRenderFromTheirPrefix"
+  "(Cases/)?Reference\\.Gl.*"
+)
+
+# The tests outside the oracle programs that run MDAnalysis, FreeSASA or a Python oracle script.
+set(oracle_tests
+  "AtomCulling\\.ContainedAtomsMatchFreesasa"
+  "ElementGuess\\.AgreesWithMDAnalysis"
+  "MssBuilder\\.ApproachesTheVanDerWaalsAreaAsShrinkTendsToOne"
+  "EffectsCli\\.SilhouettesAreExactlyTheDepthJumpsInTheExr"
+  "CompareExample\\..*"
+)
+
+# Whether `name` matches one of the patterns whole (one at a time: CMake's regular expressions
+# hold at most 9 groups).
+function(surftrace_matches_one out name)
+  foreach(pattern IN LISTS ARGN)
+    if(name MATCHES "^(${pattern})$")
+      set(${out} TRUE PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  set(${out} FALSE PARENT_SCOPE)
+endfunction()
+
+foreach(program IN LISTS SURFTRACE_TEST_PROGRAMS)
+  foreach(name IN LISTS ${program}_TESTS)
+    set(labels ${SURFTRACE_LABELS_${program}})
+    surftrace_matches_one(slow "${name}" ${slow_tests})
+    if(slow)
+      list(APPEND labels slow)
+    else()
+      list(APPEND labels fast)
+    endif()
+    surftrace_matches_one(gl "${name}" ${gl_tests})
+    if(gl)
+      list(APPEND labels gl)
+    endif()
+    surftrace_matches_one(oracle "${name}" ${oracle_tests})
+    if(oracle)
+      list(APPEND labels oracle)
+    endif()
+    list(REMOVE_DUPLICATES labels)
+    set_tests_properties("${name}" PROPERTIES LABELS "${labels}")
+  endforeach()
+endforeach()
