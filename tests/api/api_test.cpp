@@ -22,7 +22,7 @@ constexpr double kPi = std::numbers::pi;
 
 // The test's own folder (temp_dir.hpp).
 struct TempFolder {
-  std::filesystem::path path = testTempDir();
+  std::filesystem::path path = surftrace::test::testTempDir();
 };
 
 // An XYZR file of the given spheres (x y z r per line).
