@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 # Only what building and running need: the test tools (Slurm, clang, CGAL, MDAnalysis, ...)
 # come with scripts/test.sh. So the tests and benchmarks are not configured here.
 bash scripts/install-deps.sh
-cmake --preset release -DSURFTRACE_BUILD_TESTS=OFF -DSURFTRACE_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --preset release -DSURFTRACE_BUILD_TESTS=OFF -DSURFTRACE_BUILD_BENCHMARKS=OFF -DSURFTRACE_BUILD_PYTHON=OFF >/dev/null
 cmake --build --preset release --target surftrace
 demo=tests/data/paper/1vis.pdb.gz
 mkdir -p out
