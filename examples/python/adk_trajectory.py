@@ -35,12 +35,11 @@ def main():
     parser.add_argument("--size", type=size, default=(800, 500), help="the plot's size in pixels (default 800x500)")
     args = parser.parse_args()
 
-    u = mda.Universe(args.topology, args.trajectory)
-    ag = u.atoms
-    # SurfTrace's atoms (radii from its tables), in the topology's order: the same atoms as ag.
+    # SurfTrace's atoms (its radii; water left out) at the first frame, and the same atoms in
+    # MDAnalysis: mol.indices are their indices in the topology, as MDAnalysis counts them.
     mol = surftrace.read(args.topology, trajectory=args.trajectory)
-    if len(mol) != len(ag):
-        raise SystemExit(f"surftrace reads {len(mol)} atoms, MDAnalysis {len(ag)}: select the same atoms")
+    u = mda.Universe(args.topology, args.trajectory)
+    ag = u.atoms[mol.indices]
     upd = surftrace.Updater(mol, surface="ses", probe=args.probe)
 
     times, areas, volumes = [], [], []
