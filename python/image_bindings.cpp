@@ -493,7 +493,11 @@ RenderRequest requestOf(const PySurface& surface, const std::optional<Camera>& c
   ro.camera.projection = ortho ? Projection::Orthographic : Projection::Perspective;
   if (!fov.is_none()) ro.camera.fovY = realIn(fov, "fov", 0, 180, true);
   if (!(ro.camera.fovY < 180.0)) throw py::value_error("fov=" + reprOf(fov) + ": the field of view must be in (0, 180) degrees");
-  q.framing.direction = namedViewDirection(view.is_none() ? std::string("front") : textOf(view, "view"));
+  // A named view ("front", "x,y,z") or the direction itself as three numbers.
+  if (view.is_none()) q.framing.direction = namedViewDirection("front");
+  else if (py::isinstance<py::str>(view)) q.framing.direction = namedViewDirection(view.cast<std::string>());
+  else if ((q.framing.direction = vectorOf(view, "view")) == glm::dvec3(0.0))
+    throw py::value_error("view=" + reprOf(view) + ": the view direction must not be zero");
   if (!eye.is_none()) q.framing.eye = vectorOf(eye, "eye");
   if (!lookAt.is_none()) q.framing.lookAt = vectorOf(lookAt, "look_at");
   if (!up.is_none()) {

@@ -83,11 +83,11 @@ def test_gl_equals_the_cli_gl(surface, folder):
 
 def test_options_equal_the_cli_options(surface, folder):
     options = dict(color="element", background=(0.1, 0.2, 0.3), spp=4, shadows=True, silhouettes=True,
-                   crease_angle=40.0, depth_cue=True, view="left")
+                   crease_angle=40.0, depth_cue=True, view=(1, -0.5, 0.25))
     image = surftrace.render(surface, size=(64, 48), **options)
     exr, _, _ = cli_render(folder, "options", "--size", "64x48", "--color", "element", "--background", "0.1,0.2,0.3",
                            "--spp", "4", "--shadows", "--silhouettes", "--crease-angle", "40", "--depth-cue",
-                           "--view", "left")
+                           "--view", "1,-0.5,0.25")
     assert buffers_equal(image, surftrace.Image.load(exr)) == []
 
 
@@ -280,6 +280,7 @@ def test_camera_errors(tmp_path):
     (dict(engine="vulkan"), ValueError, "vulkan"),
     (dict(engine="gl", spp=4), ValueError, ""),
     (dict(view="sideways"), ValueError, "sideways"),
+    (dict(view=(0, 0, 0)), ValueError, "view"),
     (dict(up=(0, 0, 0)), ValueError, "up"),
     (dict(fov=180), ValueError, "fov"),
     (dict(crease_angle=200), ValueError, "crease_angle"),
