@@ -1,4 +1,4 @@
-// The stages `render` and `trajectory` share (pipeline.hpp).
+// What `render` and `trajectory` share beyond the library's stages (pipeline.hpp).
 #include "pipeline.hpp"
 
 #include <cstdio>

@@ -1,11 +1,8 @@
-// The stages `render` and `trajectory` share, in the order an image is made:
-//
-//   read (a structure, a trajectory frame)  ->  atoms with radii  ->  build or update the surface
-//   ->  frame the camera (image_options.hpp)  ->  render (an Engine: surftrace/engine.hpp)  ->  write (writeImage)
-//
-// `render` runs each stage once; `trajectory` frames once and runs the others per frame inside
-// its TBB pipeline. Each stage is here once, so that an option added to one (an engine, a
-// visual effect, a metadata field) reaches both commands.
+// What `render` and `trajectory` share beyond the library's stages (surftrace/surftrace.hpp:
+// read -> build or update -> frame the camera -> an Engine draws -> encode and write): the
+// options that choose the engine and the ball-and-stick model, and the image's record made
+// from the command's options. `render` runs each stage once; `trajectory` frames once and runs
+// the others per frame inside its TBB pipeline; an option added here reaches both commands.
 #pragma once
 
 #include <chrono>
@@ -51,7 +48,5 @@ void describeEngine(const view::Engine& engine, ImageRecord& record);
 // time and engine are filled by the stages that know them.
 ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, const ImageOptions& image,
                      const std::string& commandLine);
-
-// Stages "encode" and "write": encodeImage, writeFiles, writeImage (surftrace/image.hpp).
 
 }  // namespace surftrace::tools
