@@ -24,7 +24,8 @@ run_packages=(
 )
 # The test suites, benchmarks and their oracles: GoogleTest and Google Benchmark, the shader
 # checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer,
-# and headless Chromium (opens `compare --html`'s page).
+# headless Chromium (opens `compare --html`'s page), and the Python module's build (pybind11),
+# tests (pytest) and examples (pandas, matplotlib).
 test_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   glslang-tools
@@ -32,6 +33,7 @@ test_packages=(
   freesasa
   chromium
   python3-mdanalysis python3-numpy
+  pybind11-dev python3-pybind11 python3-pytest python3-pandas python3-matplotlib
   slurm-wlm munge
   clang libclang-rt-14-dev
   mmdebstrap

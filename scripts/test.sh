@@ -13,6 +13,10 @@ cmake --preset ci >/dev/null
 cmake --build --preset ci -j "$jobs"
 ctest --preset ci -j "$jobs"
 
+echo "== The Python module's tests (pytest; ctest ran them as python_module, here with their count) =="
+PYTHONPATH=build/ci/python SURFTRACE_TOOL=build/ci/tools/surftrace SURFTRACE_BUILD_DIR=build/ci \
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+
 echo "== The oracle tests with a numpy-less python3 first on PATH (a pyenv or venv) =="
 # A python3 that cannot import numpy (no site-packages) shadows the system one: the oracle
 # interpreter chosen at configure time must still be one that imports numpy and MDAnalysis,

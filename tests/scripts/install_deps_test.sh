@@ -7,7 +7,8 @@ run=$(bash "$script" --list)
 all=$(bash "$script" --list --tests)
 fail=0
 for tool in slurm-wlm munge clang libclang-rt-14-dev libcgal-dev freesasa python3-mdanalysis \
-            libgtest-dev libbenchmark-dev chromium; do
+            libgtest-dev libbenchmark-dev chromium \
+            pybind11-dev python3-pybind11 python3-pytest python3-pandas; do
   if grep -qx "$tool" <<<"$run"; then echo "the demo installs the test tool $tool"; fail=1; fi
   if ! grep -qx "$tool" <<<"$all"; then echo "--tests misses $tool"; fail=1; fi
 done
