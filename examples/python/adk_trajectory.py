@@ -49,7 +49,7 @@ def main():
         times.append(ts.time)
         areas.append(surface.area)
         volumes.append(surface.volume)
-        print(ts.frame, ts.time, repr(surface.area), repr(surface.volume))  # repr: every digit
+        print(ts.frame, f"{ts.time:.3f}", repr(surface.area), repr(surface.volume))  # repr: every digit
 
     width, height = args.size
     dpi = 100

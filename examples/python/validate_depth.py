@@ -68,7 +68,7 @@ def main():
     print(f"depth error  median {d['median']:.3g}  p99 {d['p99']:.3g}  max {d['max']:.3g} Å "
           f"(p99 = {d['p99_relative']:.3g} of the scene size {d['scene_size']:.3g} Å)")
     print(f"coverage mismatch {report['coverage']['mismatch']} px")
-    print("PASS" if report["passed"] else "FAIL")
+    print(report["verdict"])  # "PASS (foreign, ...)", or "FAIL (...)" and the limits it broke
     return 0 if report["passed"] else 2
 
 

@@ -1,9 +1,7 @@
 """The scripts in examples/python/, run as a user runs them (a subprocess of /usr/bin/python3 with
 this environment's PYTHONPATH), on the bundled data; their outcomes checked against the
-`surftrace` command line program ($SURFTRACE_TOOL, default build/ci/tools/surftrace) and the
-file system."""
+`surftrace` command line program (conftest.py's run_tool) and the file system."""
 import csv as csv_module
-import json
 import math
 import os
 import struct
@@ -13,13 +11,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "python"
-CRAMBIN = ROOT / "tests" / "data" / "structures" / "1crn.pdb"
-ADK = ROOT / "tests" / "data" / "trajectories" / "adk_dims"
 PYTHON = "/usr/bin/python3"
-
-
-def tool():
-    return os.environ.get("SURFTRACE_TOOL", str(ROOT / "build" / "ci" / "tools" / "surftrace"))
 
 
 def run_example(name, *args, expect=0):
@@ -27,13 +19,6 @@ def run_example(name, *args, expect=0):
                             env=os.environ.copy(), cwd=ROOT, timeout=120)
     assert result.returncode == expect, f"{name} exited {result.returncode}:\n{result.stdout}\n{result.stderr}"
     return result.stdout
-
-
-def cli_json(*args):
-    result = subprocess.run([tool(), *map(str, args), "--format", "json"], capture_output=True, text=True,
-                            timeout=120)
-    assert result.returncode == 0, result.stderr
-    return json.loads(result.stdout)
 
 
 def png_size(path):
@@ -58,31 +43,33 @@ def png_size(path):
     return width, height
 
 
-def test_residue_areas_sum_to_the_total_ses_area(tmp_path):
+def test_residue_areas_sum_to_the_total_ses_area(tmp_path, data, run_tool):
+    crambin = data / "structures" / "1crn.pdb"
     csv = tmp_path / "residues.csv"
-    out = run_example("residue_areas.py", CRAMBIN, "--csv", csv)
+    out = run_example("residue_areas.py", crambin, "--csv", csv)
     with open(csv, newline="") as f:
         residues = list(csv_module.DictReader(f))
-    total = cli_json("area", CRAMBIN)["ses"]["total"]
+    total = run_tool("area", crambin, "--format", "json", parse_json=True)["ses"]["total"]
     assert len(residues) == 46  # crambin's residues
     assert math.isclose(math.fsum(float(r["area"]) for r in residues), total, rel_tol=1e-9, abs_tol=0.0)
     assert len(out.splitlines()) >= 11  # a summary line and the ten largest
 
 
-def test_adk_trajectory_prints_the_cli_areas_and_plots_them(tmp_path):
+def test_adk_trajectory_prints_the_cli_areas_and_plots_them(tmp_path, data, run_tool):
+    topology, trajectory = data / "trajectories" / "adk_dims" / "adk.psf.gz", data / "trajectories" / "adk_dims" / "adk_dims.dcd"
     png = tmp_path / "adk.png"
-    out = run_example("adk_trajectory.py", ADK / "adk.psf.gz", ADK / "adk_dims.dcd", png,
-                      "--frames", 3, "--size", "640x480")
+    out = run_example("adk_trajectory.py", topology, trajectory, png, "--frames", 3, "--size", "640x480")
     rows = [line.split() for line in out.splitlines() if line[:1].isdigit()]
     assert [int(r[0]) for r in rows] == [0, 1, 2]
-    frame0 = cli_json("area", ADK / "adk.psf.gz", ADK / "adk_dims.dcd", "--frames", "0:1")["frames"][0]
+    frame0 = run_tool("area", topology, trajectory, "--frames", "0:1", "--format", "json", parse_json=True)["frames"][0]
     assert float(rows[0][2]) == frame0["ses"]
     assert float(rows[0][3]) == frame0["ses_volume"]
     assert png_size(png) == (640, 480)
 
 
-def test_validate_depth_passes_a_small_error_and_fails_a_large_one():
-    small = run_example("validate_depth.py", CRAMBIN, "--error", 0.001)
-    assert small.splitlines()[-1] == "PASS"
-    large = run_example("validate_depth.py", CRAMBIN, "--error", 0.5, expect=2)
-    assert large.splitlines()[-1] == "FAIL"
+def test_validate_depth_passes_a_small_error_and_fails_a_large_one(data):
+    crambin = data / "structures" / "1crn.pdb"
+    small = run_example("validate_depth.py", crambin, "--error", 0.001)
+    assert small.splitlines()[-1].startswith("PASS")
+    large = run_example("validate_depth.py", crambin, "--error", 0.5, expect=2)
+    assert "FAIL" in large and "depth p99" in large
