@@ -811,26 +811,9 @@ py::dict compareImages(py::handle test, py::handle reference, py::object depthCo
   return report;
 }
 
-// Until the module's own Surface lands (surface_bindings.cpp): a private maker of SES surfaces
-// for this file's tests, under names that cannot clash with it.
-void bindTestSurfaces(py::module_& m) {
-  if (!py::detail::get_type_info(typeid(PySurface))) py::class_<PySurface>(m, "_Surface");
-  m.def("_ses_for_tests", [](const std::string& path, double probe) {
-    auto molecule = std::make_shared<const Molecule>(readStructure(path));
-    SurfaceRequest request;
-    request.surface = SurfaceKind::Ses;
-    request.probeRadius = probe;
-    PySurface s;
-    s.patches = std::make_shared<const PatchList>(buildSurface(*molecule, request));
-    s.molecule = std::move(molecule);
-    return s;
-  }, "path"_a, "probe"_a = 1.4);
-}
-
 }  // namespace
 
 void bindImages(py::module_& m) {
-  bindTestSurfaces(m);
   bindCamera(m);
   bindImage(m);
   m.def("render", &render, "surface"_a, "camera"_a = py::none(), "size"_a = py::none(), "engine"_a = "embree",

@@ -16,10 +16,8 @@ BUFFERS = ("rgb", "alpha", "depth_t", "depth_z", "normal", "patch_kind", "patch_
 
 
 def ses(path=CRAMBIN):
-    """The SES of a structure file: the module's own calls once they exist."""
-    if hasattr(surftrace, "ses") and hasattr(surftrace, "read"):
-        return surftrace.ses(surftrace.read(str(path)))
-    return surftrace._ses_for_tests(str(path))
+    """The SES of a structure file."""
+    return surftrace.ses(surftrace.read(str(path)))
 
 
 def cli(*args):
