@@ -4,14 +4,13 @@
 // the main thread, not in the trajectory's TBB pipeline).
 #include <gtest/gtest.h>
 
-#include <stdlib.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 #include <string>
 
 #include "run_tool.hpp"
+#include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
 
@@ -26,18 +25,9 @@ const std::string kDcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
 const std::string kFrames = " --frames 0:98:40";  // frames 0, 40 and 80
 constexpr std::size_t kFrameNumbers[] = {0, 40, 80};
 
-// A folder of its own (mkdtemp), removed when the test ends.
+// An empty folder in the test's own (temp_dir.hpp).
 struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string name = (fs::temp_directory_path() / "surftrace_engine_XXXXXX").string();
-    if (!::mkdtemp(name.data())) throw std::runtime_error("mkdtemp failed in " + fs::temp_directory_path().string());
-    path = name;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+  fs::path path = ::surftrace::test::freshTempDir("frames");
 };
 
 std::string frameFile(const fs::path& dir, std::size_t k) {
