@@ -1,4 +1,4 @@
-// The render settings an image records in its metadata (imageMetadata, tools/image_options.hpp), read
+// The render settings an image records in its metadata (imageMetadata, surftrace/image.hpp), read
 // back so that `compare` can tell two images made alike from two made differently.
 #pragma once
 
