@@ -84,6 +84,9 @@ class DrawThread {
 struct GlEngine::Impl {
   GlOptions gl;
   std::optional<GlContext> context;  // the draw thread's, opened by the first frame
+  // Made with the context and kept for every frame: its programs are compiled once (a frame
+  // uploads its own patches, blockers and model: GlRenderer::upload replaces them all).
+  std::optional<GlRenderer> renderer;
   std::string contextDescription;    // written on the draw thread, read after run() returns
   DrawThread thread;                 // last: destroyed first, after the context is closed
 };
@@ -99,7 +102,10 @@ GlEngine::GlEngine(const view::EngineOptions& options) : impl_(std::make_unique<
 GlEngine::~GlEngine() {
   // The context is closed on the thread that opened it.
   try {
-    impl_->thread.run([this] { impl_->context.reset(); });
+    impl_->thread.run([this] {
+      impl_->renderer.reset();
+      impl_->context.reset();
+    });
   } catch (...) {
     // A context that fails to close leaves nothing to do here; the driver reclaims it at exit.
   }
@@ -129,7 +135,8 @@ view::FrameBuffers GlEngine::draw(const view::Frame& frame) {
       m.context.emplace();
       m.contextDescription = m.context->description();
     }
-    return renderGl(*m.context, list, frame.options, frame.atomColors, m.gl, blockers ? &*blockers : nullptr,
+    if (!m.renderer) m.renderer.emplace(*m.context);
+    return renderGl(*m.renderer, list, frame.options, frame.atomColors, m.gl, blockers ? &*blockers : nullptr,
                     frame.model);
   });
 }

@@ -725,6 +725,15 @@ view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& pa
                              const build::BallStickModel* model) {
   const auto start = std::chrono::steady_clock::now();
   GlRenderer renderer(context);
+  view::FrameBuffers fb = renderGl(renderer, patches, options, atomColors, gl, blockers, model);
+  fb.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return fb;
+}
+
+view::FrameBuffers renderGl(GlRenderer& renderer, const build::PatchList& patches, const view::RenderOptions& options,
+                             std::span<const glm::vec3> atomColors, const GlOptions& gl,
+                             const build::SphereBlockers* blockers, const build::BallStickModel* model) {
+  const auto start = std::chrono::steady_clock::now();
   // The look-at point is the molecule's centre for framed views and near the surface for
   // close-ups: either way the coordinates the GPU sees are small (ORACLES D.4).
   renderer.upload(patches, options.camera.lookAt, blockers, model);

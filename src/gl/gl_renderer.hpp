@@ -132,6 +132,12 @@ view::FrameBuffers renderGl(const GlContext& context, const build::PatchList& pa
                              const view::RenderOptions& options, std::span<const glm::vec3> atomColors,
                              const GlOptions& gl = {}, const build::SphereBlockers* blockers = nullptr,
                              const build::BallStickModel* model = nullptr);
+// The same with a renderer kept from frame to frame (its programs compiled once); each call
+// uploads its own patches, blockers and model, so a frame does not depend on the one before.
+view::FrameBuffers renderGl(GlRenderer& renderer, const build::PatchList& patches, const view::RenderOptions& options,
+                             std::span<const glm::vec3> atomColors, const GlOptions& gl = {},
+                             const build::SphereBlockers* blockers = nullptr,
+                             const build::BallStickModel* model = nullptr);
 
 // Frame times of `frames` frames after one warm-up frame, each waited for with glFinish.
 struct GlTimings {

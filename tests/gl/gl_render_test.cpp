@@ -4,6 +4,7 @@
 #include <utility>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "build/bonds.hpp"
+#include "build/sphere_blockers.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
 #include "gl/gl_context.hpp"
@@ -431,6 +433,67 @@ TEST(GlPrimitive, SphereTracingIsConservativeToo) {
   const View& v = kViews[1];
   const Scene s = loadScene(v.file);
   expectConservative(s.patches, viewOptions(s, v), "crambin_closeup sphere-tracing", TorusMethod::SphereTracing);
+}
+
+}  // namespace
+}  // namespace surftrace::gl
+
+namespace surftrace::gl {
+namespace {
+
+// Whether two frames hold the same buffers, bit for bit (NaN equal to NaN: compared as bits).
+template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+void expectSameFrame(const view::FrameBuffers& kept, const view::FrameBuffers& fresh, const std::string& what) {
+  ASSERT_EQ(kept.width, fresh.width) << what;
+  ASSERT_EQ(kept.height, fresh.height) << what;
+  EXPECT_TRUE(sameBits(kept.rgba, fresh.rgba)) << what;
+  EXPECT_TRUE(sameBits(kept.depth, fresh.depth)) << what;
+  EXPECT_TRUE(sameBits(kept.viewZ, fresh.viewZ)) << what;
+  EXPECT_TRUE(sameBits(kept.normal, fresh.normal)) << what;
+  EXPECT_TRUE(sameBits(kept.kind, fresh.kind)) << what;
+  EXPECT_TRUE(sameBits(kept.patchId, fresh.patchId)) << what;
+  EXPECT_TRUE(sameBits(kept.atomId, fresh.atomId)) << what;
+  EXPECT_TRUE(sameBits(kept.layers, fresh.layers)) << what;
+}
+
+// The GL engine keeps one GlRenderer for every frame of a trajectory: a frame drawn by a
+// renderer that drew others before (another molecule, size, projection, transparency, model,
+// blockers given or not) equals the same frame drawn by a fresh renderer.
+TEST(GlKeptRenderer, EachFrameEqualsAFreshRenderersFrame) {
+  const GlContext context;
+  const Scene crambin = loadScene(kViews[0].file), gramicidin = loadScene(kViews[2].file);
+  std::vector<glm::dvec4> atoms;
+  for (std::size_t i = 0; i < crambin.molecule.size(); ++i)
+    atoms.push_back(glm::dvec4(crambin.molecule.centers[i], crambin.molecule.radii[i]));
+  const build::SphereBlockers blockers = build::sphereBlockers(crambin.patches, atoms);
+  const build::BallStickModel model = build::ballStickModel(crambin.molecule.centers, crambin.molecule.radii,
+                                                            build::moleculeBonds(crambin.molecule), 0.25, 0.15);
+  view::RenderOptions transparent = viewOptions(crambin, kViews[0]);
+  transparent.opacity = 0.5;
+  const view::RenderOptions closeup = viewOptions(crambin, kViews[1]);
+  const view::RenderOptions ortho = viewOptions(gramicidin, kViews[2]);
+  struct Draw {
+    const char* what;
+    const build::PatchList* list;
+    const view::RenderOptions* options;
+    const build::SphereBlockers* blockers;
+    const build::BallStickModel* model;
+  };
+  const Draw draws[] = {
+      {"crambin transparent, blockers, model", &crambin.patches, &transparent, &blockers, &model},
+      {"gramicidin opaque, orthographic", &gramicidin.patches, &ortho, nullptr, nullptr},
+      {"crambin transparent, no blockers given", &crambin.patches, &transparent, nullptr, nullptr},
+      {"crambin close-up, opaque", &crambin.patches, &closeup, nullptr, &model},
+      {"crambin transparent, blockers, model, again", &crambin.patches, &transparent, &blockers, &model},
+  };
+  GlRenderer kept(context);
+  for (const Draw& d : draws) {
+    const view::FrameBuffers a = renderGl(kept, *d.list, *d.options, {}, {}, d.blockers, d.model);
+    const view::FrameBuffers b = renderGl(context, *d.list, *d.options, {}, {}, d.blockers, d.model);
+    expectSameFrame(a, b, d.what);
+  }
 }
 
 }  // namespace
