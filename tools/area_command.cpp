@@ -155,7 +155,7 @@ void printSesAreas(const AreaOptions& o, const Built& b);
 void runArea(const AreaOptions& o) {
   const auto limit = limitThreads(o.threads);
   if (!o.trajectory.empty()) {
-    if (isPatchListInput(o.path))
+    if (isPatchListPath(o.path))
       throw std::invalid_argument(o.path + " is a patch list; areas over a trajectory need its topology as FILE");
     runAreaOverTime(o);
     return;

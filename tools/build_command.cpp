@@ -35,7 +35,7 @@ void checkPatchListName(const std::string& path) {
 }
 
 void runBuild(const BuildOptions& o) {
-  if (isPatchListInput(o.path))
+  if (isPatchListPath(o.path))
     throw std::invalid_argument(o.path + " is a patch list already (built, not a structure); `render` and `area` "
                                 "take it as it is");
   checkPatchListName(o.output);

@@ -21,10 +21,6 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options);
 // Prints what the reader assumed (Molecule::notes) on stderr, one "surftrace: note:" line each.
 void printReadNotes(const build::Molecule& molecule);
 
-// Whether FILE is a patch list (.stp) rather than a structure: it starts with the magic
-// "SURFTRCE", or it is named .stp (then reading it explains what is wrong).
-bool isPatchListInput(const std::string& path);
-
 // The message for a file whose contents did not fit in memory: the file, `what` it holds, and
 // this machine's memory.
 std::string outOfMemoryMessage(const std::string& file, const char* what);

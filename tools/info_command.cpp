@@ -57,8 +57,6 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
                                               {"psf", MoleculeFormat::Psf}}));
 }
 
-bool isPatchListInput(const std::string& path) { return isPatchListPath(path); }
-
 namespace {
 
 struct InfoOptions {
@@ -258,11 +256,11 @@ void printMoleculeText(const build::Molecule& m, const MoleculeSummary& u, doubl
 
 void runInfo(const InfoOptions& o) {
   if (!o.xyzr.empty()) {
-    if (isPatchListInput(o.path))
+    if (isPatchListPath(o.path))
       throw std::invalid_argument("--xyzr needs the structure file: " + o.path + " is a patch list, which holds no atoms");
     build::prepareOutputPath(o.xyzr, "--xyzr");
   }
-  if (isPatchListInput(o.path)) return runPatchListInfo(o);
+  if (isPatchListPath(o.path)) return runPatchListInfo(o);
   const auto start = std::chrono::steady_clock::now();
   const build::Molecule m = readingFile(o.path, "the atoms", [&] { return build::readMolecule(o.path, o.read); });
   if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);

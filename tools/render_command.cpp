@@ -170,7 +170,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
 }
 
 void runRender(const RenderCommandOptions& o) {
-  const bool fromPatchList = isPatchListInput(o.path);
+  const bool fromPatchList = isPatchListPath(o.path);
   ImageSetup setup = resolveImageOptions(o.image);
   checkRenderOptions(o, setup.render, fromPatchList);
   const auto limit = limitThreads(o.threads);

@@ -25,7 +25,7 @@ void addSurfaceInputOptions(CLI::App& cmd, SurfaceInputOptions& o) {
 Built readAndBuild(const SurfaceInputOptions& o) {
   auto start = std::chrono::steady_clock::now();
   Built b;
-  if (isPatchListInput(o.path)) {
+  if (isPatchListPath(o.path)) {
     b.patches = readingFile(o.path, "the patch list", [&] { return build::readPatchList(o.path); });
     if (o.surface.probeGiven() && o.surface.probe != b.patches.params.probeRadius)
       throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +

@@ -40,10 +40,10 @@ using build::validShrinkFactor;
 // The patch list of a `.stp` file (std::invalid_argument / InputError naming what is wrong),
 // and the file itself, written whole or not at all; `atoms` (centres and radii) are kept with
 // it so that `render` can frame and colour it alone.
-PatchList readPatchList(const std::string& path);
-void writePatchList(const std::string& path, const PatchList& patches, const PatchListAtoms& atoms = {});
+using build::readPatchList;
+using build::writePatchList;
 // The SES's outer component alone (its cavities left out).
-PatchList outerComponent(const PatchList& patches);
+using build::outerComponent;
 
 // One closed piece of a surface: an outer surface, or a cavity inside one.
 struct ComponentArea {
@@ -80,8 +80,7 @@ SurfaceAreas surfaceAreas(const PatchList& patches, std::span<const glm::dvec3> 
 
 // The ball-and-stick model of a molecule: its bonds (from the file's records and distances),
 // balls of ballScale times each atom's radius and sticks of stickRadius Å.
-std::vector<glm::uvec2> moleculeBonds(const Molecule& molecule);
-BallStickModel ballStickModel(std::span<const glm::dvec3> centers, std::span<const double> radii,
-                              std::span<const glm::uvec2> bonds, double ballScale, double stickRadius);
+using build::ballStickModel;
+using build::moleculeBonds;
 
 }  // namespace surftrace

@@ -11,14 +11,6 @@
 
 namespace surftrace {
 
-PatchList readPatchList(const std::string& path) { return build::readPatchList(path); }
-
-void writePatchList(const std::string& path, const PatchList& patches, const PatchListAtoms& atoms) {
-  build::writePatchList(path, patches, atoms);
-}
-
-PatchList outerComponent(const PatchList& patches) { return build::outerComponent(patches); }
-
 namespace {
 
 SurfaceAreas sesAreas(const PatchList& patches) {
@@ -67,13 +59,6 @@ SurfaceAreas surfaceAreas(const PatchList& patches, std::span<const glm::dvec3> 
   }
   throw std::invalid_argument(std::string("the areas of a ") + surfaceKindName(patches.params.surface) +
                               " patch list are not computed: build the SES (whose areas include the SAS) or the skin");
-}
-
-std::vector<glm::uvec2> moleculeBonds(const Molecule& molecule) { return build::moleculeBonds(molecule); }
-
-BallStickModel ballStickModel(std::span<const glm::dvec3> centers, std::span<const double> radii,
-                              std::span<const glm::uvec2> bonds, double ballScale, double stickRadius) {
-  return build::ballStickModel(centers, radii, bonds, ballScale, stickRadius);
 }
 
 }  // namespace surftrace

@@ -4,7 +4,6 @@
 #include <utility>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "build/sphere_blockers.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/io/molecule.hpp"
+#include "frame_buffers_equal.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
 #include "trace/patch_scene.hpp"
@@ -441,21 +441,20 @@ TEST(GlPrimitive, SphereTracingIsConservativeToo) {
 namespace surftrace::gl {
 namespace {
 
-// Whether two frames hold the same buffers, bit for bit (NaN equal to NaN: compared as bits).
-template <class T> bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using ::surftrace::test::sameBytes;  // frame_buffers_equal.hpp
+
+// Every buffer of two frames the same, bit for bit, the layer counts too.
 void expectSameFrame(const view::FrameBuffers& kept, const view::FrameBuffers& fresh, const std::string& what) {
   ASSERT_EQ(kept.width, fresh.width) << what;
   ASSERT_EQ(kept.height, fresh.height) << what;
-  EXPECT_TRUE(sameBits(kept.rgba, fresh.rgba)) << what;
-  EXPECT_TRUE(sameBits(kept.depth, fresh.depth)) << what;
-  EXPECT_TRUE(sameBits(kept.viewZ, fresh.viewZ)) << what;
-  EXPECT_TRUE(sameBits(kept.normal, fresh.normal)) << what;
-  EXPECT_TRUE(sameBits(kept.kind, fresh.kind)) << what;
-  EXPECT_TRUE(sameBits(kept.patchId, fresh.patchId)) << what;
-  EXPECT_TRUE(sameBits(kept.atomId, fresh.atomId)) << what;
-  EXPECT_TRUE(sameBits(kept.layers, fresh.layers)) << what;
+  EXPECT_TRUE(sameBytes(kept.rgba, fresh.rgba)) << what;
+  EXPECT_TRUE(sameBytes(kept.depth, fresh.depth)) << what;
+  EXPECT_TRUE(sameBytes(kept.viewZ, fresh.viewZ)) << what;
+  EXPECT_TRUE(sameBytes(kept.normal, fresh.normal)) << what;
+  EXPECT_TRUE(sameBytes(kept.kind, fresh.kind)) << what;
+  EXPECT_TRUE(sameBytes(kept.patchId, fresh.patchId)) << what;
+  EXPECT_TRUE(sameBytes(kept.atomId, fresh.atomId)) << what;
+  EXPECT_TRUE(sameBytes(kept.layers, fresh.layers)) << what;
 }
 
 // The GL engine keeps one GlRenderer for every frame of a trajectory: a frame drawn by a

@@ -3,7 +3,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -18,6 +17,7 @@
 #include "build/io/molecule.hpp"
 #include "build/patch_list.hpp"
 #include "build/io/stp_file.hpp"
+#include "frame_buffers_equal.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
@@ -420,11 +420,7 @@ TEST(Cli, InfoWritesTheAtomsAsXyzrExactly) {
   EXPECT_NE(stp.status, 0);
 }
 
-// Bytes equal, so that NaNs and signed zeros compare too.
-template <typename T>
-bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
+using ::surftrace::test::sameBytes;  // frame_buffers_equal.hpp
 
 // Two EXRs of one view: the same camera, a tenth of the image covered, and every buffer
 // equal bit for bit.

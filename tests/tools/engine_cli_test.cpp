@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "frame_buffers_equal.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
@@ -107,15 +108,7 @@ TEST(EngineCli, TrajectoryGlFramesEqualIndependentGlRenders) {
                                alone + " " + options);
       ASSERT_EQ(r.status, 0) << r.output;
       const view::FrameBuffers b = view::readExr(alone);
-      const std::string what = "frame " + std::to_string(k) + " " + options;
-      ASSERT_EQ(frame.width, b.width) << what;
-      ASSERT_EQ(frame.height, b.height) << what;
-      EXPECT_TRUE(frame.rgba == b.rgba) << what << ": colour differs";
-      EXPECT_TRUE(frame.depth == b.depth) << what << ": depth differs";
-      EXPECT_TRUE(frame.normal == b.normal) << what << ": normal differs";
-      EXPECT_TRUE(frame.kind == b.kind) << what << ": patch kind differs";
-      EXPECT_TRUE(frame.patchId == b.patchId) << what << ": patch id differs";
-      EXPECT_TRUE(frame.atomId == b.atomId) << what << ": atom id differs";
+      ::surftrace::test::expectSameBuffers(frame, b, "frame " + std::to_string(k) + " " + options);
     }
   }
 }

@@ -19,6 +19,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "frame_buffers_equal.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
@@ -47,17 +48,7 @@ std::string bytesOf(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// Every buffer of two renderings equal, bit for bit.
-void expectSameBuffers(const view::FrameBuffers& a, const view::FrameBuffers& b, const std::string& what) {
-  ASSERT_EQ(a.width, b.width) << what;
-  ASSERT_EQ(a.height, b.height) << what;
-  EXPECT_TRUE(a.rgba == b.rgba) << what << ": colour differs";
-  EXPECT_TRUE(a.depth == b.depth) << what << ": depth differs";
-  EXPECT_TRUE(a.normal == b.normal) << what << ": normal differs";
-  EXPECT_TRUE(a.kind == b.kind) << what << ": patch kind differs";
-  EXPECT_TRUE(a.patchId == b.patchId) << what << ": patch id differs";
-  EXPECT_TRUE(a.atomId == b.atomId) << what << ": atom id differs";
-}
+using ::surftrace::test::expectSameBuffers;  // frame_buffers_equal.hpp
 
 // Renders `frames` (a --frames text) with `options` and checks each frame against an independent
 // `render` of that frame with the trajectory's camera; returns the frames written.
