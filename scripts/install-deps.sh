@@ -21,6 +21,8 @@ run_packages=(
   gemmi-dev tao-pegtl-dev zlib1g-dev libgmp-dev libboost-dev
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   nlohmann-json3-dev libcli11-dev
+  # Meshes in and out (`compare MESH ...`, `mesh`): OBJ, PLY, STL, OFF, glTF/GLB.
+  libassimp-dev
 )
 # The test suites, benchmarks and their oracles: GoogleTest and Google Benchmark, the shader
 # checker, CGAL (test oracle only), FreeSASA, MDAnalysis, a one-node Slurm, clang's libFuzzer,
