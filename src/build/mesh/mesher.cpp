@@ -1,0 +1,689 @@
+// The mesher (mesher.hpp): sparse grid walk, marching tetrahedra, certified refinement.
+#include "build/mesh/mesher.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "build/core/assert.hpp"
+
+namespace surftrace::build::mesh {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Samples per triangle edge at most in the certificate: beyond it the triangle is split
+// instead, which costs fewer closest() calls than sampling it.
+constexpr int kMaxSamplesPerEdge = 32;
+// The certificate's sampling term is this share of ε; the sampled distances get the rest.
+constexpr double kSamplingShare = 0.5;
+// Root finding on a grid edge: iterations of the safeguarded secant (Illinois) method.
+constexpr int kRootIterations = 100;
+
+// Grid vertices are (i, j, k) in [0, 2^20)^3, packed into one key; a cell is keyed by its
+// lowest corner.
+constexpr int kAxisBits = 20;
+constexpr std::int64_t kAxisLimit = std::int64_t{1} << kAxisBits;
+using Key = std::uint64_t;
+Key packKey(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return static_cast<Key>(i) | static_cast<Key>(j) << kAxisBits | static_cast<Key>(k) << (2 * kAxisBits);
+}
+std::array<std::int64_t, 3> unpackKey(Key key) {
+  const Key mask = (Key{1} << kAxisBits) - 1;
+  return {static_cast<std::int64_t>(key & mask), static_cast<std::int64_t>(key >> kAxisBits & mask),
+          static_cast<std::int64_t>(key >> (2 * kAxisBits) & mask)};
+}
+// Corner c (bits x = 1, y = 2, z = 4) of the cell keyed `cell`.
+Key cornerKey(Key cell, int c) {
+  return cell + static_cast<Key>(c & 1) + (static_cast<Key>(c >> 1 & 1) << kAxisBits) +
+         (static_cast<Key>(c >> 2 & 1) << (2 * kAxisBits));
+}
+// Kuhn's triangulation of the cube: the six monotone paths from corner 0 to corner 7. Every
+// cube is split alike, so each square face is cut along the same diagonal from both sides and
+// the tetrahedra of neighbouring cubes share whole faces. Every edge runs from a corner to one
+// with more bits set, so an edge is its lower corner and a direction (1..7).
+constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+// The four corners of each face: x = 0, x = 1, y = 0, y = 1, z = 0, z = 1.
+constexpr int kFaces[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
+
+struct Grid {
+  glm::dvec3 origin{0.0};
+  double h = 0.0;
+  // Grid vertices where the field was exactly 0, moved off the surface (see walkGrid).
+  std::unordered_map<Key, glm::dvec3> moved;
+  glm::dvec3 position(Key key) const {
+    if (!moved.empty())
+      if (const auto it = moved.find(key); it != moved.end()) return it->second;
+    const auto [i, j, k] = unpackKey(key);
+    return origin + h * glm::dvec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+  }
+};
+
+// Inside the body: strictly negative. A value of exactly 0 counts as outside, so no grid value
+// sits on the surface and marching tetrahedra's output is a closed manifold.
+bool inside(double value) { return value < 0.0; }
+
+// The grid walk: the cells the surface crosses (corners of both signs), reached from the seeds'
+// cells across faces whose corners have both signs (the marching-tetrahedra surface leaves a
+// cube only through such faces), with the field's value at every corner of them.
+struct Walk {
+  std::vector<Key> cells;
+  std::unordered_map<Key, double> values;
+};
+
+Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dvec3> seeds, Key limit) {
+  Walk w;
+  std::unordered_set<Key> visited;
+  std::vector<Key> frontier;
+  const auto cellOf = [&](const glm::dvec3& p, int di, int dj, int dk, Key& out) {
+    const glm::dvec3 g = (p - grid.origin) / grid.h;
+    const std::int64_t i = static_cast<std::int64_t>(std::floor(g.x)) + di;
+    const std::int64_t j = static_cast<std::int64_t>(std::floor(g.y)) + dj;
+    const std::int64_t k = static_cast<std::int64_t>(std::floor(g.z)) + dk;
+    if (i < 0 || j < 0 || k < 0 || i + 1 >= static_cast<std::int64_t>(limit) || j + 1 >= static_cast<std::int64_t>(limit) ||
+        k + 1 >= static_cast<std::int64_t>(limit))
+      return false;
+    out = packKey(i, j, k);
+    return true;
+  };
+  for (const glm::dvec3& s : seeds)
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int dk = -1; dk <= 1; ++dk) {
+          Key cell;
+          if (cellOf(s, di, dj, dk, cell) && visited.insert(cell).second) frontier.push_back(cell);
+        }
+  std::vector<Key> need;
+  std::vector<double> needValues;
+  while (!frontier.empty()) {
+    need.clear();
+    for (Key cell : frontier)
+      for (int c = 0; c < 8; ++c)
+        if (!w.values.count(cornerKey(cell, c))) need.push_back(cornerKey(cell, c));
+    std::sort(need.begin(), need.end());
+    need.erase(std::unique(need.begin(), need.end()), need.end());
+    needValues.resize(need.size());
+    tbb::parallel_for(std::size_t{0}, need.size(),
+                      [&](std::size_t n) { needValues[n] = field.signedDistance(grid.position(need[n])); });
+    for (std::size_t n = 0; n < need.size(); ++n) {
+      // A grid vertex on the surface would put the crossings of all its edges at one point
+      // (zero-area triangles): it is moved off the surface by a small step, outwards (0
+      // counts as outside), which keeps every tetrahedron's sign pattern and makes the
+      // crossings distinct.
+      for (double step = 1e-4; needValues[n] == 0.0 && step < 0.5; step *= 4.0)
+        for (double sign : {1.0, -1.0}) {
+          const glm::dvec3 moved =
+              grid.position(need[n]) + sign * step * grid.h * glm::normalize(glm::dvec3(0.53, 0.71, 0.46));
+          const double value = field.signedDistance(moved);
+          if (value > 0.0 && needValues[n] == 0.0) grid.moved[need[n]] = moved, needValues[n] = value;
+        }
+      w.values.emplace(need[n], needValues[n]);
+    }
+    std::vector<Key> next;
+    for (Key cell : frontier) {
+      bool in[8];
+      int count = 0;
+      for (int c = 0; c < 8; ++c) count += in[c] = inside(w.values.at(cornerKey(cell, c)));
+      if (count == 0 || count == 8) continue;
+      w.cells.push_back(cell);
+      const auto [i, j, k] = unpackKey(cell);
+      for (int f = 0; f < 6; ++f) {
+        const int faceIn = in[kFaces[f][0]] + in[kFaces[f][1]] + in[kFaces[f][2]] + in[kFaces[f][3]];
+        if (faceIn == 0 || faceIn == 4) continue;
+        const int axis = f / 2, step = f % 2 == 0 ? -1 : 1;
+        std::int64_t n[3] = {i, j, k};
+        n[axis] += step;
+        if (n[axis] < 0 || n[axis] + 1 >= static_cast<std::int64_t>(limit)) continue;
+        const Key neighbour = packKey(n[0], n[1], n[2]);
+        if (visited.insert(neighbour).second) next.push_back(neighbour);
+      }
+    }
+    frontier = std::move(next);
+  }
+  return w;
+}
+
+// A point of the surface with what closest() knows of it.
+void storeVertex(TriangleMesh& mesh, std::size_t v, const SurfacePoint& p) {
+  mesh.positions[v] = p.point;
+  mesh.normals[v] = p.normal;
+  mesh.atom[v] = p.atom;
+  mesh.kind[v] = p.kind;
+  mesh.component[v] = p.component;
+}
+
+// The zero of the field on the segment from `a` (inside, fa < 0) to `b` (outside, fb >= 0):
+// the Illinois variant of regula falsi, which keeps the bracket and converges superlinearly.
+glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::dvec3 b, double fb) {
+  if (fb == 0.0) return b;
+  int side = 0;
+  for (int it = 0; it < kRootIterations; ++it) {
+    const double t = fa / (fa - fb);
+    const glm::dvec3 x = a + t * (b - a);
+    const double fx = field.signedDistance(x);
+    if (fx == 0.0 || glm::length(b - a) < 1e-13) return x;
+    if (inside(fx)) {
+      a = x, fa = fx;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    } else {
+      b = x, fb = fx;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    }
+    if (std::abs(fx) < 1e-13) return x;
+  }
+  return 0.5 * (a + b);
+}
+
+// Marching tetrahedra over the walked cells: vertices on the grid edges whose ends have
+// opposite signs (one per edge, shared by every tetrahedron around it), triangles oriented
+// from the inside corners towards the outside ones.
+TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, const Walk& walk) {
+  // An edge is its lower corner's key times 8 plus its direction (1..7).
+  std::unordered_map<Key, std::uint32_t> edgeVertex;
+  edgeVertex.reserve(walk.cells.size() * 4);
+  std::vector<Key> edges;
+  TriangleMesh mesh;
+  const auto vertexOn = [&](Key p, Key q) {
+    // p and q are corners of one cube, q with more bits set (Kuhn's edges are monotone).
+    if (p > q) std::swap(p, q);
+    const auto [pi, pj, pk] = unpackKey(p);
+    const auto [qi, qj, qk] = unpackKey(q);
+    const Key edge = p << 3 | static_cast<Key>((qi - pi) | (qj - pj) << 1 | (qk - pk) << 2);
+    const auto [it, added] = edgeVertex.emplace(edge, static_cast<std::uint32_t>(edges.size()));
+    if (added) edges.push_back(edge);
+    return it->second;
+  };
+  for (Key cell : walk.cells) {
+    Key corner[8];
+    double value[8];
+    for (int c = 0; c < 8; ++c) corner[c] = cornerKey(cell, c), value[c] = walk.values.at(corner[c]);
+    for (const auto& tet : kTets) {
+      int in[4], out[4], nIn = 0, nOut = 0;
+      for (int v : tet) (inside(value[v]) ? in[nIn++] : out[nOut++]) = v;
+      if (nIn == 0 || nOut == 0) continue;
+      // The cut's vertices; orientation is decided on the edges' midpoints, where the cut
+      // separates the tetrahedron's inside corners from its outside ones by construction.
+      std::vector<std::pair<int, int>> cut;
+      if (nIn == 1) cut = {{in[0], out[0]}, {in[0], out[1]}, {in[0], out[2]}};
+      else if (nIn == 3) cut = {{in[0], out[0]}, {in[1], out[0]}, {in[2], out[0]}};
+      else cut = {{in[0], out[0]}, {in[0], out[1]}, {in[1], out[1]}, {in[1], out[0]}};
+      glm::dvec3 mid[4], inC(0.0), outC(0.0);
+      for (std::size_t n = 0; n < cut.size(); ++n)
+        mid[n] = 0.5 * (grid.position(corner[cut[n].first]) + grid.position(corner[cut[n].second]));
+      for (int n = 0; n < nIn; ++n) inC += grid.position(corner[in[n]]) / double(nIn);
+      for (int n = 0; n < nOut; ++n) outC += grid.position(corner[out[n]]) / double(nOut);
+      const bool flip = glm::dot(glm::cross(mid[1] - mid[0], mid[2] - mid[0]), outC - inC) < 0.0;
+      std::uint32_t id[4];
+      for (std::size_t n = 0; n < cut.size(); ++n) id[n] = vertexOn(corner[cut[n].first], corner[cut[n].second]);
+      const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        mesh.triangles.push_back(flip ? glm::uvec3(a, c, b) : glm::uvec3(a, b, c));
+      };
+      emit(id[0], id[1], id[2]);
+      // The quad's four points are coplanar at the midpoints, so both halves face alike.
+      if (cut.size() == 4) emit(id[0], id[2], id[3]);
+    }
+  }
+  const std::size_t n = edges.size();
+  mesh.positions.resize(n), mesh.normals.resize(n), mesh.atom.resize(n), mesh.kind.resize(n), mesh.component.resize(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    const Key lower = edges[v] >> 3;
+    const Key dir = edges[v] & 7;
+    const Key upper = cornerKey(lower, static_cast<int>(dir));
+    double fa = walk.values.at(lower), fb = walk.values.at(upper);
+    glm::dvec3 a = grid.position(lower), b = grid.position(upper);
+    if (!inside(fa)) std::swap(a, b), std::swap(fa, fb);
+    storeVertex(mesh, v, field.closest(edgeRoot(field, a, fa, b, fb)));
+  });
+  return mesh;
+}
+
+// The farthest a point of the triangle lies from the nearest of its corners: the circumradius
+// for a triangle with no obtuse angle; for an obtuse one the triangle lies in the disc on its
+// longest edge L, where every point is within L/√2 of an end of that edge.
+double coverRadius(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const double ab = glm::length(b - a), bc = glm::length(c - b), ca = glm::length(a - c);
+  const double longest = std::max({ab, bc, ca});
+  const double others2 = ab * ab + bc * bc + ca * ca - longest * longest;
+  if (longest * longest > others2) return longest / std::sqrt(2.0);
+  const double area2 = glm::length(glm::cross(b - a, c - a));  // twice the area
+  if (area2 <= 0.0) return longest / std::sqrt(2.0);
+  return ab * bc * ca / (2.0 * area2);
+}
+
+std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return static_cast<std::uint64_t>(a) << 32 | b;
+}
+
+// A triangle that faces against the surface's normals at its corners, or has no area: made
+// by marching tetrahedra where a crossing lies very near a grid vertex (a sliver), once its
+// corners are projected onto the surface.
+bool badTriangle(const TriangleMesh& m, const glm::uvec3& t) {
+  const glm::dvec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+  return !(glm::dot(n, m.normals[t.x] + m.normals[t.y] + m.normals[t.z]) > 0.0);
+}
+
+// Edge collapses on a closed manifold mesh: one vertex of an edge moves onto the other (which
+// stays where it is, on the surface), the edge's two triangles go. A collapse is made only
+// when the link condition holds (the two vertices share exactly the two opposite vertices:
+// the mesh stays a manifold of the same topology), no triangle it changes turns bad, and, when
+// asked, every changed triangle keeps a certified bound within ε.
+class Collapser {
+ public:
+  Collapser(const SurfaceDistance& field, TriangleMesh& mesh, std::vector<double>& bound, double samplingTerm)
+      : field_(field), m_(mesh), bound_(bound), samplingTerm_(samplingTerm), around_(mesh.positions.size()),
+        alive_(mesh.triangles.size(), 1) {
+    for (std::size_t t = 0; t < m_.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) around_[m_.triangles[t][k]].push_back(static_cast<std::uint32_t>(t));
+  }
+
+  bool alive(std::size_t t) const { return alive_[t]; }
+
+  // Moves `drop` onto `keep` if allowed; `maxBound` < 0: no bound asked.
+  bool collapse(std::uint32_t keep, std::uint32_t drop, double maxBound) {
+    std::vector<std::uint32_t> shared, changed;
+    for (std::uint32_t t : around_[drop]) {
+      if (!alive_[t]) continue;
+      const glm::uvec3 tri = m_.triangles[t];
+      (tri.x == keep || tri.y == keep || tri.z == keep ? shared : changed).push_back(t);
+    }
+    if (shared.size() != 2) return false;
+    // Link condition: the common neighbours are the shared triangles' third vertices alone.
+    std::unordered_set<std::uint32_t> nearKeep;
+    for (std::uint32_t t : around_[keep])
+      if (alive_[t])
+        for (int k = 0; k < 3; ++k) nearKeep.insert(m_.triangles[t][k]);
+    std::unordered_set<std::uint32_t> common;
+    for (std::uint32_t t : changed)
+      for (int k = 0; k < 3; ++k)
+        if (m_.triangles[t][k] != drop && nearKeep.count(m_.triangles[t][k])) common.insert(m_.triangles[t][k]);
+    for (std::uint32_t t : shared)
+      for (int k = 0; k < 3; ++k)
+        if (m_.triangles[t][k] != drop && m_.triangles[t][k] != keep) common.erase(m_.triangles[t][k]);
+    if (!common.empty()) return false;
+    if (nearKeep.size() <= 4) return false;  // a tetrahedron would fold flat
+    std::vector<glm::uvec3> replaced(changed.size());
+    std::vector<double> bounds(changed.size(), -1.0);
+    for (std::size_t n = 0; n < changed.size(); ++n) {
+      glm::uvec3 tri = m_.triangles[changed[n]];
+      for (int k = 0; k < 3; ++k)
+        if (tri[k] == drop) tri[k] = keep;
+      if (badTriangle(m_, tri)) return false;
+      replaced[n] = tri;
+      if (maxBound >= 0.0) {
+        bounds[n] = certifiedDeviation(field_, m_.positions[tri.x], m_.positions[tri.y], m_.positions[tri.z],
+                                       samplingTerm_);
+        if (bounds[n] > maxBound) return false;
+      }
+    }
+    for (std::uint32_t t : shared) alive_[t] = 0;
+    for (std::size_t n = 0; n < changed.size(); ++n) {
+      m_.triangles[changed[n]] = replaced[n];
+      bound_[changed[n]] = bounds[n];
+      around_[keep].push_back(changed[n]);
+    }
+    around_[drop].clear();
+    return true;
+  }
+
+  // Removes the collapsed triangles and the vertices no triangle uses.
+  void compact() {
+    std::vector<std::uint32_t> index(m_.positions.size(), ~0u);
+    TriangleMesh out;
+    std::vector<double> bounds;
+    for (std::size_t t = 0; t < m_.triangles.size(); ++t) {
+      if (!alive_[t]) continue;
+      glm::uvec3 tri = m_.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t& i = index[tri[k]];
+        if (i == ~0u) {
+          i = static_cast<std::uint32_t>(out.positions.size());
+          out.positions.push_back(m_.positions[tri[k]]);
+          out.normals.push_back(m_.normals[tri[k]]);
+          out.atom.push_back(m_.atom[tri[k]]);
+          out.kind.push_back(m_.kind[tri[k]]);
+          out.component.push_back(m_.component[tri[k]]);
+        }
+        tri[k] = i;
+      }
+      out.triangles.push_back(tri);
+      bounds.push_back(bound_[t]);
+    }
+    m_ = std::move(out);
+    bound_ = std::move(bounds);
+  }
+
+ private:
+  const SurfaceDistance& field_;
+  TriangleMesh& m_;
+  std::vector<double>& bound_;
+  double samplingTerm_;
+  std::vector<std::vector<std::uint32_t>> around_;
+  std::vector<char> alive_;
+};
+
+// Collapses away bad triangles (badTriangle): for each, its edges shortest first, each
+// direction. Returns how many bad triangles are left.
+std::size_t removeBadTriangles(const SurfaceDistance& field, TriangleMesh& mesh, std::vector<double>& bound,
+                               double samplingTerm, double maxBound) {
+  for (int pass = 0; pass < 8; ++pass) {
+    Collapser c(field, mesh, bound, samplingTerm);
+    std::size_t bad = 0, fixed = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (!c.alive(t) || !badTriangle(mesh, mesh.triangles[t])) continue;
+      ++bad;
+      const glm::uvec3 tri = mesh.triangles[t];
+      int order[3] = {0, 1, 2};
+      const auto len = [&](int e) { return glm::length(mesh.positions[tri[e]] - mesh.positions[tri[(e + 1) % 3]]); };
+      std::sort(order, order + 3, [&](int a, int b) { return len(a) < len(b); });
+      for (int e : order) {
+        const std::uint32_t p = tri[e], q = tri[(e + 1) % 3];
+        if (c.collapse(p, q, maxBound) || c.collapse(q, p, maxBound)) {
+          ++fixed;
+          break;
+        }
+      }
+    }
+    c.compact();
+    if (bad == 0 || fixed == 0) return bad - fixed;
+  }
+  std::size_t bad = 0;
+  for (const glm::uvec3& t : mesh.triangles) bad += badTriangle(mesh, t);
+  return bad;
+}
+
+}  // namespace
+
+double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, const glm::dvec3& b,
+                          const glm::dvec3& c, double samplingTerm) {
+  // The sub-triangles of an n-fold barycentric split are the triangle (or its point mirror)
+  // scaled by 1/n, so each point lies within coverRadius/n of a sample.
+  const double cover = coverRadius(a, b, c);
+  const int n = std::max(1, static_cast<int>(std::ceil(cover / samplingTerm)));
+  if (n > kMaxSamplesPerEdge) return kInf;
+  double worst = 0.0;
+  const auto sample = [&](int i, int j) {
+    const int k = n - i - j;
+    const glm::dvec3 s = (double(i) * a + double(j) * b + double(k) * c) / double(n);
+    worst = std::max(worst, glm::length(s - field.closest(s).point));
+  };
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j)
+      if (!((i == n) || (j == n) || (i + j == 0))) sample(i, j);  // corners are on the surface
+  return worst + cover / double(n);
+}
+
+MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3> seeds, const MeshParams& params) {
+  const double eps = params.maxError, h = params.gridSpacing;
+  if (!(eps > 0.0) || !std::isfinite(eps))
+    throw std::invalid_argument("mesh: the maximum error must be a positive number of Å, got " + std::to_string(eps));
+  if (!(h > 0.0) || !(h < field.reach()))
+    throw std::invalid_argument("mesh: the grid spacing " + std::to_string(h) +
+                                " Å must be positive and below the field's reach " + std::to_string(field.reach()) +
+                                " Å");
+  const auto progress = [&](double f) {
+    if (params.progress) params.progress(f);
+  };
+  MeshResult result;
+  // The grid: one cell of margin around the surface's box, so every cell the surface crosses
+  // has all its corners in the grid.
+  Grid grid;
+  grid.h = h;
+  // An offset that is no round fraction of h, so that symmetric surfaces rarely pass through
+  // grid vertices.
+  grid.origin = field.boundsMin() - glm::dvec3(2.0 * h) - h * glm::dvec3(0.2718281828, 0.1414213562, 0.1732050808);
+  const glm::dvec3 extent = field.boundsMax() - grid.origin + glm::dvec3(2.0 * h);
+  const double cellsPerAxis = std::max({extent.x, extent.y, extent.z}) / h + 2.0;
+  if (!(cellsPerAxis < static_cast<double>(kAxisLimit - 2)))
+    throw std::invalid_argument("mesh: the surface's box spans " + std::to_string(cellsPerAxis) +
+                                " grid cells along an axis, more than " + std::to_string(kAxisLimit - 2) +
+                                "; use a larger grid spacing");
+  const Key limit = static_cast<Key>(std::ceil(cellsPerAxis)) + 2;
+  const Walk walk = walkGrid(field, grid, seeds, limit);
+  result.gridCells = walk.cells.size();
+  progress(0.1);
+  TriangleMesh& mesh = result.mesh;
+  mesh = marchTetrahedra(field, grid, walk);
+  progress(0.2);
+
+  // Refinement. Each triangle keeps its bound until it is split.
+  const double samplingTerm = kSamplingShare * eps;
+  std::vector<double> bound(mesh.triangles.size(), -1.0);
+  removeBadTriangles(field, mesh, bound, samplingTerm, -1.0);
+  for (int round = 0;; ++round) {
+    tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t t) {
+      if (bound[t] >= 0.0) return;
+      const glm::uvec3 tri = mesh.triangles[t];
+      bound[t] = certifiedDeviation(field, mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z],
+                                    samplingTerm);
+    });
+    // The longest edge of each failing triangle is split.
+    std::vector<std::uint64_t> marked;
+    std::size_t worstTriangle = 0;
+    double worst = 0.0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (bound[t] > worst) worst = bound[t], worstTriangle = t;
+      if (bound[t] <= eps) continue;
+      const glm::uvec3 tri = mesh.triangles[t];
+      std::uint32_t e0 = tri.x, e1 = tri.y;
+      double best = -1.0;
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t p = tri[e], q = tri[(e + 1) % 3];
+        const double len = glm::length(mesh.positions[p] - mesh.positions[q]);
+        if (len > best) best = len, e0 = p, e1 = q;
+      }
+      marked.push_back(edgeKey(e0, e1));
+    }
+    result.certifiedError = worst;
+    result.rounds = round;
+    if (marked.empty()) break;
+    if (round >= params.maxRounds) {
+      const glm::dvec3 p = mesh.positions[mesh.triangles[worstTriangle].x];
+      throw std::runtime_error("mesh: after " + std::to_string(round) +
+                               " rounds of refinement a triangle near (" + std::to_string(p.x) + ", " +
+                               std::to_string(p.y) + ", " + std::to_string(p.z) + ") still has a bound of " +
+                               std::to_string(worst) + " Å > --max-error " + std::to_string(eps) +
+                               " Å (a cusp or a very thin feature there?); ask for a larger --max-error");
+    }
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    // Midpoints, projected onto the surface.
+    const std::size_t first = mesh.positions.size(), added = marked.size();
+    const std::size_t total = first + added;
+    mesh.positions.resize(total), mesh.normals.resize(total), mesh.atom.resize(total), mesh.kind.resize(total);
+    mesh.component.resize(total);
+    tbb::parallel_for(std::size_t{0}, added, [&](std::size_t n) {
+      const auto p = static_cast<std::uint32_t>(marked[n] >> 32), q = static_cast<std::uint32_t>(marked[n]);
+      storeVertex(mesh, first + n, field.closest(0.5 * (mesh.positions[p] + mesh.positions[q])));
+    });
+    const auto midpointOf = [&](std::uint32_t p, std::uint32_t q) -> std::int64_t {
+      const auto it = std::lower_bound(marked.begin(), marked.end(), edgeKey(p, q));
+      if (it == marked.end() || *it != edgeKey(p, q)) return -1;
+      return static_cast<std::int64_t>(first + static_cast<std::size_t>(it - marked.begin()));
+    };
+    // Each triangle with marked edges is split at its longest marked edge, and its halves
+    // again at theirs: every marked edge is split once, at its one midpoint, from both sides.
+    std::vector<glm::uvec3> triangles;
+    std::vector<double> bounds;
+    triangles.reserve(mesh.triangles.size() + 3 * added);
+    std::vector<glm::uvec3> stack;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      stack.assign(1, mesh.triangles[t]);
+      bool split = false;
+      while (!stack.empty()) {
+        const glm::uvec3 tri = stack.back();
+        stack.pop_back();
+        int edge = -1;
+        double best = -1.0;
+        for (int e = 0; e < 3; ++e) {
+          const std::uint32_t p = tri[e], q = tri[(e + 1) % 3];
+          if (midpointOf(p, q) < 0) continue;
+          const double len = glm::length(mesh.positions[p] - mesh.positions[q]);
+          if (len > best) best = len, edge = e;
+        }
+        if (edge < 0) {
+          triangles.push_back(tri);
+          bounds.push_back(split ? -1.0 : bound[t]);
+          continue;
+        }
+        split = true;
+        const std::uint32_t p = tri[edge], q = tri[(edge + 1) % 3], r = tri[(edge + 2) % 3];
+        const auto m = static_cast<std::uint32_t>(midpointOf(p, q));
+        stack.push_back(glm::uvec3(p, m, r));
+        stack.push_back(glm::uvec3(m, q, r));
+      }
+    }
+    mesh.triangles = std::move(triangles);
+    bound = std::move(bounds);
+    progress(std::min(0.95, 0.2 + 0.06 * (round + 1)));
+  }
+  // Splitting can leave a bad triangle where a projected midpoint folds a thin one over.
+  result.badTriangles = removeBadTriangles(field, mesh, bound, samplingTerm, eps);
+  result.certifiedError = bound.empty() ? 0.0 : *std::max_element(bound.begin(), bound.end());
+  progress(1.0);
+  return result;
+}
+
+std::vector<glm::dvec3> surfaceSeeds(const PatchList& p) {
+  std::vector<glm::dvec3> seeds;
+  static const glm::dvec3 kDirections[] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                           {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  for (std::size_t i = 0; i < p.convex.size(); ++i)
+    for (const glm::dvec3& d : kDirections) seeds.push_back(p.convex.center[i] + p.convex.radius[i] * d);
+  const double rp = p.params.probeRadius;
+  for (std::size_t i = 0; i < p.tori.size(); ++i) {
+    // The contact circles: θ = θi and θ = θj at φ = 0 and at the middle of the sweep
+    // (ORACLES A.3: the probe centre at φ is c + R(cos φ e1 + sin φ axis × e1)).
+    const glm::dvec3 a = p.tori.axis[i], e1 = p.tori.e1[i], e2 = glm::cross(a, e1);
+    for (double phi : {0.0, 0.5 * p.tori.phiExtent[i]}) {
+      const glm::dvec3 radial = std::cos(phi) * e1 + std::sin(phi) * e2;
+      const glm::dvec3 probe = p.tori.center[i] + p.tori.bigRadius[i] * radial;
+      for (double theta : {p.tori.thetaI[i], p.tori.thetaJ[i]})
+        seeds.push_back(probe + rp * (-std::cos(theta) * radial + std::sin(theta) * a));
+    }
+  }
+  for (std::size_t i = 0; i < p.concave.size(); ++i)
+    for (const glm::dvec3& d : {p.concave.dirI[i], p.concave.dirJ[i], p.concave.dirK[i]})
+      seeds.push_back(p.concave.probe[i] + rp * d);
+  // Skin quadrics: along each direction u from the centre, the quadric radial|x − z|² +
+  // axial((x − z)·axis)² + constant = 0 has a root at |x − z| = √(−constant / (radial + axial (u·axis)²)).
+  const MssQuadrics& q = p.mss;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const glm::dvec3 a = q.axis[i];
+    const glm::dvec3 side = glm::normalize(std::abs(a.x) < 0.9 ? glm::cross(a, glm::dvec3(1, 0, 0))
+                                                               : glm::cross(a, glm::dvec3(0, 1, 0)));
+    for (const glm::dvec3& u : {a, -a, side, -side, glm::cross(a, side), -glm::cross(a, side),
+                                glm::normalize(a + side), glm::normalize(-a - side)}) {
+      const double k = q.radialCoeff[i] + q.axialCoeff[i] * glm::dot(u, a) * glm::dot(u, a);
+      if (k != 0.0 && -q.constant[i] / k > 0.0) seeds.push_back(q.center[i] + std::sqrt(-q.constant[i] / k) * u);
+    }
+  }
+  return seeds;
+}
+
+std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const glm::uvec3& t : mesh.triangles) {
+    parent[find(t.y)] = find(t.x);
+    parent[find(t.z)] = find(t.x);
+  }
+  std::unordered_map<std::uint32_t, std::size_t> index;
+  std::vector<MeshComponent> out;
+  std::vector<std::size_t> ofTriangle(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t root = find(mesh.triangles[t].x);
+    const auto [it, added] = index.emplace(root, out.size());
+    if (added) {
+      out.emplace_back();
+      if (!mesh.component.empty()) out.back().surfaceComponent = mesh.component[mesh.triangles[t].x];
+    }
+    ofTriangle[t] = it->second;
+    MeshComponent& c = out[it->second];
+    const glm::uvec3 tri = mesh.triangles[t];
+    const glm::dvec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], d = mesh.positions[tri.z];
+    c.triangles++;
+    c.area += 0.5 * glm::length(glm::cross(b - a, d - a));
+    c.volume += glm::dot(a, glm::cross(b, d)) / 6.0;
+  }
+  // Directed edges: each must meet its reverse exactly once.
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(3 * mesh.triangles.size());
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int e = 0; e < 3; ++e) directed[static_cast<std::uint64_t>(t[e]) << 32 | t[(e + 1) % 3]]++;
+  std::vector<char> used(n, 0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    MeshComponent& c = out[ofTriangle[t]];
+    const glm::uvec3 tri = mesh.triangles[t];
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t p = tri[e], q = tri[(e + 1) % 3];
+      if (!used[p]) used[p] = 1, c.vertices++;
+      const auto fwd = directed.find(static_cast<std::uint64_t>(p) << 32 | q);
+      const auto back = directed.find(static_cast<std::uint64_t>(q) << 32 | p);
+      if (fwd->second != 1 || back == directed.end() || back->second != 1) c.closed = false;
+      if (p < q || back == directed.end()) c.edges++;
+    }
+  }
+  for (MeshComponent& c : out)
+    c.euler = static_cast<long long>(c.vertices) - static_cast<long long>(c.edges) + static_cast<long long>(c.triangles);
+  return out;
+}
+
+TriangleMesh keepComponents(const TriangleMesh& mesh, const std::vector<bool>& keep) {
+  // Components numbered as meshComponents numbers them: by first triangle.
+  const std::size_t n = mesh.positions.size();
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const glm::uvec3& t : mesh.triangles) {
+    parent[find(t.y)] = find(t.x);
+    parent[find(t.z)] = find(t.x);
+  }
+  std::unordered_map<std::uint32_t, std::size_t> index;
+  std::vector<std::uint32_t> newIndex(n, ~0u);
+  TriangleMesh out;
+  const bool attributes = !mesh.normals.empty();
+  for (const glm::uvec3& t : mesh.triangles) {
+    const auto [it, added] = index.emplace(find(t.x), index.size());
+    if (!keep.at(it->second)) continue;
+    glm::uvec3 mapped;
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t v = t[e];
+      if (newIndex[v] == ~0u) {
+        newIndex[v] = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.push_back(mesh.positions[v]);
+        if (attributes) {
+          out.normals.push_back(mesh.normals[v]);
+          out.atom.push_back(mesh.atom[v]);
+          out.kind.push_back(mesh.kind[v]);
+          out.component.push_back(mesh.component[v]);
+        }
+      }
+      mapped[e] = newIndex[v];
+    }
+    out.triangles.push_back(mapped);
+  }
+  return out;
+}
+
+}  // namespace surftrace::build::mesh

@@ -1,0 +1,78 @@
+// The mesher: a closed, outward-oriented triangle mesh of an exact surface (a SurfaceDistance),
+// with every vertex on the surface and a certified bound on its deviation from it.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "build/mesh/surface_distance.hpp"
+#include "build/mesh/triangle_mesh.hpp"
+#include "build/patch_list.hpp"
+
+namespace surftrace::build::mesh {
+
+struct MeshParams {
+  double maxError = 0.1;     // ε (Å): the certified bound every triangle must meet
+  double gridSpacing = 0.5;  // h (Å) of the marching-tetrahedra grid; < the field's reach()
+  int maxRounds = 40;        // refinement rounds before giving up (a cusp: no bound shrinks)
+  // Called with the fraction done (0..1) between the stages; may be empty.
+  std::function<void(double)> progress;
+};
+
+struct MeshResult {
+  TriangleMesh mesh;
+  double certifiedError = 0.0;  // max over triangles of the certified deviation bound (Å)
+  std::size_t gridCells = 0;    // cells of the sparse grid the surface crosses
+  int rounds = 0;               // refinement rounds taken
+  // Triangles left facing against the surface's normals (or of no area) that no collapse
+  // could remove: 0 in every mesh the tests have seen; the command reports any.
+  std::size_t badTriangles = 0;
+};
+
+// Meshes the surface of `field`. `seeds` are points on or near the surface, at least one near
+// each of its components (surfaceSeeds gives them for a patch list): the grid is walked from
+// them over the cells the surface crosses, so a component with no seed near it is left out.
+// Marching tetrahedra (Kuhn's six tetrahedra per cube, so neighbouring cubes' faces match) on
+// the grid's values gives a closed manifold mesh; its vertices are the roots of the field on
+// grid edges, projected onto the surface with closest(). Then the longest edge of every
+// triangle whose certified bound exceeds ε is split (midpoint projected, both triangles of the
+// edge split) until every triangle passes. The certified bound of a triangle is
+//   max over samples s of |s − closest(s).point|  +  the farthest any point of the triangle
+//   lies from its nearest sample,
+// an upper bound of its distance to the surface because that distance is 1-Lipschitz.
+// std::invalid_argument for ε <= 0, h <= 0 or h >= reach(); std::runtime_error naming the
+// place when a triangle cannot be certified within maxRounds.
+MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3> seeds, const MeshParams& params);
+
+// Points near the surface of `patches`, several on each patch (the contact circles of tori,
+// the corners of concave triangles, points on spheres and skin quadrics): seeds for
+// meshSurface that reach every component.
+std::vector<glm::dvec3> surfaceSeeds(const PatchList& patches);
+
+// The certified deviation bound of one triangle (Å), sampled finely enough that the sampling
+// term is at most `samplingTerm`; +inf when that needs more than kMaxSamplesPerEdge per edge.
+double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, const glm::dvec3& b,
+                          const glm::dvec3& c, double samplingTerm);
+
+// One closed piece of a mesh (a connected component over shared vertices).
+struct MeshComponent {
+  std::size_t vertices = 0, edges = 0, triangles = 0;
+  long long euler = 0;          // V − E + F: 2 for a sphere, 0 for a torus
+  double area = 0.0;            // Å²
+  double volume = 0.0;          // signed (Å³): > 0 an outer surface, < 0 a cavity
+  std::uint32_t surfaceComponent = 0;  // the field's component of its first vertex (mesh.component)
+  bool closed = true;           // every edge in exactly two triangles, in opposite directions
+};
+// The connected components of `mesh`, in the order of their first triangle.
+std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh);
+
+// The triangles of `mesh` whose connected component is kept (keep[c] for the components of
+// meshComponents), with only the vertices they use.
+TriangleMesh keepComponents(const TriangleMesh& mesh, const std::vector<bool>& keep);
+
+}  // namespace surftrace::build::mesh
