@@ -43,6 +43,8 @@ auto readingFile(const std::string& file, const char* what, Read&& read) -> decl
 void addInfoCommand(CLI::App& app);
 void addBuildCommand(CLI::App& app);
 void addAreaCommand(CLI::App& app);
+// `mesh`: a triangle mesh of the exact surface with a certified error (mesh_command.cpp).
+void addMeshCommand(CLI::App& app);
 // `commandLine` is the whole invocation, recorded in every image's metadata.
 void addRenderCommand(CLI::App& app, const std::string& commandLine);
 void addCompareCommand(CLI::App& app);

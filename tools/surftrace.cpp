@@ -1,6 +1,6 @@
 // surftrace: the command-line front end. Each subcommand lives in its own *_command.cpp.
 //
-// `info`, `build` and `area` run in this program, which links no image library; every other
+// `info`, `build`, `area` and `mesh` run in this program, which links no image library; every other
 // command line (render, trajectory, compare, --help, --version, a mistyped command) is handed
 // unchanged to surftrace_images (beside it in the build tree, in libexec/surftrace/ once
 // installed), which has every command. Loading OpenImageIO (with
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   const std::string_view command = argc > 1 ? argv[1] : "";
   std::string missing;
-  if (command != "info" && command != "build" && command != "area") {
+  if (command != "info" && command != "build" && command != "area" && command != "mesh") {
     missing = runImageProgram(argv);
     if (isImageCommand(command)) {
       std::fprintf(stderr,
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  // info, build, area; or --help, --version and errors when surftrace_images is missing.
+  // info, build, area, mesh; or --help, --version and errors when surftrace_images is missing.
   CLI::App app;
   surftrace::tools::describeApp(app);
   if (!missing.empty())
@@ -92,5 +92,6 @@ int main(int argc, char** argv) {
   surftrace::tools::addInfoCommand(app);
   surftrace::tools::addBuildCommand(app);
   surftrace::tools::addAreaCommand(app);
+  surftrace::tools::addMeshCommand(app);
   return surftrace::tools::runApp(app, argc, argv);
 }

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   surftrace::tools::addInfoCommand(app);
   surftrace::tools::addBuildCommand(app);
   surftrace::tools::addAreaCommand(app);
+  surftrace::tools::addMeshCommand(app);
   std::string commandLine;
   for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
   surftrace::tools::addRenderCommand(app, commandLine);
