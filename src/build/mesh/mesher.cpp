@@ -25,8 +25,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Samples per triangle edge at most in the certificate: beyond it the triangle is split
 // instead, which costs fewer closest() calls than sampling it.
 constexpr int kMaxSamplesPerEdge = 32;
-// The certificate's sampling term is this share of ε; the sampled distances get the rest.
-constexpr double kSamplingShare = 0.5;
+// The certificate's sampling radius is this share of ε: √(0.7² + d²) <= 1 leaves d up to ~0.7ε.
+constexpr double kSamplingShare = 0.7;
 // Root finding on a grid edge: iterations of the safeguarded secant (Illinois) method.
 constexpr int kRootIterations = 100;
 
@@ -324,7 +324,7 @@ class Collapser {
       replaced[n] = tri;
       if (maxBound >= 0.0) {
         bounds[n] = certifiedDeviation(field_, m_.positions[tri.x], m_.positions[tri.y], m_.positions[tri.z],
-                                       samplingTerm_);
+                                       samplingTerm_, maxBound);
         if (bounds[n] > maxBound) return false;
       }
     }
@@ -407,22 +407,42 @@ std::size_t removeBadTriangles(const SurfaceDistance& field, TriangleMesh& mesh,
 }  // namespace
 
 double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, const glm::dvec3& b,
-                          const glm::dvec3& c, double samplingTerm) {
+                          const glm::dvec3& c, double samplingTerm, double giveUpAbove) {
   // The sub-triangles of an n-fold barycentric split are the triangle (or its point mirror)
-  // scaled by 1/n, so each point lies within coverRadius/n of a sample.
+  // scaled by 1/n, so each point p lies within r = coverRadius/n of a sample s. With q the
+  // surface point closest(s) gives, v = q − s, d = |v| and t = |v's part along the triangle's
+  // plane|, and p − s in that plane: dist(p, surface) <= |p − q| = √(r² + d² − 2(p − s)·v)
+  // <= √(r² + d² + 2rt). Near the surface v is nearly normal to the triangle (t << d), so
+  // this is about √(r² + d²), where the Lipschitz bound d + r would ask for samples about
+  // twice as dense (and four times as many).
   const double cover = coverRadius(a, b, c);
   const int n = std::max(1, static_cast<int>(std::ceil(cover / samplingTerm)));
   if (n > kMaxSamplesPerEdge) return kInf;
-  double worst = 0.0;
+  const double r = cover / double(n);
+  const glm::dvec3 cross = glm::cross(b - a, c - a);
+  const double crossLength = glm::length(cross);
+  const glm::dvec3 normal = crossLength > 0.0 ? cross / crossLength : glm::dvec3(0.0);
+  // The corners are on the surface to about 1e-9 Å (projected there): that much is added.
+  double d = 1e-9, t = 1e-9;
+  const auto bound = [&] { return std::sqrt(r * r + d * d + 2.0 * r * t); };
   const auto sample = [&](int i, int j) {
     const int k = n - i - j;
     const glm::dvec3 s = (double(i) * a + double(j) * b + double(k) * c) / double(n);
-    worst = std::max(worst, glm::length(s - field.closest(s).point));
+    const glm::dvec3 v = field.closest(s).point - s;
+    d = std::max(d, glm::length(v));
+    t = std::max(t, crossLength > 0.0 ? glm::length(v - glm::dot(v, normal) * normal) : glm::length(v));
   };
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; i + j <= n; ++j)
-      if (!((i == n) || (j == n) || (i + j == 0))) sample(i, j);  // corners are on the surface
-  return worst + cover / double(n);
+  // A coarse pass first, so that most failing triangles are told after a few samples.
+  const int stride = std::max(1, n / 2);
+  for (int pass = 0; pass < 2; ++pass)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const bool coarse = i % stride == 0 && j % stride == 0 && (n - i - j) % stride == 0;
+        if (coarse != (pass == 0) || i == n || j == n || i + j == 0) continue;  // corners: on the surface
+        sample(i, j);
+        if (bound() > giveUpAbove) return bound();
+      }
+  return bound();
 }
 
 MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3> seeds, const MeshParams& params) {
@@ -467,7 +487,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
       if (bound[t] >= 0.0) return;
       const glm::uvec3 tri = mesh.triangles[t];
       bound[t] = certifiedDeviation(field, mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z],
-                                    samplingTerm);
+                                    samplingTerm, eps);
     });
     // The longest edge of each failing triangle is split.
     std::vector<std::uint64_t> marked;

@@ -54,10 +54,12 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
 // meshSurface that reach every component.
 std::vector<glm::dvec3> surfaceSeeds(const PatchList& patches);
 
-// The certified deviation bound of one triangle (Å), sampled finely enough that the sampling
-// term is at most `samplingTerm`; +inf when that needs more than kMaxSamplesPerEdge per edge.
+// The certified deviation bound of one triangle (Å) whose corners are on the surface, from
+// samples no farther than `samplingRadius` from any point of it; +inf when that needs more than
+// 32 samples per edge. Sampling stops as soon as the bound exceeds `giveUpAbove` (the value
+// returned is then above it, not the triangle's whole bound).
 double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, const glm::dvec3& b,
-                          const glm::dvec3& c, double samplingTerm);
+                          const glm::dvec3& c, double samplingRadius, double giveUpAbove = 1e300);
 
 // One closed piece of a mesh (a connected component over shared vertices).
 struct MeshComponent {
