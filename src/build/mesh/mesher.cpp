@@ -186,6 +186,33 @@ glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::
   return 0.5 * (a + b);
 }
 
+// Where an edge (p, q) of the mesh is split: the surface point on the line through its
+// midpoint along the mean of the two vertex normals, the one nearest the midpoint on that line
+// (a bracket grown by doubling, then edgeRoot). Projecting the midpoint to its nearest surface
+// point instead stalls at grooves: an edge bridging a narrow one (a vdW crease, a skin neck)
+// has a midpoint nearest to a rim, so its halves bridge the groove as before, forever; along
+// the normal the new vertex goes down into it. Falls back to the nearest point when the line
+// meets no surface within max(4 edge lengths, reachOut) (a normal sum near zero: a sharp fold).
+glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
+                      const glm::dvec3& nq, double reachOut) {
+  const glm::dvec3 m = 0.5 * (p + q);
+  const double fm = field.signedDistance(m);
+  const glm::dvec3 sum = np + nq;
+  const double length = glm::length(q - p);
+  if (fm == 0.0) return m;
+  if (glm::length(sum) > 0.2) {
+    // Towards the surface: inwards from outside, outwards from inside.
+    const glm::dvec3 dir = (fm > 0.0 ? -1.0 : 1.0) * glm::normalize(sum);
+    const double limit = std::max(4.0 * length, reachOut);
+    for (double t = std::max(std::abs(fm), 1e-3 * length); t <= limit; t *= 2.0) {
+      const glm::dvec3 x = m + t * dir;
+      const double fx = field.signedDistance(x);
+      if (inside(fx) != inside(fm)) return inside(fm) ? edgeRoot(field, m, fm, x, fx) : edgeRoot(field, x, fx, m, fm);
+    }
+  }
+  return field.closest(m).point;
+}
+
 // Marching tetrahedra over the walked cells: vertices on the grid edges whose ends have
 // opposite signs (one per edge, shared by every tetrahedron around it), triangles oriented
 // from the inside corners towards the outside ones.
@@ -265,6 +292,17 @@ double coverRadius(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c
 std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
   if (a > b) std::swap(a, b);
   return static_cast<std::uint64_t>(a) << 32 | b;
+}
+
+// The longest edge of a triangle, the one a failing triangle splits.
+std::uint64_t longestEdgeOf(const TriangleMesh& mesh, const glm::uvec3& tri) {
+  int longest = 0;
+  double best = -1.0;
+  for (int e = 0; e < 3; ++e) {
+    const double length = glm::length(mesh.positions[tri[e]] - mesh.positions[tri[(e + 1) % 3]]);
+    if (length > best) best = length, longest = e;
+  }
+  return edgeKey(tri[longest], tri[(longest + 1) % 3]);
 }
 
 // A triangle that faces against the surface's normals at its corners, or has no area: made
@@ -496,15 +534,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       if (bound[t] > worst) worst = bound[t], worstTriangle = t;
       if (bound[t] <= eps) continue;
-      const glm::uvec3 tri = mesh.triangles[t];
-      std::uint32_t e0 = tri.x, e1 = tri.y;
-      double best = -1.0;
-      for (int e = 0; e < 3; ++e) {
-        const std::uint32_t p = tri[e], q = tri[(e + 1) % 3];
-        const double len = glm::length(mesh.positions[p] - mesh.positions[q]);
-        if (len > best) best = len, e0 = p, e1 = q;
-      }
-      marked.push_back(edgeKey(e0, e1));
+      marked.push_back(longestEdgeOf(mesh, mesh.triangles[t]));
     }
     result.certifiedError = worst;
     result.rounds = round;
@@ -526,7 +556,8 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     mesh.component.resize(total);
     tbb::parallel_for(std::size_t{0}, added, [&](std::size_t n) {
       const auto p = static_cast<std::uint32_t>(marked[n] >> 32), q = static_cast<std::uint32_t>(marked[n]);
-      storeVertex(mesh, first + n, field.closest(0.5 * (mesh.positions[p] + mesh.positions[q])));
+      storeVertex(mesh, first + n,
+                  field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q], h)));
     });
     const auto midpointOf = [&](std::uint32_t p, std::uint32_t q) -> std::int64_t {
       const auto it = std::lower_bound(marked.begin(), marked.end(), edgeKey(p, q));
