@@ -382,6 +382,27 @@ TEST(Mesher, RejectsAGridCoarserThanTheReach) {
   EXPECT_THROW(meshOf(f, {glm::dvec3(1, 0, 0)}, 0.0, 0.5), std::invalid_argument);
 }
 
+// A field whose sign changes without a zero (a sphere's distance, but -1 anywhere inside) is
+// refused with the place named, rather than meshed with vertices off the surface.
+class SignJumpField : public SphereField {
+ public:
+  using SphereField::SphereField;
+  double signedDistance(const glm::dvec3& x) const override {
+    const double d = SphereField::signedDistance(x);
+    return d < 0.0 ? -1.0 : d + 0.05;
+  }
+};
+
+TEST(Mesher, DiscontinuousFieldIsAnError) {
+  const SignJumpField f({{0, 0, 0}, 1.5});
+  try {
+    (void)meshOf(f, {glm::dvec3(1.5, 0, 0)}, 0.1, 0.4);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("changes sign without a zero"), std::string::npos) << e.what();
+  }
+}
+
 // --- Files --------------------------------------------------------------------------------
 
 TriangleMesh smallMesh() {

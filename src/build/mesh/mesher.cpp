@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <optional>
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -29,6 +32,9 @@ constexpr int kMaxSamplesPerEdge = 32;
 constexpr double kSamplingShare = 0.7;
 // Root finding on a grid edge: iterations of the safeguarded secant (Illinois) method.
 constexpr int kRootIterations = 100;
+// Refinement gives up when the mesh has grown this many times over the marching-tetrahedra mesh
+// (about 100x is what ε = h²/1000 asks of a smooth surface): past it, splits no longer converge.
+constexpr std::size_t kMaxGrowth = 200;
 
 // Grid vertices are (i, j, k) in [0, 2^20)^3, packed into one key; a cell is keyed by its
 // lowest corner.
@@ -213,6 +219,12 @@ glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const g
   return field.closest(m).point;
 }
 
+std::string coordinates(const glm::dvec3& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.4f, %.4f, %.4f", p.x, p.y, p.z);
+  return text;
+}
+
 // Marching tetrahedra over the walked cells: vertices on the grid edges whose ends have
 // opposite signs (one per edge, shared by every tetrahedron around it), triangles oriented
 // from the inside corners towards the outside ones.
@@ -263,6 +275,8 @@ TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, con
     }
   }
   const std::size_t n = edges.size();
+  std::optional<std::string> broken;
+  std::mutex brokenMutex;
   mesh.positions.resize(n), mesh.normals.resize(n), mesh.atom.resize(n), mesh.kind.resize(n), mesh.component.resize(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
     const Key lower = edges[v] >> 3;
@@ -271,8 +285,20 @@ TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, con
     double fa = walk.values.at(lower), fb = walk.values.at(upper);
     glm::dvec3 a = grid.position(lower), b = grid.position(upper);
     if (!inside(fa)) std::swap(a, b), std::swap(fa, fb);
-    storeVertex(mesh, v, field.closest(edgeRoot(field, a, fa, b, fb)));
+    const glm::dvec3 root = edgeRoot(field, a, fa, b, fb);
+    // The field is continuous, so the bracket closes on a zero; a value left over means it
+    // changes sign without one (a broken field), which would put vertices far apart.
+    const double left = field.signedDistance(root);
+    if (std::abs(left) > 1e-6 * grid.h) {
+      std::lock_guard<std::mutex> lock(brokenMutex);
+      if (!broken) broken = "mesh: the surface's distance field changes sign without a zero on the segment from (" +
+                            coordinates(a) + ") to (" + coordinates(b) + "): " + std::to_string(fa) + " to " +
+                            std::to_string(fb) + ", still " + std::to_string(left) + " at (" + coordinates(root) +
+                            "); the field is discontinuous there (a bug in it), so no mesh can follow it";
+    }
+    storeVertex(mesh, v, field.closest(root));
   });
+  if (broken) throw std::runtime_error(*broken);
   return mesh;
 }
 
@@ -520,6 +546,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
   const double samplingTerm = kSamplingShare * eps;
   std::vector<double> bound(mesh.triangles.size(), -1.0);
   removeBadTriangles(field, mesh, bound, samplingTerm, -1.0);
+  const std::size_t initialTriangles = mesh.triangles.size();
   for (int round = 0;; ++round) {
     tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t t) {
       if (bound[t] >= 0.0) return;
@@ -547,6 +574,13 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
                                std::to_string(worst) + " Å > --max-error " + std::to_string(eps) +
                                " Å (a cusp or a very thin feature there?); ask for a larger --max-error");
     }
+    if (mesh.triangles.size() > kMaxGrowth * initialTriangles + 1000000)
+      throw std::runtime_error("mesh: refinement has grown the mesh to " + std::to_string(mesh.triangles.size()) +
+                               " triangles from " + std::to_string(initialTriangles) + " without meeting --max-error " +
+                               std::to_string(eps) + " Å (worst bound " + std::to_string(worst) +
+                               " Å near the triangle it names next): " +
+                               coordinates(mesh.positions[mesh.triangles[worstTriangle].x]) +
+                               "; a feature the grid does not resolve there? try a smaller --grid or a larger --max-error");
     std::sort(marked.begin(), marked.end());
     marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
     // Midpoints, projected onto the surface.
