@@ -30,10 +30,25 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   group->add_flag("--keep-water", options.keepWater, "Keep water molecules (dropped by default)");
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
   group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
-  group->add_option("--radii", options.radiiFile,
-                    "Radius table overriding the default radii (Bondi, then Mantina, then Alvarez): lines 'ELEMENT r' or "
-                    "'RES:ATOM r', '#' comments; elements not in it keep their default radius")
-      ->check(CLI::ExistingFile);
+  group
+      ->add_option_function<std::string>(
+          "--radii",
+          [&options](const std::string& value) {
+            // A preset's name wins over a file of that name (give such a file as ./protor).
+            if (const auto preset = build::radiusPresetNamed(value)) options.radiiPreset = preset;
+            else options.radiiFile = value;
+          },
+          "protor or naccess: FreeSASA's radii by residue and atom name (its --radii=protor|naccess; atoms they "
+          "do not name get FreeSASA's element guess); or a radius table FILE overriding the default radii (Bondi, "
+          "then Mantina, then Alvarez): lines 'ELEMENT r' or 'RES:ATOM r', '#' comments; elements not in it keep "
+          "their default radius")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            if (build::radiusPresetNamed(value) || CLI::ExistingFile(value).empty()) return {};
+            return "expected protor, naccess or a radius table file, got '" + value + "', which is neither a preset "
+                   "nor an existing file";
+          },
+          "protor|naccess|FILE"));
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
       ->check(positive());

@@ -810,17 +810,24 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     throw InputError(name, 0,
                      "the bead radius must be a finite number > 0, got " +
                          std::to_string(*options.beadRadius));
+  if (options.radiiPreset && (options.radiiFile || options.beadRadius))
+    throw InputError(name, 0,
+                     std::string("--radii ") + radiusPresetName(*options.radiiPreset) +
+                         " gives every atom FreeSASA's radius by residue and atom name; it cannot be "
+                         "combined with " + (options.radiiFile ? "a radius table" : "--bead-radius") +
+                         " (choose one)");
   if (molecule.format == MoleculeFormat::Xyzr) {
-    if (options.radiiFile || options.beadRadius)
+    if (options.radiiFile || options.beadRadius || options.radiiPreset)
       throw InputError(name, 0,
                        "an XYZR file gives its own radii and no atom names or elements, so " +
-                           (options.radiiFile ? "the radius table " + options.radiiFile->string()
-                                              : std::string("--bead-radius")) +
+                           (options.radiiFile    ? "the radius table " + options.radiiFile->string()
+                            : options.radiiPreset ? std::string("--radii ") + radiusPresetName(*options.radiiPreset)
+                                                  : std::string("--bead-radius")) +
                            " cannot apply");
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
-  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile && !options.beadRadius) {
+  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile && !options.beadRadius && !options.radiiPreset) {
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
@@ -833,6 +840,8 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     molecule.radiiSet = text;
     if (table) molecule.radiiSet += ",table:" + table->path();
     molecule.beadRadius = options.beadRadius;
+  } else if (options.radiiPreset) {
+    molecule.radiiSet = radiusPresetName(*options.radiiPreset);
   } else {
     molecule.radiiSet = table ? "table:" + table->path() : std::string("bondi");
   }
@@ -852,7 +861,11 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     // An ion's residue is named like its atom (iodide I, uranium U), even where the name is
     // also a nucleotide's.
     const bool ion = upperCase(trim(atom.name)) == upperCase(trim(atom.residue));
-    if (atom.elementSource == ElementSource::Name && !ion &&
+    // A classifier that names the atom decides its radius whatever its element reads as.
+    if (options.radiiPreset)
+      if (const std::optional<double> r = presetRadius(*options.radiiPreset, trim(atom.residue), trim(atom.name)))
+        radius = TabulatedRadius{*r, RadiusSource::Preset};
+    if (!radius && atom.elementSource == ElementSource::Name && !ion &&
         !isPlausibleElement(atom.residue, atom.element)) {
       // The guess cannot be right; a RES:ATOM line gives the atom a radius all the same.
       const std::optional<double> r = table ? table->findAtom(atom.residue, atom.name) : std::nullopt;
@@ -876,6 +889,9 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     if (!radius && table)
       if (const std::optional<double> r = table->find(atom.residue, atom.name, atom.element))
         radius = TabulatedRadius{*r, RadiusSource::UserTable};
+    if (!radius && options.radiiPreset)
+      if (const std::optional<double> r = freesasaGuessRadius(atom.element))
+        radius = TabulatedRadius{*r, RadiusSource::PresetGuess};
     if (!radius) radius = elementRadius(atom.element);
     if (!radius && options.defaultRadius) {
       radius = TabulatedRadius{*options.defaultRadius, RadiusSource::Default};

@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "build/io/radii.hpp"
+#include "build/io/radius_presets.hpp"
 
 namespace surftrace::build {
 
@@ -50,6 +51,9 @@ struct ReadOptions {
   bool keepHydrogens = true;
   std::vector<std::string> chains;            // empty: all chains
   std::optional<std::filesystem::path> radiiFile;  // user radius table
+  // FreeSASA's classifier radii by residue and atom name (--radii protor|naccess), FreeSASA's
+  // element guess for the atoms the classifier does not name; instead of radiiFile.
+  std::optional<RadiusPreset> radiiPreset;
   std::optional<double> defaultRadius;        // radius for unknown elements
   // Coarse-grained systems: every particle one sphere of this radius (RES:ATOM lines of
   // radiiFile still win), no element guessed from a bead's name, and the MARTINI waters
@@ -85,7 +89,7 @@ struct Molecule {
   int modelCount = 1;                   // models/frames present in the file
   int modelUsed = 1;
   std::size_t fileAtomCount = 0;        // atoms of the model read, before any selection
-  std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), or "table:<path>"
+  std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), "table:<path>", "protor" or "naccess"
   // How many atoms took their radius from each source, indexed by RadiusSource ("bondi"
   // is the chain Bondi, Mantina, Alvarez; see elementRadius).
   std::array<std::size_t, kRadiusSourceCount> radiusSources{};

@@ -352,6 +352,10 @@ const char* radiusSourceName(RadiusSource source) {
       return "--default-radius";
     case RadiusSource::Bead:
       return "--bead-radius";
+    case RadiusSource::Preset:
+      return "--radii preset (FreeSASA classifier)";
+    case RadiusSource::PresetGuess:
+      return "--radii preset (FreeSASA element guess)";
   }
   return "unknown";
 }
