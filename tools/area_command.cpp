@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "area_groups.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "surface_input.hpp"
@@ -25,23 +26,74 @@ struct AreaOptions : SurfaceInputOptions {
   std::string format = "table";
   std::string trajectory;  // FILE is then its topology: one row per frame
   std::string frames;
+  std::string per;  // --per atom|residue|chain; empty: the totals (table), per atom (csv)
 };
 
-// One CSV row per atom: who it is, its radius, then the named per-atom columns (Å²).
-void printPerAtomCsv(const build::Molecule& m,
-                     std::initializer_list<std::pair<const char*, const std::vector<double>*>> columns) {
-  std::printf("atom,serial,chain,residue,residue_number,name,element,radius");
-  for (const auto& [name, values] : columns) std::printf(",%s", name);
-  std::printf("\n");
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    const auto& r = m.atoms[i];
-    std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f", i, r.serial, r.chain.c_str(), r.residue.c_str(), r.residueNumber,
-                r.name.c_str(), r.element.c_str(), m.radii[i]);
-    for (const auto& [name, values] : columns) std::printf(",%.6f", (*values)[i]);
-    std::printf("\n");
-    // A reader that stopped early (| head) ends the command here, with the reason.
-    build::checkStandardOutput();
+// One CSV row per atom: who it is (insertion code and alternate location included), its radius,
+// then the named per-atom columns (Å²).
+void printPerAtomCsv(const build::Molecule& m, std::vector<AreaColumn> columns) {
+  const AreaRows rows{AreaLevel::Atom, "csv", std::move(columns), false};
+  rows.printHeader();
+  rows.printRows(m, {});
+}
+
+// The per-atom columns of a surface's areas: the SES's SAS and SES, or the skin's.
+std::vector<AreaColumn> areaColumns(const SurfaceAreas& a) {
+  if (a.surface == build::SurfaceKind::Ses) return {{"sas", &a.sasPerAtom}, {"ses", &a.perAtom}};
+  return {{"mss", &a.perAtom}};
+}
+
+// What a relative column left empty, said once on the standard error (a CSV has no room for it).
+void noteResiduesWithoutMaxAsa(const AreaRows& rows, const std::vector<AreaGroup>& groups, const std::string& file) {
+  if (!rows.relative()) return;
+  const std::vector<std::string> names = residuesWithoutMaxAsa(groups);
+  if (names.empty()) return;
+  std::fflush(stdout);  // after the rows, where a terminal shows both
+  std::string list;
+  for (std::size_t k = 0; k < names.size() && k < 8; ++k) list += (k ? ", " : "") + (names[k].empty() ? "(unnamed)" : names[k]);
+  if (names.size() > 8) list += ", ...";
+  std::fprintf(stderr,
+               "surftrace: note: %s: no relative SASA for %zu residue name%s that %s not among the 20 standard amino "
+               "acids of %s: %s\n",
+               file.c_str(), names.size(), names.size() == 1 ? "" : "s", names.size() == 1 ? "is" : "are", kMaxAsaTable,
+               list.c_str());
+}
+
+// `area --per atom|residue|chain` on one structure: a row per atom, residue or chain.
+void printAreasPer(const AreaOptions& o, const Built& b, const SurfaceAreas& a) {
+  const auto& m = b.molecule;
+  const AreaLevel level = areaLevelNamed(o.per);
+  if (level != AreaLevel::Atom && isPatchListPath(o.path))
+    throw std::invalid_argument(o.path + " is a patch list, which holds no residues or chains: run `area --per " + o.per +
+                                "` on the structure it was built from");
+  const AreaRows rows{level, o.format, areaColumns(a), false};
+  const std::vector<AreaGroup> groups = areaGroups(m, level);
+  const bool ses = a.surface == build::SurfaceKind::Ses;
+  if (o.format == "json") {
+    nlohmann::json j;
+    j["file"] = m.source;
+    j["surface"] = ses ? "ses" : "mss";
+    if (ses) j["probe_radius"] = b.patches.params.probeRadius; else j["shrink_factor"] = o.surface.shrink;
+    j["atoms"] = m.size();
+    j["radii"] = m.radiiSet;
+    j["units"] = {{"area", "Å^2"}};
+    j["totals"] = ses ? nlohmann::json{{"sas", a.sas}, {"ses", a.total}} : nlohmann::json{{"mss", a.total}};
+    if (rows.relative()) j["relative_sas_table"] = kMaxAsaTable;
+    j["per_" + o.per] = rows.json(m, groups);
+    std::printf("%s\n", j.dump(1).c_str());
+    return;
   }
+  if (o.format == "table") {
+    if (ses)
+      std::printf("# %s: %zu atoms, probe %.3f Å, radii %s; areas in Å² (SAS %.4f, SES %.4f in all)\n", m.source.c_str(),
+                  m.size(), b.patches.params.probeRadius, m.radiiSet.c_str(), a.sas, a.total);
+    else
+      std::printf("# %s: %zu atoms, skin s = %g, radii %s; areas in Å² (MSS %.4f in all)\n", m.source.c_str(), m.size(),
+                  o.surface.shrink, m.radiiSet.c_str(), a.total);
+  }
+  rows.printHeader();
+  rows.printRows(m, groups);
+  noteResiduesWithoutMaxAsa(rows, groups, m.source);
 }
 
 // The skin's areas: by patch kind, per atom (each skin point shared by its simplex's atoms in
@@ -51,6 +103,10 @@ void runMssArea(const AreaOptions& o, const Built& b) {
   const auto start = std::chrono::steady_clock::now();
   const SurfaceAreas a = surfaceAreas(b.patches, m.centers);
   const double areaSeconds = secondsSince(start);
+  if (!o.per.empty()) {
+    printAreasPer(o, b, a);
+    return;
+  }
   if (o.format == "json") {
     nlohmann::json j;
     j["file"] = m.source;
@@ -102,6 +158,61 @@ std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, 
   const SurfaceAreas a = surfaceAreas(list, m.centers);
   if (o.surface.surface == "mss") return {a.total, a.byKind[0], a.byKind[1], a.byKind[2], a.byKind[3], a.volume};
   return {a.sas, a.total, a.byKind[0], a.byKind[1], a.byKind[2], a.volume};
+}
+
+// `area TOPOLOGY TRAJECTORY --per atom|residue|chain`: one table whose rows are those of `area
+// --per` on each frame alone, each after its frame number and time.
+void runAreasPerOverTime(const AreaOptions& o) {
+  const build::SurfaceRequest request = o.surface.request();
+  build::Trajectory trajectory =
+      readingFile(o.trajectory, "the trajectory", [&] { return build::Trajectory(o.path, o.trajectory, o.read); });
+  for (const std::string& note : trajectory.source().notes())
+    std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
+  const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
+  const bool mss = request.surface == build::SurfaceKind::Mss;
+  const AreaLevel level = areaLevelNamed(o.per);
+  // The atoms' records do not change from frame to frame: neither do the groups.
+  const std::vector<AreaGroup> groups = areaGroups(trajectory.molecule(), level);
+  const std::vector<double> none;
+  const std::vector<AreaColumn> names =
+      mss ? std::vector<AreaColumn>{{"mss", &none}} : std::vector<AreaColumn>{{"sas", &none}, {"ses", &none}};
+  const AreaRows header{level, o.format, names, true};
+  if (o.format == "table")
+    std::printf("# %s + %s: %zu atoms, %s, radii %s, %zu frames (areas in Å²)\n", o.path.c_str(), o.trajectory.c_str(),
+                trajectory.molecule().size(),
+                mss ? ("skin, s = " + std::to_string(o.surface.shrink)).c_str()
+                    : ("probe " + std::to_string(o.surface.probe) + " Å").c_str(),
+                trajectory.molecule().radiiSet.c_str(), frames.size());
+  if (o.format != "json") header.printHeader();
+  nlohmann::json rows = nlohmann::json::array();
+  build::SurfaceBuilder builder(request);
+  ProgressBar bar(true, "frames");
+  for (std::size_t n = 0; n < frames.size(); ++n) {
+    trajectory.load(frames[n]);
+    const build::Molecule& m = trajectory.molecule();
+    const build::PatchList list = n == 0 ? builder.build(m) : builder.update(m);
+    const SurfaceAreas a = surfaceAreas(list, m.centers);
+    const AreaRows frameRows{level, o.format, areaColumns(a), true};
+    const double time = trajectory.frame().time;
+    if (o.format == "json") {
+      rows.push_back({{"frame", frames[n]}, {"time_ps", time}, {"per_" + o.per, frameRows.json(m, groups)}});
+    } else {
+      bar.clear();
+      frameRows.printRows(m, groups, frames[n], time);
+      std::fflush(stdout);
+    }
+    bar.items(n + 1, frames.size(), "frames");
+  }
+  if (o.format == "json") {
+    nlohmann::json j = {{"topology", o.path}, {"trajectory", o.trajectory}, {"atoms", trajectory.molecule().size()},
+                        {"surface", o.surface.surface}, {"radii", trajectory.molecule().radiiSet},
+                        {"units", {{"area", "Å^2"}}}};
+    if (mss) j["shrink_factor"] = o.surface.shrink; else j["probe_radius"] = o.surface.probe;
+    if (header.relative()) j["relative_sas_table"] = kMaxAsaTable;
+    j["frames"] = rows;
+    std::printf("%s\n", j.dump(1).c_str());
+  }
+  noteResiduesWithoutMaxAsa(header, groups, o.path);
 }
 
 // Areas over time: one row per frame of a trajectory (FILE is its topology), from one
@@ -157,7 +268,8 @@ void runArea(const AreaOptions& o) {
   if (!o.trajectory.empty()) {
     if (isPatchListPath(o.path))
       throw std::invalid_argument(o.path + " is a patch list; areas over a trajectory need its topology as FILE");
-    runAreaOverTime(o);
+    if (!o.per.empty()) runAreasPerOverTime(o);
+    else runAreaOverTime(o);
     return;
   }
   if (!o.frames.empty()) throw std::invalid_argument("--frames needs a TRAJECTORY after FILE");
@@ -173,6 +285,10 @@ void runArea(const AreaOptions& o) {
 void printSesAreas(const AreaOptions& o, const Built& b) {
   const SurfaceAreas a = surfaceAreas(b.patches, b.molecule.centers);
   const auto& m = b.molecule;
+  if (!o.per.empty()) {
+    printAreasPer(o, b, a);
+    return;
+  }
   if (o.format == "json") {
     nlohmann::json j;
     j["file"] = m.source;
@@ -228,6 +344,12 @@ void addAreaCommand(CLI::App& app) {
                   "being its topology (PSF, GRO, PDB, mmCIF)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--frames", o->frames, "With TRAJECTORY: frames a:b:step, numbered from 0 (default: all)");
+  cmd->add_option("--per", o->per,
+                  "Areas per atom, residue or chain, as a table, csv or json (--format): SAS and SES (or the skin's), "
+                  "with insertion codes and alternate locations in their own columns and, per residue, the SAS "
+                  "relative to Tien et al. 2013's theoretical maximum ASA; with TRAJECTORY the same rows for every "
+                  "frame, after its number and time")
+      ->check(CLI::IsMember({"atom", "residue", "chain"}));
   cmd->add_option("--format", o->format,
                   "Output: table (totals), csv (per atom; with TRAJECTORY one row per frame), json (totals and per "
                   "atom; with TRAJECTORY per frame)")
