@@ -17,6 +17,8 @@
 
 # Regular expressions, each matched against the whole test name.
 set(slow_tests
+  # tools_tests: FreeSASA's Lee & Richards at 2000 slices, its classifier on three structures
+  "AreaPer\\.(ResidueSasMatchesFreesasaLeeRichardsWithItsRadii|PresetRadiiAreFreesasaClassifierRadiiOnEveryAtom)"
   # build_tests
   "ContourBuildup\\.SealedCavityIsItsOwnComponent"
   "ElementGuess\\.AgreesWithMDAnalysis"

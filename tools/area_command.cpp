@@ -81,6 +81,7 @@ void printAreasPer(const AreaOptions& o, const Built& b, const SurfaceAreas& a) 
     if (rows.relative()) j["relative_sas_table"] = kMaxAsaTable;
     j["per_" + o.per] = rows.json(m, groups);
     std::printf("%s\n", j.dump(1).c_str());
+    noteResiduesWithoutMaxAsa(rows, groups, m.source);
     return;
   }
   if (o.format == "table") {
