@@ -43,12 +43,18 @@ std::vector<AreaColumn> areaColumns(const SurfaceAreas& a) {
   return {{"mss", &a.perAtom}};
 }
 
-// What a relative column left empty, said once on the standard error (a CSV has no room for it).
-void noteResiduesWithoutMaxAsa(const AreaRows& rows, const std::vector<AreaGroup>& groups, const std::string& file) {
+// What a relative column left empty, and a probe other than the table's, said once on the
+// standard error (a CSV has no room for it).
+void noteRelativeSas(const AreaRows& rows, const std::vector<AreaGroup>& groups, const std::string& file, double probe) {
   if (!rows.relative()) return;
+  std::fflush(stdout);  // after the rows, where a terminal shows both
+  if (probe != 1.4)
+    std::fprintf(stderr,
+                 "surftrace: note: %s: the relative SASA divides by maxima computed with a 1.4 Å probe (%s); with "
+                 "probe %g Å it is not a fraction of the residue's largest possible SAS\n",
+                 file.c_str(), kMaxAsaTable, probe);
   const std::vector<std::string> names = residuesWithoutMaxAsa(groups);
   if (names.empty()) return;
-  std::fflush(stdout);  // after the rows, where a terminal shows both
   std::string list;
   for (std::size_t k = 0; k < names.size() && k < 8; ++k) list += (k ? ", " : "") + (names[k].empty() ? "(unnamed)" : names[k]);
   if (names.size() > 8) list += ", ...";
@@ -81,7 +87,7 @@ void printAreasPer(const AreaOptions& o, const Built& b, const SurfaceAreas& a) 
     if (rows.relative()) j["relative_sas_table"] = kMaxAsaTable;
     j["per_" + o.per] = rows.json(m, groups);
     std::printf("%s\n", j.dump(1).c_str());
-    noteResiduesWithoutMaxAsa(rows, groups, m.source);
+    noteRelativeSas(rows, groups, m.source, b.patches.params.probeRadius);
     return;
   }
   if (o.format == "table") {
@@ -94,7 +100,7 @@ void printAreasPer(const AreaOptions& o, const Built& b, const SurfaceAreas& a) 
   }
   rows.printHeader();
   rows.printRows(m, groups);
-  noteResiduesWithoutMaxAsa(rows, groups, m.source);
+  noteRelativeSas(rows, groups, m.source, b.patches.params.probeRadius);
 }
 
 // The skin's areas: by patch kind, per atom (each skin point shared by its simplex's atoms in
@@ -178,12 +184,12 @@ void runAreasPerOverTime(const AreaOptions& o) {
   const std::vector<AreaColumn> names =
       mss ? std::vector<AreaColumn>{{"mss", &none}} : std::vector<AreaColumn>{{"sas", &none}, {"ses", &none}};
   const AreaRows header{level, o.format, names, true};
-  if (o.format == "table")
+  if (o.format == "table") {
+    char surface[64];
+    std::snprintf(surface, sizeof surface, mss ? "skin, s = %g" : "probe %g Å", mss ? o.surface.shrink : o.surface.probe);
     std::printf("# %s + %s: %zu atoms, %s, radii %s, %zu frames (areas in Å²)\n", o.path.c_str(), o.trajectory.c_str(),
-                trajectory.molecule().size(),
-                mss ? ("skin, s = " + std::to_string(o.surface.shrink)).c_str()
-                    : ("probe " + std::to_string(o.surface.probe) + " Å").c_str(),
-                trajectory.molecule().radiiSet.c_str(), frames.size());
+                trajectory.molecule().size(), surface, trajectory.molecule().radiiSet.c_str(), frames.size());
+  }
   if (o.format != "json") header.printHeader();
   nlohmann::json rows = nlohmann::json::array();
   build::SurfaceBuilder builder(request);
@@ -213,7 +219,7 @@ void runAreasPerOverTime(const AreaOptions& o) {
     j["frames"] = rows;
     std::printf("%s\n", j.dump(1).c_str());
   }
-  noteResiduesWithoutMaxAsa(header, groups, o.path);
+  noteRelativeSas(header, groups, o.path, o.surface.probe);
 }
 
 // Areas over time: one row per frame of a trajectory (FILE is its topology), from one
