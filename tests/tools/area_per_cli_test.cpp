@@ -344,5 +344,35 @@ TEST(AreaPer, TrajectoryRowsOfFrameKAreAreaOfThatFrameAlone) {
   }
 }
 
+// What cannot be done is an error that says why and what to do: a preset on an XYZR file (no
+// residue or atom names), a preset with --bead-radius, a --radii that is neither a preset nor a
+// file, and rows per residue of a patch list (which holds no residues).
+TEST(AreaPer, WhatCannotBeDoneIsAnErrorThatSaysWhy) {
+  const std::string xyzr = (dir() / "two.xyzr").string();
+  std::ofstream(xyzr) << "0 0 0 1.7\n3 0 0 1.5\n";
+  const Result onXyzr = tool("area --radii protor " + xyzr);
+  EXPECT_EQ(onXyzr.status, 1);
+  EXPECT_NE(onXyzr.output.find(xyzr + ": an XYZR file gives its own radii and no atom names or elements, so --radii "
+                                       "protor cannot apply"),
+            std::string::npos)
+      << onXyzr.output;
+  const Result withBeads = tool("area --radii naccess --bead-radius 2.35 " + kCrambin);
+  EXPECT_EQ(withBeads.status, 1);
+  EXPECT_NE(withBeads.output.find("cannot be combined with --bead-radius (choose one)"), std::string::npos)
+      << withBeads.output;
+  const Result unknown = tool("area --radii protr " + kCrambin);
+  EXPECT_NE(unknown.status, 0);
+  EXPECT_NE(unknown.output.find("expected protor, naccess or a radius table file, got 'protr'"), std::string::npos)
+      << unknown.output;
+  const std::string stp = (dir() / "crambin.stp").string();
+  ASSERT_EQ(tool("build " + kCrambin + " -o " + stp).status, 0);
+  const Result perResidue = tool("area --per residue " + stp);
+  EXPECT_EQ(perResidue.status, 1);
+  EXPECT_NE(perResidue.output.find(stp + " is a patch list, which holds no residues or chains: run `area --per "
+                                         "residue` on the structure it was built from"),
+            std::string::npos)
+      << perResidue.output;
+}
+
 }  // namespace
 }  // namespace surftrace::tools::test
