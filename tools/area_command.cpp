@@ -2,7 +2,6 @@
 // and of the skin, for a structure, a patch list, or every frame of a trajectory.
 #include <chrono>
 #include <cstdio>
-#include <initializer_list>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -359,7 +358,7 @@ void addAreaCommand(CLI::App& app) {
       ->check(CLI::IsMember({"atom", "residue", "chain"}));
   cmd->add_option("--format", o->format,
                   "Output: table (totals), csv (per atom; with TRAJECTORY one row per frame), json (totals and per "
-                  "atom; with TRAJECTORY per frame)")
+                  "atom; with TRAJECTORY per frame); with --per, the rows of that level in this format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->default_val("table");
   cmd->callback([o] { runArea(*o); });
