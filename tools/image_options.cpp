@@ -181,8 +181,7 @@ std::vector<glm::vec3> colorAtoms(ImageSetup& setup, const build::Molecule& mole
       setup.render.legend = l;
     }
     if (scheme.mode == view::ColorMode::Rainbow)
-      std::printf("colour map %s: %s, from the N terminus (0) to the C terminus (1) of each chain", l->map.c_str(),
-                  l->label.c_str());
+      std::printf("colour map %s: each chain's residues from the N terminus (0) to the C terminus (1)", l->map.c_str());
     else
       std::printf("colour map %s: %s from %.6g to %.6g (%s)", l->map.c_str(), l->label.c_str(), l->lo, l->hi,
                   l->rangeFromData ? "the data's min..max; set it with --color-range" : "--color-range");
