@@ -64,9 +64,12 @@ set(slow_tests
   "ConcaveArea\\..*"
   "Ses/RealMolecule\\.PatchPointsLieOnTheSes(/.*)?"
   "SesVolume\\..*"
+  # view_tests
+  "ColorMap\\.EveryMapEqualsMatplotlibs"
   # tools_tests
   "BallStickCli\\.(BadOptionsAreRefusedNamingThem|GlMatchesEmbreeAloneAndUnderTheSurface|TrajectoryFramesGetTheModel|UnderATransparentSurfaceTheModelShows)"
   "CameraCli\\..*"
+  "ColorsCli\\..*"
   "Cases/Reference\\..*"
   "Cli\\.(CompareDefaultsToTheStrictPresetOfItsEngines|DropCavitiesChangesNoPixel|HelpTeachesTheCommands|HemeProteinWorksOutOfTheBox|OpacityIsRecordedAndGlPeelsIt|OptionErrorsAreReadable|PatchListRendersAsTheStructureDoes|RenderRejectsImpossibleOptionsClearly|RenderWritesImagesWithTheirCamera|SkinAreaBuildAndShrinkErrors|SkinPatchListRendersAsTheStructureDoes|SliverPatchesDoNotMoveTheSkinsFraming|WideSkinFillsThePicture)"
   "CompareDiff\\..*"

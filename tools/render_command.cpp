@@ -59,6 +59,9 @@ void checkRenderOptions(const RenderCommandOptions& o, const view::RenderOptions
   if (color != view::ColorMode::Patch && color != view::ColorMode::Uniform)
     throw std::invalid_argument("--color " + o.image.color + " needs the atoms' records, which a patch list (" + o.path +
                                 ") does not hold: render the structure file, or use --color patch|uniform");
+  if (!o.image.colorSelect.empty())
+    throw std::invalid_argument("--color-select needs the atoms' records, which a patch list (" + o.path +
+                                ") does not hold: render the structure file");
 }
 
 // The patch list FILE names, held to the options that cannot change it.
@@ -167,6 +170,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
   if (!frame.layers.empty()) printLayerSummary(frame.layers, o.image.maxLayers);
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
   if (!o.exr.empty()) std::printf("wrote %s\n", o.exr.c_str());
+  if (!o.image.legendFile.empty()) std::printf("wrote %s\n", o.image.legendFile.c_str());
 }
 
 void runRender(const RenderCommandOptions& o) {
@@ -181,7 +185,7 @@ void runRender(const RenderCommandOptions& o) {
   // An EXR is what `compare` takes as a reference: it records where its masks belong.
   setup.render.referenceMasks = !o.exr.empty();
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
-                                    : view::atomColors(molecule, setup.render.color, setup.uniformColor);
+                                    : colorAtoms(setup, molecule);
   const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
   const build::BallStickModel model =
       ballAndStick.on ? ballAndStick.model(molecule.centers, molecule.radii) : build::BallStickModel();
@@ -194,7 +198,9 @@ void runRender(const RenderCommandOptions& o) {
   ImageRecord record = recordOfRender(o, list, fromPatchList);
   describeEngine(*engine, record);
   ballAndStick.describe(record);
+  describeColors(setup, record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);
+  writeLegendFile(setup);
   printRenderSummary(o, list, frame, readSeconds, buildSeconds, engine->sceneSeconds());
 }
 

@@ -421,6 +421,7 @@ class FrameLoop {
     record_ = recordOf(o.surface, o.topology, o.image, o.commandLine);
     record_.trajectory = o.trajectory;
     ballAndStick_.describe(record_);
+    describeColors(setup, record_);
   }
 
   void run(const std::vector<std::size_t>& todo);
@@ -665,8 +666,9 @@ void runTrajectory(const TrajectoryOptions& o) {
   const double setupMs = millisecondsSince(start);
   printPlan(o, trajectory, reference, frames.size(), mine.size(), shard, todo.size(), skipped, flexible.atoms.size());
 
-  FrameLoop loop(o, trajectory, reference, flexible, setup,
-                 view::atomColors(reference, setup.render.color, setup.uniformColor), out);
+  std::vector<glm::vec3> colors = colorAtoms(setup, reference);
+  writeLegendFile(setup);
+  FrameLoop loop(o, trajectory, reference, flexible, setup, std::move(colors), out);
   const auto loopStart = std::chrono::steady_clock::now();
   // From the first frame on (before it, a signal ends the process as it always does: there is
   // nothing to keep).

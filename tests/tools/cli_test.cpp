@@ -488,7 +488,7 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
       {"--eye 1,2", "--eye '1,2'"},
       {"--fov 180", "field of view"},
       {"--background 2,0,0", "--background"},
-      {"--color rainbow", "rainbow"},
+      {"--color jet", "jet"},
       {"--patches " + data("structures/1crn.pdb"), "not a SurfTrace patch list"},
   };
   for (const auto& c : cases) {
