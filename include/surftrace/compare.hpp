@@ -120,7 +120,7 @@ struct MeshViewsResult {
   // Estimates of how far mesh points lie from the exact surface, and the reverse: where both
   // are hit, |d|·|cos θ| with θ between the ray and the exact normal (mesh -> exact: first order,
   // the distance to the exact tangent plane) or the hit triangle's normal (exact -> mesh: the
-  // distance to the triangle's plane), from rays with |cos θ| >= 0.5; where only one is hit,
+  // distance to the triangle's plane), from rays within 45° of that normal; where only one is hit,
   // the distance across the image to the other's outline less half a pixel diagonal (a lower
   // bound: orthographic projection never lengthens a distance).
   DistanceFigures meshToExact;

@@ -144,8 +144,10 @@ constexpr const char* kWhat[] = {"mesh -> exact", "exact -> mesh", "mesh -> exac
 constexpr std::size_t kCandidatesPerView = 64;
 constexpr std::size_t kWorstPlaces = 10;
 constexpr double kPlaceSeparation = 1.0;
-// The distance estimates take rays within 60° of the normal (MeshViewsResult).
-constexpr double kEstimateCosine = 0.5;  // Å between two places reported: one spot is one place
+// The distance estimates take rays within 45° of the normal (MeshViewsResult): the first-order
+// estimate's relative error, d·tan²θ/2R for a distance d and a radius of curvature R, stays
+// below d/2R, and 26 views spread over the sphere see every outward normal within 31° of one (14 views: 42°).
+constexpr double kEstimateCosine = 0.70710678118654752;  // Å between two places reported: one spot is one place
 
 }  // namespace
 
@@ -217,7 +219,7 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
       // The distance from one point to the other surface's tangent plane where the ray meets
       // it: |d|·|cos θ|. To the mesh's triangle that is exact (its plane is flat); to the exact
       // surface it is first order, off by about d²·sin²θ/2R (R the radius of curvature), which
-      // grows towards the outline: only rays within kEstimateAngle of the normal count, and
+      // grows towards the outline: only rays within 45° of the normal count, and
       // with views spread over the sphere every part of the surface is seen so in some view.
       const double cosExact = exactLength > 0.0 ? std::abs(glm::dot(nExact / exactLength, ray.dir)) : 0.0;
       const double cosFace = faceLength > 0.0 ? std::abs(glm::dot(face / faceLength, ray.dir)) : 0.0;
@@ -311,8 +313,8 @@ std::string MeshViewsResult::summary() const {
     out += text;
   };
   row("along ray    ", alongRay, "|t_mesh − t_exact| where both are hit: an upper bound of each point's distance");
-  row("mesh -> exact", meshToExact, "estimate: to the exact tangent plane, rays within 60° of it; or across the outline");
-  row("exact -> mesh", exactToMesh, "estimate: to the mesh triangle's plane, rays within 60° of it; or across the outline");
+  row("mesh -> exact", meshToExact, "estimate: to the exact tangent plane, rays within 45° of it; or across the outline");
+  row("exact -> mesh", exactToMesh, "estimate: to the mesh triangle's plane, rays within 45° of it; or across the outline");
   out += view::kindTableText(perKind, true, "exact surface", "mesh − exact");
   if (!worst.empty()) {
     out += "\nworst places (x, y, z Å; atom index from 0 in file order; view and pixel):";
