@@ -117,12 +117,13 @@ struct MeshViewsResult {
   // Where both are hit (off the silhouette bands and occlusion edges):
   DistanceFigures alongRay;     // |d| = |t_mesh − t_exact|: an upper bound of either point's distance
                                 // to the other surface, loose where the ray is oblique
-  // Estimates of how far mesh points lie from the exact surface, and the reverse: where both
-  // are hit, |d|·|cos θ| with θ between the ray and the exact normal (mesh -> exact: first order,
-  // the distance to the exact tangent plane) or the hit triangle's normal (exact -> mesh: the
-  // distance to the triangle's plane), from rays within 45° of that normal; where only one is hit,
-  // the distance across the image to the other's outline less half a pixel diagonal (a lower
-  // bound: orthographic projection never lengthens a distance).
+  // How far mesh points lie from the exact surface, and the reverse, from rays within 45° of
+  // the normal where both are hit: mesh -> exact is |d|·|cos θ| (θ between the ray and the exact
+  // normal: the distance to the exact tangent plane, first order), capped by the distance to the
+  // nearest exact hit of the 5x5 pixels around; exact -> mesh is the distance to the nearest of
+  // the triangles those pixels hit (an upper bound). Where only one is hit: the distance across
+  // the image to the other's outline less half a pixel diagonal (a lower bound: orthographic
+  // projection never lengthens a distance).
   DistanceFigures meshToExact;
   DistanceFigures exactToMesh;
   std::vector<KindErrors> perKind;   // signed t_mesh − t_exact per reference patch kind (< 0: mesh in front)

@@ -131,6 +131,32 @@ DistanceFigures figuresOf(std::vector<double>& v) {
   return f;
 }
 
+// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection", 5.1.5
+// (the Voronoi regions of the corners, then the edges, then the face).
+glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  if (!std::isfinite(denom)) return a;  // degenerate: its corners bound it
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The pixels around a sample whose hits bound its distance estimates: 5x5.
+constexpr int kWindow = 2;
+
 // A candidate for the worst places: kept per view, the largest few.
 struct Candidate {
   double distance;
@@ -209,6 +235,7 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
                    static_cast<double>(p / static_cast<std::size_t>(ref.width)) + 0.5);
     };
     std::vector<Candidate> mine;
+    const int w = ref.width, h = ref.height;
     for (const view::FrameSamples::Depth& s : samples.depth) {
       const view::Ray ray = rayOf(s.pixel);
       const glm::dvec3 nExact(ref.normal[3 * s.pixel], ref.normal[3 * s.pixel + 1], ref.normal[3 * s.pixel + 2]);
@@ -216,23 +243,44 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
       const glm::dvec3 face = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x], mesh.positions[tri.z] - mesh.positions[tri.x]);
       const double faceLength = glm::length(face), exactLength = glm::length(nExact);
       const double d = std::abs(s.signedError);
-      // The distance from one point to the other surface's tangent plane where the ray meets
-      // it: |d|·|cos θ|. To the mesh's triangle that is exact (its plane is flat); to the exact
-      // surface it is first order, off by about d²·sin²θ/2R (R the radius of curvature), which
-      // grows towards the outline: only rays within 45° of the normal count, and
-      // with views spread over the sphere every part of the surface is seen so in some view.
       const double cosExact = exactLength > 0.0 ? std::abs(glm::dot(nExact / exactLength, ray.dir)) : 0.0;
       const double cosFace = faceLength > 0.0 ? std::abs(glm::dot(face / faceLength, ray.dir)) : 0.0;
       alongRay.push_back(d);
       kindDepth.push_back({ref.kind[s.pixel], s.signedError});
-      const glm::dvec3 x = ray.org + static_cast<double>(ref.depth[s.pixel]) * ray.dir;
-      if (cosExact >= kEstimateCosine) {
-        meshToExact.push_back(d * cosExact);
-        mine.push_back({d * cosExact, v, s.pixel, 0, x, ref.atomId[s.pixel]});
+      // Only rays within 45° of the normal give estimates: towards the outline both grow loose,
+      // and with views spread over the sphere every part of the surface is seen so in some view.
+      const bool exactFacing = cosExact >= kEstimateCosine, meshFacing = cosFace >= kEstimateCosine;
+      if (!exactFacing && !meshFacing) continue;
+      const glm::dvec3 xExact = ray.org + static_cast<double>(ref.depth[s.pixel]) * ray.dir;
+      const glm::dvec3 xMesh = ray.org + static_cast<double>(test.depth[s.pixel]) * ray.dir;
+      // Proven upper bounds from the pixels around: the exact points they hit lie on the exact
+      // surface, the triangles they hit belong to the mesh. They keep a ray that slips past the
+      // near sheet (between a coarse mesh and its atom) from reporting the sheet behind.
+      double toExactPoint = d, toTriangle = d;
+      const int px = static_cast<int>(s.pixel % static_cast<std::size_t>(w)), py = static_cast<int>(s.pixel / static_cast<std::size_t>(w));
+      for (int y = std::max(0, py - kWindow); y <= std::min(h - 1, py + kWindow); ++y)
+        for (int x = std::max(0, px - kWindow); x <= std::min(w - 1, px + kWindow); ++x) {
+          const std::size_t q = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+          if (exactFacing && ref.kind[q] != 0) {
+            const view::Ray rq = rayOf(q);
+            toExactPoint = std::min(toExactPoint, glm::length(rq.org + static_cast<double>(ref.depth[q]) * rq.dir - xMesh));
+          }
+          if (meshFacing && test.patchId[q] != ~0u) {
+            const glm::uvec3 tq = mesh.triangles[test.patchId[q]];
+            const glm::dvec3 nearest = closestOnTriangle(xExact, mesh.positions[tq.x], mesh.positions[tq.y], mesh.positions[tq.z]);
+            toTriangle = std::min(toTriangle, glm::length(nearest - xExact));
+          }
+        }
+      if (exactFacing) {
+        // The distance to the exact surface's tangent plane, |d|·|cos θ|: first order, off by
+        // about d·tan²θ/2R relative (R the radius of curvature); never above a proven bound.
+        const double m2e = std::min(d * cosExact, toExactPoint);
+        meshToExact.push_back(m2e);
+        mine.push_back({m2e, v, s.pixel, 0, xExact, ref.atomId[s.pixel]});
       }
-      if (cosFace >= kEstimateCosine) {
-        exactToMesh.push_back(d * cosFace);
-        mine.push_back({d * cosFace, v, s.pixel, 1, x, ref.atomId[s.pixel]});
+      if (meshFacing) {
+        exactToMesh.push_back(toTriangle);
+        mine.push_back({toTriangle, v, s.pixel, 1, xExact, ref.atomId[s.pixel]});
       }
     }
     for (const view::FrameSamples::Depth& s : samples.normal) kindNormal.push_back({ref.kind[s.pixel], s.signedError});
@@ -314,7 +362,7 @@ std::string MeshViewsResult::summary() const {
   };
   row("along ray    ", alongRay, "|t_mesh − t_exact| where both are hit: an upper bound of each point's distance");
   row("mesh -> exact", meshToExact, "estimate: to the exact tangent plane, rays within 45° of it; or across the outline");
-  row("exact -> mesh", exactToMesh, "estimate: to the mesh triangle's plane, rays within 45° of it; or across the outline");
+  row("exact -> mesh", exactToMesh, "upper bound: to the nearest triangle hit nearby, rays within 45°; or across the outline");
   out += view::kindTableText(perKind, true, "exact surface", "mesh − exact");
   if (!worst.empty()) {
     out += "\nworst places (x, y, z Å; atom index from 0 in file order; view and pixel):";
