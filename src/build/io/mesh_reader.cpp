@@ -171,7 +171,7 @@ glm::dmat4 parseMeshTransform(const std::string& text) {
     std::ifstream in(text);
     if (!in) throw InputError(text, 0, "cannot open the transform file");
     std::string line;
-    for (int n = 1; std::getline(in, line); ++n) parse(line, file ? n : 0);
+    for (int n = 1; std::getline(in, line); ++n) parse(line, n);
   } else {
     if (text.find(',') == std::string::npos)
       throw InputError(where, 0, "'" + text + "' is neither a file nor 16 comma-separated numbers (the 4x4 matrix row by row)");
