@@ -185,53 +185,31 @@ UnionNearest BallUnion::nearestOutside(const glm::dvec3& x) const {
 }
 
 UnionNearest BallUnion::nearest(const glm::dvec3& x) const {
-  // Balls that hold x, nearest boundary first. Near the surface these are a handful.
-  struct Inside {
-    double depth;
-    std::uint32_t ball;
-  };
-  constexpr std::size_t kLocal = 64;
-  Inside local[kLocal];
-  std::vector<Inside> spill;
-  std::size_t count = 0;
-  double lower = 0.0;  // max over the balls holding x of R − |x − c|: every point of A is this far
+  // Every point of A lies outside every ball that holds x, so at least the largest depth
+  // R − |x − c| away: only that deepest ball's sphere can hold the nearest point, and when its
+  // radial projection lies in no other ball, that is the answer.
+  double lower = -1.0;
+  std::uint32_t deepest = 0;
   for (std::uint32_t k : ballGrid_.cellAt(x)) {
     const glm::dvec3 d = x - centers_[k];
     const double q = glm::dot(d, d);
     if (q >= radii_[k] * radii_[k]) continue;
-    const Inside in{radii_[k] - std::sqrt(q), k};
-    lower = std::max(lower, in.depth);
-    if (count < kLocal)
-      local[count++] = in;
-    else
-      spill.push_back(in);
+    const double depth = radii_[k] - std::sqrt(q);
+    if (depth > lower) lower = depth, deepest = k;
   }
-  if (count == 0) return nearestOutside(x);
-  Inside* begin = local;
-  Inside* end = local + count;
-  if (!spill.empty()) {
-    spill.insert(spill.begin(), local, local + count);
-    begin = spill.data(), end = spill.data() + spill.size();
-  }
-  std::sort(begin, end, [](const Inside& a, const Inside& b) { return a.depth < b.depth; });
-
+  if (lower < 0.0) return nearestOutside(x);
   UnionNearest best;
   best.distance = kInf;
-  // The nearest sphere point that lies in A; no farther sphere can beat it.
-  for (const Inside* in = begin; in != end; ++in) {
-    const glm::dvec3 d = x - centers_[in->ball];
+  {
+    const glm::dvec3 d = x - centers_[deepest];
     const double len = glm::length(d);
-    const glm::dvec3 y = centers_[in->ball] + radii_[in->ball] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1));
-    if (!exposed(in->ball, y)) continue;
-    best = {UnionFeature::Sphere, in->ball, in->depth, y};
-    break;
+    const glm::dvec3 y = centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1));
+    if (exposed(deepest, y)) return {UnionFeature::Sphere, deepest, lower, y};
   }
-  // The smallest depth is a lower bound on the distance to A: met, nothing is nearer.
-  if (best.distance <= begin->depth) return best;
 
   // Arcs and vertices within the best distance so far; wider boxes until one is found.
   const double margin = featureGrid_.margin();
-  double reach = best.distance < kInf ? best.distance : std::max(2.0 * begin->depth, margin);
+  double reach = std::max(1.5 * lower, margin);
   const std::uint32_t arcCount = static_cast<std::uint32_t>(arcs_.size());
   double best2 = best.distance * best.distance;
   auto consider = [&](std::uint32_t k) {
@@ -271,15 +249,15 @@ UnionNearest BallUnion::nearest(const glm::dvec3& x) const {
     if (best2 <= reach * reach || reach > diag) break;
     reach *= 2.0;
   }
-  if (best.distance == kInf && best2 == kInf) {
-    // No point of ∂U found at all (a list whose features were left out): the nearest sphere
-    // stands for it, at the lower bound.
-    const glm::dvec3 d = x - centers_[begin->ball];
+  if (best2 == kInf) {
+    // No point of ∂U found at all (a list whose arcs or vertices were left out): the deepest
+    // sphere stands for it, at the lower bound.
+    const glm::dvec3 d = x - centers_[deepest];
     const double len = glm::length(d);
-    return {UnionFeature::Sphere, begin->ball, begin->depth,
-            centers_[begin->ball] + radii_[begin->ball] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1))};
+    return {UnionFeature::Sphere, deepest, lower,
+            centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1))};
   }
-  if (best.feature != UnionFeature::Sphere) best.distance = std::sqrt(best2);
+  best.distance = std::sqrt(best2);
   return best;
 }
 

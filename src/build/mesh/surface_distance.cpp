@@ -54,19 +54,14 @@ class SesDistance final : public SurfaceDistance {
  public:
   SesDistance(const PatchList& list, std::span<const glm::dvec3> centers, std::span<const double> radii)
       : list_(list), rp_(list.params.probeRadius) {
-    // The balls of the atoms the list speaks of (culled and buried atoms add nothing to ∂U).
-    std::vector<std::uint32_t> atoms(list.convex.atom.begin(), list.convex.atom.end());
-    atoms.insert(atoms.end(), list.tori.atomI.begin(), list.tori.atomI.end());
-    atoms.insert(atoms.end(), list.tori.atomJ.begin(), list.tori.atomJ.end());
-    for (const auto* ids : {&list.concave.atomI, &list.concave.atomJ, &list.concave.atomK})
-      atoms.insert(atoms.end(), ids->begin(), ids->end());
-    std::sort(atoms.begin(), atoms.end());
-    atoms.erase(std::unique(atoms.begin(), atoms.end()), atoms.end());
-    std::vector<glm::dvec3> ballCenters;
+    // Every atom's ball: a buried atom has no patch, but its ball may fill a void that the
+    // others leave inside the body, and so cover parts of their spheres.
+    std::vector<std::uint32_t> atoms(centers.size());
+    for (std::uint32_t a = 0; a < atoms.size(); ++a) atoms[a] = a;
+    std::vector<glm::dvec3> ballCenters(centers.begin(), centers.end());
     std::vector<double> ballRadii;
     for (std::uint32_t a : atoms) {
       ballAtom_.push_back(a);
-      ballCenters.push_back(centers[a]);
       ballRadii.push_back(radii[a] + rp_);
       atomRadius_.push_back(radii[a]);
     }
