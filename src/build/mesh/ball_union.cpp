@@ -90,8 +90,12 @@ std::span<const std::uint32_t> BoxGrid::cellAt(const glm::dvec3& x) const {
 double BoxGrid::diagonal() const { return cellSize_ * glm::length(glm::dvec3(dims_)); }
 
 BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii, std::vector<BallArc> arcs,
-                     std::vector<glm::dvec3> vertices, double featureReach)
-    : centers_(std::move(centers)), radii_(std::move(radii)), arcs_(std::move(arcs)), vertices_(std::move(vertices)) {
+                     std::vector<BallVertex> vertices, double featureReach)
+    : centers_(std::move(centers)),
+      radii_(std::move(radii)),
+      arcs_(std::move(arcs)),
+      vertices_(std::move(vertices)),
+      reach_(featureReach) {
   SURFTRACE_ASSERT(centers_.size() == radii_.size());
   const std::size_t n = centers_.size();
   double maxRadius = 0.0;
@@ -109,20 +113,41 @@ BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii,
     neighbourStart_[k + 1] = static_cast<std::uint32_t>(neighbours_.size());
   }
 
+  // The features on each ball's sphere (CSR).
+  const std::uint32_t arcCount = static_cast<std::uint32_t>(arcs_.size());
+  featureStart_.assign(n + 1, 0);
+  for (const BallArc& a : arcs_) ++featureStart_[a.balls[0] + 1], ++featureStart_[a.balls[1] + 1];
+  for (const BallVertex& v : vertices_)
+    for (std::uint32_t b : v.balls) ++featureStart_[b + 1];
+  for (std::size_t k = 0; k < n; ++k) featureStart_[k + 1] += featureStart_[k];
+  features_.resize(featureStart_[n]);
+  std::vector<std::uint32_t> fill(featureStart_.begin(), featureStart_.end() - 1);
+  for (std::uint32_t k = 0; k < arcCount; ++k) {
+    const auto& b = arcs_[k].balls;
+    features_[fill[b[0]]++] = {k, {b[1], ~0u}};
+    features_[fill[b[1]]++] = {k, {b[0], ~0u}};
+  }
+  for (std::uint32_t k = 0; k < vertices_.size(); ++k) {
+    const auto& b = vertices_[k].balls;
+    for (int m = 0; m < 3; ++m) features_[fill[b[m]]++] = {arcCount + k, {b[(m + 1) % 3], b[(m + 2) % 3]}};
+  }
+
   std::vector<glm::dvec3> lo(n), hi(n);
   for (std::size_t k = 0; k < n; ++k) lo[k] = centers_[k] - radii_[k], hi[k] = centers_[k] + radii_[k];
   // Cells of about two thirds of the largest radius: a ball covers a few cells each way, and a
   // cell lists the balls near it without many that are not.
-  ballGrid_ = BoxGrid(lo, hi, std::max(0.67 * maxRadius, 0.5), 0.0);
+  ballGrid_ = BoxGrid(lo, hi, std::max(0.67 * maxRadius, 0.5), reach_);
 
-  // Each arc's own box (its endpoints and the extremes of each coordinate inside its φ range).
+  // Each arc's own box (its endpoints and the extremes of each coordinate inside its φ range),
+  // for points deep inside, whose nearest feature may lie on a sphere beyond the reach.
   std::vector<glm::dvec3> flo, fhi;
   flo.reserve(arcs_.size() + vertices_.size());
   fhi.reserve(arcs_.size() + vertices_.size());
   for (const BallArc& a : arcs_) {
+    const glm::dvec3 end = std::cos(a.phiExtent) * a.e1 + std::sin(a.phiExtent) * a.e2;
+    arcEnd_.push_back(end);
     glm::dvec3 l = a.center + a.radius * a.e1, h = l;
-    const glm::dvec3 end = a.center + a.radius * (std::cos(a.phiExtent) * a.e1 + std::sin(a.phiExtent) * a.e2);
-    l = glm::min(l, end), h = glm::max(h, end);
+    l = glm::min(l, a.center + a.radius * end), h = glm::max(h, a.center + a.radius * end);
     for (int c = 0; c < 3; ++c) {
       // Coordinate c along the circle is center_c + R (cos φ e1_c + sin φ e2_c) = center_c + R A cos(φ − ψ).
       const double amp = std::hypot(a.e1[c], a.e2[c]);
@@ -140,8 +165,8 @@ BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii,
     const double pad = 1e-9 * (a.radius + 1.0);
     flo.push_back(l - pad), fhi.push_back(h + pad);
   }
-  for (const glm::dvec3& v : vertices_) flo.push_back(v), fhi.push_back(v);
-  featureGrid_ = BoxGrid(flo, fhi, std::max(featureReach, 0.5), featureReach);
+  for (const BallVertex& v : vertices_) flo.push_back(v.point), fhi.push_back(v.point);
+  featureGrid_ = BoxGrid(flo, fhi, std::max(2.0 * reach_, 1.0), 0.0);
 }
 
 bool BallUnion::exposed(std::uint32_t ball, const glm::dvec3& y) const {
@@ -184,70 +209,130 @@ UnionNearest BallUnion::nearestOutside(const glm::dvec3& x) const {
   return best;
 }
 
+void BallUnion::consider(std::uint32_t k, const glm::dvec3& x, double& best2, UnionNearest& best) const {
+  const std::uint32_t arcCount = static_cast<std::uint32_t>(arcs_.size());
+  if (k >= arcCount) {
+    const glm::dvec3 v = vertices_[k - arcCount].point;
+    const glm::dvec3 d = x - v;
+    const double q = glm::dot(d, d);
+    if (q < best2) best2 = q, best = {UnionFeature::Vertex, k - arcCount, 0.0, v};
+    return;
+  }
+  const BallArc& a = arcs_[k];
+  const glm::dvec3 w = x - a.center;
+  const double h = glm::dot(w, a.axis);
+  const glm::dvec3 radial = w - h * a.axis;
+  const double rho = glm::length(radial);
+  const double q = h * h + (rho - a.radius) * (rho - a.radius);
+  if (q >= best2) return;
+  // On the axis every circle point is as near: the arc's ends (vertices) stand for them, and a
+  // whole ring has no ends, so its φ = 0 point does.
+  glm::dvec3 u = a.e1;
+  if (rho > 1e-12 * a.radius) {
+    u = radial / rho;
+    // φ in [0, phiExtent] without atan2, from sin φ = u·e2 and sin(phiExtent − φ) = (u × end)·axis.
+    const double sinPhi = glm::dot(u, a.e2);
+    const double sinRest = glm::dot(glm::cross(u, arcEnd_[k]), a.axis);
+    const bool inside = a.phiExtent <= std::numbers::pi ? sinPhi >= 0.0 && sinRest >= 0.0 : !(sinPhi < 0.0 && sinRest < 0.0);
+    if (!inside) return;
+  } else if (a.phiExtent < 2.0 * std::numbers::pi) {
+    return;
+  }
+  best2 = q, best = {UnionFeature::Arc, k, 0.0, a.center + a.radius * u};
+}
+
 UnionNearest BallUnion::nearest(const glm::dvec3& x) const {
-  // Every point of A lies outside every ball that holds x, so at least the largest depth
-  // R − |x − c| away: only that deepest ball's sphere can hold the nearest point, and when its
-  // radial projection lies in no other ball, that is the answer.
-  double lower = -1.0;
+  // The spheres that pass within the reach of x, with their signed gaps |x − c| − R.
+  struct Near {
+    double gap;
+    std::uint32_t ball;
+  };
+  constexpr std::size_t kLocal = 256;
+  Near local[kLocal];
+  std::size_t count = 0;
+  thread_local std::vector<Near> spillStore;
+  std::vector<Near>& spill = spillStore;
+  spill.clear();
+  double lower = -kInf;
   std::uint32_t deepest = 0;
   for (std::uint32_t k : ballGrid_.cellAt(x)) {
     const glm::dvec3 d = x - centers_[k];
-    const double q = glm::dot(d, d);
-    if (q >= radii_[k] * radii_[k]) continue;
-    const double depth = radii_[k] - std::sqrt(q);
-    if (depth > lower) lower = depth, deepest = k;
+    const double q = glm::dot(d, d), outer = radii_[k] + reach_;
+    if (q >= outer * outer) continue;
+    const Near nk{std::sqrt(q) - radii_[k], k};
+    if (count < kLocal)
+      local[count++] = nk;
+    else
+      spill.push_back(nk);
+    if (-nk.gap > lower) lower = -nk.gap, deepest = k;
   }
-  if (lower < 0.0) return nearestOutside(x);
-  UnionNearest best;
-  best.distance = kInf;
+  // Outside every ball (x is in A): the cell lists every ball within the reach, so the smallest
+  // gap among them is the distance to U unless there is none.
+  if (lower <= 0.0) {
+    if (count == 0) return nearestOutside(x);
+    const glm::dvec3 d = x - centers_[deepest];
+    const double len = glm::length(d);
+    return {UnionFeature::Outside, deepest, std::max(-lower, 0.0),
+            centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1))};
+  }
+  // Every point of A lies outside every ball that holds x, so at least the largest depth
+  // R − |x − c| away: only that deepest ball's sphere can hold the nearest point, and when its
+  // radial projection lies in no other ball, that is the answer.
   {
     const glm::dvec3 d = x - centers_[deepest];
     const double len = glm::length(d);
     const glm::dvec3 y = centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1));
     if (exposed(deepest, y)) return {UnionFeature::Sphere, deepest, lower, y};
   }
-
-  // Arcs and vertices within the best distance so far; wider boxes until one is found.
-  const double margin = featureGrid_.margin();
-  double reach = std::max(1.5 * lower, margin);
-  const std::uint32_t arcCount = static_cast<std::uint32_t>(arcs_.size());
-  double best2 = best.distance * best.distance;
-  auto consider = [&](std::uint32_t k) {
-    if (k >= arcCount) {
-      const glm::dvec3 v = vertices_[k - arcCount];
-      const glm::dvec3 d = x - v;
-      const double q = glm::dot(d, d);
-      if (q < best2) best2 = q, best = {UnionFeature::Vertex, k - arcCount, 0.0, v};
-      return;
-    }
-    const BallArc& a = arcs_[k];
-    const glm::dvec3 w = x - a.center;
-    const double h = glm::dot(w, a.axis);
-    const glm::dvec3 radial = w - h * a.axis;
-    const double rho = glm::length(radial);
-    const double q = h * h + (rho - a.radius) * (rho - a.radius);
-    if (q >= best2) return;
-    // On the axis every circle point is as near: the arc's ends (vertices) stand for them,
-    // and a whole ring has no ends, so its φ = 0 point does.
-    glm::dvec3 u = a.e1;
-    if (rho > 1e-12 * a.radius) {
-      u = radial / rho;
-      double phi = std::atan2(glm::dot(u, a.e2), glm::dot(u, a.e1));
-      if (phi < 0.0) phi += 2.0 * std::numbers::pi;
-      if (phi > a.phiExtent) return;
-    } else if (a.phiExtent < 2.0 * std::numbers::pi) {
-      return;
-    }
-    best2 = q, best = {UnionFeature::Arc, k, 0.0, a.center + a.radius * u};
+  // An arc or a vertex: a feature on sphere m is at least |gap_m| = ||x − c_m| − R_m| from x,
+  // so a feature whose spheres all pass within the best distance so far is a candidate, and
+  // once every such one is seen the best is final. The deepest sphere's own features first:
+  // they usually hold the answer, and then few spheres pass nearer than it.
+  struct Gap {
+    double gap;
+    std::uint64_t stamp;
   };
-  const double diag = featureGrid_.diagonal();
-  for (;;) {
-    if (reach <= margin)
-      for (std::uint32_t k : featureGrid_.cellAt(x)) consider(k);
-    else
-      featureGrid_.forEachInBox(x, reach - margin, consider);
-    if (best2 <= reach * reach || reach > diag) break;
-    reach *= 2.0;
+  thread_local std::vector<Gap> gapStore;
+  thread_local std::uint64_t stamp = 0;
+  if (gapStore.size() < centers_.size()) gapStore.resize(centers_.size(), Gap{0.0, 0});
+  // Plain pointers: thread-local storage costs a look-up at every use.
+  Gap* const gaps = gapStore.data();
+  const std::uint64_t now = ++stamp;
+  for (std::size_t k = 0; k < count; ++k) gaps[local[k].ball] = {std::abs(local[k].gap), now};
+  for (const Near& nk : spill) gaps[nk.ball] = {std::abs(nk.gap), now};
+  // A sphere outside the cell's list passes farther than the reach from x.
+  const double reach = reach_;
+  auto gap = [gaps, now, reach](std::uint32_t b) { return gaps[b].stamp == now ? gaps[b].gap : reach; };
+  UnionNearest best;
+  double best2 = kInf;
+  // Each feature once, from the sphere of its largest gap (ties: the higher index), and only
+  // when that gap is below the best distance.
+  auto last = [&](std::uint32_t b, double gb, std::uint32_t o) {
+    if (o == ~0u) return true;
+    const double go = gap(o);
+    return go < gb || (go == gb && o <= b);
+  };
+  auto scanBall = [&](std::uint32_t b, bool all) {
+    const double gb = gap(b);
+    for (std::uint32_t k = featureStart_[b]; k < featureStart_[b + 1]; ++k) {
+      const BallFeature& f = features_[k];
+      if (all || (last(b, gb, f.other[0]) && last(b, gb, f.other[1]))) consider(f.feature, x, best2, best);
+    }
+  };
+  scanBall(deepest, true);
+  auto scanNear = [&](const Near* begin, const Near* end) {
+    for (const Near* n = begin; n != end; ++n)
+      if (n->gap * n->gap < best2) scanBall(n->ball, false);
+  };
+  scanNear(local, local + count);
+  scanNear(spill.data(), spill.data() + spill.size());
+  if (best2 > reach_ * reach_) {
+    // Deep inside: spheres beyond the reach may hold nearer features; search boxes of them.
+    const double diag = featureGrid_.diagonal();
+    for (double r = std::sqrt(best2) < kInf ? std::sqrt(best2) : 2.0 * std::max(lower, reach_);; r *= 2.0) {
+      featureGrid_.forEachInBox(x, r, [&](std::uint32_t k) { consider(k, x, best2, best); });
+      if (best2 <= r * r || r > diag) break;
+    }
   }
   if (best2 == kInf) {
     // No point of ∂U found at all (a list whose arcs or vertices were left out): the deepest

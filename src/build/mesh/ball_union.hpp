@@ -37,10 +37,18 @@ class BoxGrid {
   std::vector<std::uint32_t> items_;
 };
 
-// An SAS arc: the circle (centre, unit axis, radius) swept from e1 towards axis × e1 by phiExtent.
+// An SAS arc: the circle (centre, unit axis, radius) swept from e1 towards e2 = axis × e1 by
+// phiExtent, where the spheres of balls[0] and balls[1] meet.
 struct BallArc {
   glm::dvec3 center, axis, e1, e2;
   double radius, phiExtent;
+  std::uint32_t balls[2];
+};
+
+// An SAS vertex: where the spheres of three balls meet.
+struct BallVertex {
+  glm::dvec3 point;
+  std::uint32_t balls[3];
 };
 
 // Which feature of ∂U is nearest to a point.
@@ -57,35 +65,46 @@ struct UnionNearest {
 // builder knows them: its tori's probe circles and its concave triangles' probes).
 class BallUnion {
  public:
-  // `featureReach`: the distance (Å) up to which arcs and vertices are found from one grid cell;
-  // farther ones cost a box of cells.
+  // `featureReach`: the distance (Å) from x within which the nearest point is found from the
+  // balls of one grid cell; beyond it (points deep inside) a box of cells is searched.
   BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii, std::vector<BallArc> arcs,
-            std::vector<glm::dvec3> vertices, double featureReach);
+            std::vector<BallVertex> vertices, double featureReach);
 
   // The nearest point of ∂U from x. Inside U (x in some open ball) it is the nearest of the
   // candidates of ORACLES D.1: the radial projection onto a sphere that lies in no other ball
   // (relative tolerance 1e-10), the nearest point of an arc within its φ range, a vertex; the
   // minimum is exact because the nearest point always is one of them. Outside U, the nearest
-  // ball's radial projection. Cost: the balls of one cell, and when the nearest sphere's
-  // projection is covered, the arcs and vertices of one cell (more for points deep inside).
+  // ball's radial projection. Cost: the balls of one cell, and when the deepest sphere's
+  // projection is covered, the arcs and vertices on the spheres that pass near x.
   UnionNearest nearest(const glm::dvec3& x) const;
 
   std::size_t size() const { return centers_.size(); }
   const glm::dvec3& center(std::size_t k) const { return centers_[k]; }
   double radius(std::size_t k) const { return radii_[k]; }
   const BallArc& arc(std::size_t k) const { return arcs_[k]; }
-  const glm::dvec3& vertex(std::size_t k) const { return vertices_[k]; }
+  const BallVertex& vertex(std::size_t k) const { return vertices_[k]; }
 
  private:
   UnionNearest nearestOutside(const glm::dvec3& x) const;
   bool exposed(std::uint32_t ball, const glm::dvec3& y) const;
+  // The squared distance from x to feature k (arcs, then vertices) and its nearest point, when
+  // below best2 (which it then lowers).
+  void consider(std::uint32_t k, const glm::dvec3& x, double& best2, UnionNearest& best) const;
 
   std::vector<glm::dvec3> centers_;
   std::vector<double> radii_;
   std::vector<BallArc> arcs_;
-  std::vector<glm::dvec3> vertices_;
+  std::vector<glm::dvec3> arcEnd_;  // cos(phiExtent) e1 + sin(phiExtent) e2
+  std::vector<BallVertex> vertices_;
   std::vector<std::uint32_t> neighbourStart_, neighbours_;  // CSR: balls that overlap ball k
-  BoxGrid ballGrid_;     // balls, margin 0: the balls that may contain a point
+  // CSR: the arcs and vertices on ball k, each with the other balls it lies on (~0u: none).
+  struct BallFeature {
+    std::uint32_t feature, other[2];
+  };
+  std::vector<std::uint32_t> featureStart_;
+  std::vector<BallFeature> features_;
+  double reach_ = 0.0;
+  BoxGrid ballGrid_;     // balls grown by reach_: those whose sphere passes within reach_ of a point
   BoxGrid featureGrid_;  // arcs [0, arcs), then vertices
 };
 

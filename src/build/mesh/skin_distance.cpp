@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -61,7 +62,11 @@ bool solveSmall(int m, const double (&g)[3][3], const double (&r)[3], double (&a
 class SkinDistance final : public SurfaceDistance {
  public:
   SkinDistance(const PatchList& list, std::span<const glm::dvec3> centers, std::span<const double> radii)
-      : centers_(centers.begin(), centers.end()), radii_(radii.begin(), radii.end()), s_(list.params.shrinkFactor) {
+      : centers_(centers.begin(), centers.end()),
+        radii_(radii.begin(), radii.end()),
+        s_(list.params.shrinkFactor),
+        mss_(list.mss),
+        cellPlanes_(list.cellPlanes) {
     weights_.resize(radii_.size());
     for (std::size_t k = 0; k < radii_.size(); ++k) {
       weights_[k] = mss::skinWeight(radii_[k], s_);
@@ -72,6 +77,10 @@ class SkinDistance final : public SurfaceDistance {
     }
     for (std::size_t k = 0; k < radii_.size(); ++k) lo_ = glm::min(lo_, centers_[k] - rMax_), hi_ = glm::max(hi_, centers_[k] + rMax_);
     grid_ = BoxGrid(centers_, centers_, 2.5, 0.0);
+    std::vector<glm::dvec3> lo(mss_.size()), hi(mss_.size());
+    for (std::size_t k = 0; k < mss_.size(); ++k)
+      lo[k] = mss_.center[k] - mss_.boundRadius[k], hi[k] = mss_.center[k] + mss_.boundRadius[k];
+    patchGrid_ = BoxGrid(lo, hi, 2.0, 0.0);
   }
 
   double signedDistance(const glm::dvec3& x) const override {
@@ -93,34 +102,39 @@ class SkinDistance final : public SurfaceDistance {
   SurfacePoint closest(const glm::dvec3& x) const override {
     SurfacePoint out;
     if (centers_.empty()) return out;
-    SkinValue v = evaluate(x);
+    // Onto the skin first, along the gradient: each step to the nearest root of the current
+    // cell's quadric on the line.
     glm::dvec3 p = x;
-    bool found = onSkin(v);
-    for (int move = 0; move < kMaxCellMoves && !found; ++move) {
-      const std::optional<glm::dvec3> foot = footPoint(quadricOf(v), x);
-      if (!foot) break;
-      const SkinValue at = evaluate(*foot);
-      if (onSkin(at)) {
-        p = *foot, v = at, found = true;
-        break;
-      }
-      if (sameSupport(at, v)) break;
-      v = at;  // the foot point lies in another cell: project onto that cell's quadric
-    }
-    if (!found) {
-      // Steps along the gradient, each to the nearest root of the current cell's quadric: onto
-      // the skin, if not to its foot point.
-      p = x;
+    SkinValue v = evaluate(p);
+    for (int step = 0; step < 64 && !onSkin(v); ++step) {
+      const mss::SkinQuadric q = quadricOf(v);
+      const double gl = glm::length(v.gradient);
+      const glm::dvec3 g = gl > 0.0 ? v.gradient / gl : glm::dvec3(0, 0, 1);
+      const double t = nearestRoot(q.radial + q.axial * glm::dot(g, q.axis) * glm::dot(g, q.axis),
+                                   (1.0 - s_) * gl, (1.0 - s_) * v.value);
+      p += (std::isfinite(t) ? t : -v.value / std::max(gl, 1e-300)) * g;
       v = evaluate(p);
-      for (int step = 0; step < 64 && !onSkin(v); ++step) {
-        const mss::SkinQuadric q = quadricOf(v);
-        const double gl = glm::length(v.gradient);
-        const glm::dvec3 g = gl > 0.0 ? v.gradient / gl : glm::dvec3(0, 0, 1);
-        const double t = nearestRoot(q.radial + q.axial * glm::dot(g, q.axis) * glm::dot(g, q.axis),
-                                     (1.0 - s_) * gl, (1.0 - s_) * v.value);
-        p += (std::isfinite(t) ? t : -v.value / std::max(gl * gl, 1e-300) * gl) * g;
-        v = evaluate(p);
+    }
+    // The skin point nearest to x is a foot point of x on the quadric of a patch whose cell
+    // holds it (on a facet between cells too: the skin is C¹ there, so it is a foot point of
+    // both quadrics). Every patch that may come nearer than the point found so far offers all
+    // of its foot points that lie in its cell.
+    if (onSkin(v)) {
+      double best = glm::length(p - x);
+      thread_local std::vector<std::uint32_t> near;
+      near.clear();
+      patchGrid_.forEachInBox(x, best, [&](std::uint32_t k) { near.push_back(k); });
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      bool moved = false;
+      for (std::uint32_t k : near) {
+        if (glm::length(x - mss_.center[k]) - mss_.boundRadius[k] > best) continue;
+        forEachFootPoint(k, x, [&](const glm::dvec3& q) {
+          const double d = glm::length(q - x);
+          if (d < best && inPatch(k, q)) best = d, p = q, moved = true;
+        });
       }
+      if (moved) v = evaluate(p);
     }
     out.point = p;
     const double gl = glm::length(v.gradient);
@@ -169,6 +183,95 @@ class SkinDistance final : public SurfaceDistance {
     for (int k = 0; k < v.size; ++k) x.atom[k] = v.atoms[k];
     const mss::WeightedPoints wp{centers_, weights_, s_};
     return mss::skinQuadric(wp, x, mss::orthocentre(wp, x));
+  }
+
+  // The patch's own membership test (trace/mss_patch.cpp insideCell): within its bounding ball
+  // and on the kept side of its cell planes, with a slack relative to its size.
+  bool inPatch(std::size_t k, const glm::dvec3& q) const {
+    const glm::dvec3 d = q - mss_.center[k];
+    const double slack = 1e-9 * (mss_.boundRadius[k] + 1.0);
+    const double ball = mss_.boundRadius[k] + slack;
+    if (glm::dot(d, d) > ball * ball) return false;
+    for (std::uint32_t c = mss_.cellBegin[k]; c < mss_.cellBegin[k] + mss_.cellCount[k]; ++c) {
+      const Plane& plane = cellPlanes_[c];
+      const glm::dvec3 n(plane);
+      if (glm::dot(n, d) + (glm::dot(n, mss_.center[k]) + plane.w) > slack) return false;
+    }
+    return true;
+  }
+
+  // f(q) for every foot point q of x on patch k's quadric (q − x ∥ ∇f(q)): with d = q − z,
+  // h = d·a and v the rest, q − x = μ ∇f(q) gives h = h_x/(1 − 2μ k1), v = v_x/(1 − 2μ k2)
+  // (k1 = radial + axial, k2 = radial), and f(q(μ)) = φ(μ) = 0. φ is smooth between its poles
+  // 1/(2k): each interval is sampled densely towards its ends and every sign change bisected.
+  // Where x lies on the axis or on the plane h = 0 the foot points at a pole form a circle or
+  // a pair; they are added from the quadric's own equation.
+  template <class F>
+  void forEachFootPoint(std::size_t k, const glm::dvec3& x, F&& f) const {
+    const glm::dvec3 z = mss_.center[k], a = mss_.axis[k];
+    const double k1 = mss_.radialCoeff[k] + mss_.axialCoeff[k], k2 = mss_.radialCoeff[k], c = mss_.constant[k];
+    const glm::dvec3 w = x - z;
+    const double hx = glm::dot(w, a);
+    const glm::dvec3 vx = w - hx * a;
+    const double A = hx * hx, B = glm::dot(vx, vx);
+    auto phi = [&](double mu) {
+      const double p1 = 1.0 - 2.0 * mu * k1, p2 = 1.0 - 2.0 * mu * k2;
+      return (A > 0.0 ? k1 * A / (p1 * p1) : 0.0) + (B > 0.0 ? k2 * B / (p2 * p2) : 0.0) + c;
+    };
+    auto emit = [&](double mu) {
+      const double p1 = 1.0 - 2.0 * mu * k1, p2 = 1.0 - 2.0 * mu * k2;
+      if (p1 == 0.0 || p2 == 0.0) return;
+      const glm::dvec3 q = z + (hx / p1) * a + vx / p2;
+      if (std::isfinite(q.x + q.y + q.z)) f(q);
+    };
+    double poles[2];
+    int poleCount = 0;
+    if (k1 != 0.0 && A > 0.0) poles[poleCount++] = 0.5 / k1;
+    if (k2 != 0.0 && B > 0.0 && (poleCount == 0 || k2 != k1)) poles[poleCount++] = 0.5 / k2;
+    if (poleCount == 2 && poles[0] > poles[1]) std::swap(poles[0], poles[1]);
+    const double scale = 0.5 / std::max({std::abs(k1), std::abs(k2), 1e-6});
+    constexpr int kSamples = 48;
+    for (int interval = 0; interval <= poleCount; ++interval) {
+      const double lo = interval == 0 ? -kInf : poles[interval - 1];
+      const double hi = interval == poleCount ? kInf : poles[interval];
+      auto at = [&](double tau) {  // tau in (0, 1), denser towards the ends
+        if (std::isfinite(lo) && std::isfinite(hi)) return lo + (hi - lo) * 0.5 * (1.0 - std::cos(std::numbers::pi * tau));
+        if (std::isfinite(lo)) return lo + scale * tau / (1.0 - tau);
+        if (std::isfinite(hi)) return hi - scale * (1.0 - tau) / tau;
+        return scale * std::tan(std::numbers::pi * (tau - 0.5));
+      };
+      double prevMu = at(0.5 / kSamples), prev = phi(prevMu);
+      for (int i = 1; i < kSamples; ++i) {
+        const double mu = at((i + 0.5) / kSamples), value = phi(mu);
+        if ((prev < 0.0) != (value < 0.0)) {
+          double l = prevMu, h = mu, fl = prev;
+          for (int it = 0; it < 200; ++it) {
+            const double mid = 0.5 * (l + h);
+            if (mid <= l || mid >= h) break;
+            const double fm = phi(mid);
+            if ((fm < 0.0) == (fl < 0.0))
+              l = mid, fl = fm;
+            else
+              h = mid;
+          }
+          emit(0.5 * (l + h));
+        }
+        prevMu = mu, prev = value;
+      }
+    }
+    // x on the plane h = 0 (A = 0): at μ = 1/(2k1) h is free; x on the axis (B = 0): v is.
+    if (A == 0.0 && k1 != 0.0 && k1 != k2) {
+      const glm::dvec3 v = vx / (1.0 - k2 / k1);
+      const double h2 = -(k2 * glm::dot(v, v) + c) / k1;
+      if (h2 >= 0.0) f(z + std::sqrt(h2) * a + v), f(z - std::sqrt(h2) * a + v);
+    }
+    if (B == 0.0 && k2 != 0.0) {
+      const double h = k1 != k2 ? hx / (1.0 - k1 / k2) : 0.0;
+      const double v2 = -(k1 * h * h + c) / k2 - (k1 == k2 ? A : 0.0);
+      glm::dvec3 perp = glm::cross(a, glm::dvec3(1, 0, 0));
+      if (glm::dot(perp, perp) < 0.1) perp = glm::cross(a, glm::dvec3(0, 1, 0));
+      if (v2 >= 0.0) f(z + (k1 != k2 ? h : hx) * a + std::sqrt(v2) * glm::normalize(perp));
+    }
   }
 
   // The nearest point to x of the quadric f = radial|d|² + axial (d·a)² + constant (d = p − z),
@@ -233,6 +336,9 @@ class SkinDistance final : public SurfaceDistance {
   std::vector<double> radii_, weights_;
   double s_ = 0.5, rMax_ = 0.0, rMin_ = kInf;
   BoxGrid grid_;
+  MssQuadrics mss_;                // the patches: quadric, cell and bounding ball
+  std::vector<Plane> cellPlanes_;
+  BoxGrid patchGrid_;
   glm::dvec3 lo_{kInf}, hi_{-kInf};
 };
 

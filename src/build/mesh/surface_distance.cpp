@@ -21,6 +21,7 @@ namespace surftrace::build::mesh {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kUnionReach = 1.5;  // Å
 // view::PatchKind's codes, pinned there (build does not depend on view).
 constexpr std::uint8_t kConvexCode = 1, kToroidalCode = 2, kConcaveCode = 3;
 
@@ -73,24 +74,29 @@ class SesDistance final : public SurfaceDistance {
     std::vector<BallArc> arcs;
     const Tori& t = list.tori;
     for (std::size_t k = 0; k < t.size(); ++k)
-      arcs.push_back({t.center[k], t.axis[k], t.e1[k], glm::cross(t.axis[k], t.e1[k]), t.bigRadius[k], t.phiExtent[k]});
-    // One vertex per probe position; the triangles of a merged (cospherical) vertex share it.
-    std::map<std::tuple<double, double, double>, std::uint32_t> vertexOf;
-    std::vector<glm::dvec3> vertices;
-    std::vector<std::vector<std::uint32_t>> triangles;
-    for (std::size_t k = 0; k < list.concave.size(); ++k) {
-      const glm::dvec3 p = list.concave.probe[k];
-      const auto [it, added] = vertexOf.try_emplace({p.x, p.y, p.z}, static_cast<std::uint32_t>(vertices.size()));
-      if (added) vertices.push_back(p), triangles.emplace_back();
-      triangles[it->second].push_back(static_cast<std::uint32_t>(k));
+      arcs.push_back({t.center[k], t.axis[k], t.e1[k], glm::cross(t.axis[k], t.e1[k]), t.bigRadius[k], t.phiExtent[k],
+                      {t.atomI[k], t.atomJ[k]}});
+    // A vertex per concave triangle; the triangles of a merged (cospherical) vertex share its
+    // probe and make one fan.
+    const ConcaveTriangles& cv = list.concave;
+    std::vector<BallVertex> vertices;
+    std::map<std::tuple<double, double, double>, std::uint32_t> fanOf;
+    std::vector<std::vector<std::uint32_t>> fans;
+    for (std::uint32_t k = 0; k < cv.size(); ++k) {
+      const glm::dvec3 p = cv.probe[k];
+      vertices.push_back({p, {cv.atomI[k], cv.atomJ[k], cv.atomK[k]}});
+      const auto [it, added] = fanOf.try_emplace({p.x, p.y, p.z}, static_cast<std::uint32_t>(fans.size()));
+      if (added) fans.emplace_back();
+      fans[it->second].push_back(k);
+      fan_.push_back(it->second);
     }
     triangleStart_.push_back(0);
-    for (const auto& ts : triangles) {
+    for (const auto& ts : fans) {
       triangles_.insert(triangles_.end(), ts.begin(), ts.end());
       triangleStart_.push_back(static_cast<std::uint32_t>(triangles_.size()));
     }
     union_ = std::make_unique<BallUnion>(std::move(ballCenters), std::move(ballRadii), std::move(arcs),
-                                         std::move(vertices), rp_);
+                                         std::move(vertices), 2.0 * rp_);  // one cell for |signedDistance| <= rp
 
     for (std::size_t k = 0; k < list.convex.size(); ++k)
       extend(list.convex.center[k] - list.convex.radius[k], list.convex.center[k] + list.convex.radius[k]);
@@ -132,7 +138,7 @@ class SesDistance final : public SurfaceDistance {
     // Solvent side: y is on the SES unless another probe's ball holds it (a clipped concave
     // cap, a spindle torus's inner part); then the SES near x is a ridge.
     std::uint32_t triangle = 0;
-    if (n.feature == UnionFeature::Vertex) triangle = triangleAt(n.index, u);
+    if (n.feature == UnionFeature::Vertex) triangle = triangleAt(fan_[n.index], u);
     glm::dvec3 ridge;
     if (d < rp_ && !onSurface(n, triangle, y) && ridgePoint(n, triangle, x, ridge)) {
       if (out) describe(n, triangle, ridge, unitOr(x - ridge, -u), *out);
@@ -142,11 +148,11 @@ class SesDistance final : public SurfaceDistance {
     return rp_ - d;
   }
 
-  // The triangle of the vertex's fan whose cone holds direction u (the first one otherwise).
-  std::uint32_t triangleAt(std::uint32_t vertex, const glm::dvec3& u) const {
-    for (std::uint32_t k = triangleStart_[vertex]; k < triangleStart_[vertex + 1]; ++k)
+  // The triangle of the fan whose cone holds direction u (the first one otherwise).
+  std::uint32_t triangleAt(std::uint32_t fan, const glm::dvec3& u) const {
+    for (std::uint32_t k = triangleStart_[fan]; k < triangleStart_[fan + 1]; ++k)
       if (inCone(triangles_[k], u, 1e-12)) return triangles_[k];
-    return triangles_[triangleStart_[vertex]];
+    return triangles_[triangleStart_[fan]];
   }
 
   bool inCone(std::uint32_t t, const glm::dvec3& u, double slack) const {
@@ -205,12 +211,13 @@ class SesDistance final : public SurfaceDistance {
     }
     if (n.feature != UnionFeature::Vertex) return false;
     const ConcaveTriangles& c = list_.concave;
-    const glm::dvec3 p = union_->vertex(n.index);
+    const glm::dvec3 p = union_->vertex(n.index).point;
+    const std::uint32_t fan = fan_[n.index];
     const double slack = 1e-9 * rp_;
     auto valid = [&](const glm::dvec3& q) {
       if (!keptByClips(triangle, q, slack)) return false;
       const glm::dvec3 u = (q - p) / rp_;
-      for (std::uint32_t k = triangleStart_[n.index]; k < triangleStart_[n.index + 1]; ++k)
+      for (std::uint32_t k = triangleStart_[fan]; k < triangleStart_[fan + 1]; ++k)
         if (inCone(triangles_[k], u, 1e-9)) return true;
       return false;
     };
@@ -283,7 +290,8 @@ class SesDistance final : public SurfaceDistance {
   double rp_;
   std::vector<std::uint32_t> ballAtom_, ballComponent_;
   std::vector<double> atomRadius_;
-  std::vector<std::uint32_t> triangleStart_, triangles_;  // CSR: the concave triangles of each vertex
+  std::vector<std::uint32_t> fan_;                        // the fan of each concave triangle
+  std::vector<std::uint32_t> triangleStart_, triangles_;  // CSR: the triangles of each fan
   std::unique_ptr<BallUnion> union_;
   glm::dvec3 lo_{kInf}, hi_{-kInf};
 };
@@ -301,7 +309,7 @@ class UnionDistance final : public SurfaceDistance {
     atom_ = s.atom;
     component_ = s.component;
     std::vector<BallArc> arcs;
-    std::vector<glm::dvec3> vertices;
+    std::vector<BallVertex> vertices;
     minRadius_ = kInf;
     for (double r : radii) minRadius_ = std::min(minRadius_, r);
     if (!centers.empty()) {
@@ -312,12 +320,15 @@ class UnionDistance final : public SurfaceDistance {
       ses_ = buildSes(centers, shrunk, SesParams{rho});
       const Tori& t = ses_.tori;
       for (std::size_t k = 0; k < t.size(); ++k)
-        arcs.push_back({t.center[k], t.axis[k], t.e1[k], glm::cross(t.axis[k], t.e1[k]), t.bigRadius[k], t.phiExtent[k]});
-      vertices = ses_.concave.probe;
+        arcs.push_back({t.center[k], t.axis[k], t.e1[k], glm::cross(t.axis[k], t.e1[k]), t.bigRadius[k],
+                        t.phiExtent[k], {t.atomI[k], t.atomJ[k]}});
+      const ConcaveTriangles& cv = ses_.concave;
+      for (std::size_t k = 0; k < cv.size(); ++k) vertices.push_back({cv.probe[k], {cv.atomI[k], cv.atomJ[k], cv.atomK[k]}});
     }
     for (std::size_t k = 0; k < centers.size(); ++k) lo_ = glm::min(lo_, centers[k] - radii[k]), hi_ = glm::max(hi_, centers[k] + radii[k]);
+    // One grid cell answers for points up to kUnionReach inside.
     union_ = std::make_unique<BallUnion>(std::move(centers), std::move(radii), std::move(arcs), std::move(vertices),
-                                         0.5 * minRadius_);
+                                         kUnionReach);
   }
 
   double signedDistance(const glm::dvec3& x) const override {
