@@ -27,6 +27,58 @@ constexpr double kCoveredTolerance = 1e-10;
 constexpr double kMaxCellsPerItem = 64.0;
 constexpr double kMaxCells = 1 << 26;
 
+// Grows [lo, hi] by the arc center + radius (cos φ e1 + sin φ e2), φ in [0, extent] (a negative
+// radius is the arc mirrored through its centre): its ends and, per coordinate, the extremes
+// R A cos(φ − ψ) that fall inside the range; padded by a hair for rounding.
+void arcBox(const glm::dvec3& center, const glm::dvec3& e1, const glm::dvec3& e2, double radius, double extent,
+            glm::dvec3& lo, glm::dvec3& hi) {
+  const glm::dvec3 start = center + radius * e1;
+  const glm::dvec3 end = center + radius * (std::cos(extent) * e1 + std::sin(extent) * e2);
+  lo = glm::min(lo, glm::min(start, end)), hi = glm::max(hi, glm::max(start, end));
+  for (int c = 0; c < 3; ++c) {
+    const double amp = std::hypot(e1[c], e2[c]);
+    const double psi = std::atan2(e2[c], e1[c]);
+    for (double phi : {psi, psi + std::numbers::pi}) {
+      double p = std::fmod(phi, 2.0 * std::numbers::pi);
+      if (p < 0) p += 2.0 * std::numbers::pi;
+      if (p <= extent) {
+        const double v = center[c] + radius * amp * std::cos(p - psi);
+        lo[c] = std::min(lo[c], v), hi[c] = std::max(hi[c], v);
+      }
+    }
+  }
+  const double pad = 1e-9 * (std::abs(radius) + glm::length(center) + 1.0);
+  lo -= pad, hi += pad;
+}
+
+// The largest e·u over unit u on the great-circle arc from a to b (unit, not antipodal).
+double maxOnArc(const glm::dvec3& e, const glm::dvec3& a, const glm::dvec3& b) {
+  double best = std::max(glm::dot(e, a), glm::dot(e, b));
+  const glm::dvec3 n = glm::cross(a, b);
+  const double nn = glm::dot(n, n);
+  if (nn <= 0.0) return best;
+  // e's projection onto the arc's plane, where e·u peaks on the whole great circle.
+  const glm::dvec3 q = e - (glm::dot(e, n) / nn) * n;
+  const double ql = glm::length(q);
+  if (ql <= 0.0) return best;
+  const glm::dvec3 u = q / ql;
+  // u lies between a and b when it is on a's side of b and on b's side of a within the plane.
+  if (glm::dot(glm::cross(a, u), n) >= 0.0 && glm::dot(glm::cross(u, b), n) >= 0.0) best = std::max(best, ql);
+  return best;
+}
+
+// The largest e·u over unit u in the spherical triangle (cone) of d[0], d[1], d[2]: 1 where e
+// is inside the cone, else the largest over its edges.
+double maxOnTriangle(const glm::dvec3& e, const glm::dvec3 (&d)[3]) {
+  const double det = glm::dot(d[0], glm::cross(d[1], d[2]));
+  if (det != 0.0) {
+    const double a = glm::dot(e, glm::cross(d[1], d[2])) / det, b = glm::dot(d[0], glm::cross(e, d[2])) / det,
+                 c = glm::dot(d[0], glm::cross(d[1], e)) / det;
+    if (a >= 0.0 && b >= 0.0 && c >= 0.0) return 1.0;
+  }
+  return std::max({maxOnArc(e, d[0], d[1]), maxOnArc(e, d[1], d[2]), maxOnArc(e, d[2], d[0])});
+}
+
 }  // namespace
 
 BoxGrid::BoxGrid(std::span<const glm::dvec3> lower, std::span<const glm::dvec3> upper, double cellSize,
@@ -100,6 +152,7 @@ BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii,
   const std::size_t n = centers_.size();
   double maxRadius = 0.0;
   for (double r : radii_) maxRadius = std::max(maxRadius, r);
+  for (std::size_t k = 0; k < n; ++k) balls_.emplace_back(centers_[k], radii_[k]);
 
   // Overlapping balls: only they can cover a point of ball k's sphere.
   NeighbourGrid grid(n);
@@ -113,30 +166,12 @@ BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii,
     neighbourStart_[k + 1] = static_cast<std::uint32_t>(neighbours_.size());
   }
 
-  // The features on each ball's sphere (CSR).
-  const std::uint32_t arcCount = static_cast<std::uint32_t>(arcs_.size());
-  featureStart_.assign(n + 1, 0);
-  for (const BallArc& a : arcs_) ++featureStart_[a.balls[0] + 1], ++featureStart_[a.balls[1] + 1];
-  for (const BallVertex& v : vertices_)
-    for (std::uint32_t b : v.balls) ++featureStart_[b + 1];
-  for (std::size_t k = 0; k < n; ++k) featureStart_[k + 1] += featureStart_[k];
-  features_.resize(featureStart_[n]);
-  std::vector<std::uint32_t> fill(featureStart_.begin(), featureStart_.end() - 1);
-  for (std::uint32_t k = 0; k < arcCount; ++k) {
-    const auto& b = arcs_[k].balls;
-    features_[fill[b[0]]++] = {k, {b[1], ~0u}};
-    features_[fill[b[1]]++] = {k, {b[0], ~0u}};
-  }
-  for (std::uint32_t k = 0; k < vertices_.size(); ++k) {
-    const auto& b = vertices_[k].balls;
-    for (int m = 0; m < 3; ++m) features_[fill[b[m]]++] = {arcCount + k, {b[(m + 1) % 3], b[(m + 2) % 3]}};
-  }
-
   std::vector<glm::dvec3> lo(n), hi(n);
   for (std::size_t k = 0; k < n; ++k) lo[k] = centers_[k] - radii_[k], hi[k] = centers_[k] + radii_[k];
-  // Cells of about two thirds of the largest radius: a ball covers a few cells each way, and a
-  // cell lists the balls near it without many that are not.
-  ballGrid_ = BoxGrid(lo, hi, std::max(0.67 * maxRadius, 0.5), reach_);
+  // Cells of about a third of the largest radius: a cell lists the few balls that hold its
+  // points, and little else.
+  ballGrid_ = BoxGrid(lo, hi, std::max(0.33 * maxRadius, 0.5), 0.0);
+  outsideGrid_ = BoxGrid(lo, hi, std::max(0.67 * maxRadius, 0.5), reach_);
 
   // Each arc's own box (its endpoints and the extremes of each coordinate inside its φ range),
   // for points deep inside, whose nearest feature may lie on a sphere beyond the reach.
@@ -144,36 +179,50 @@ BallUnion::BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii,
   flo.reserve(arcs_.size() + vertices_.size());
   fhi.reserve(arcs_.size() + vertices_.size());
   for (const BallArc& a : arcs_) {
-    const glm::dvec3 end = std::cos(a.phiExtent) * a.e1 + std::sin(a.phiExtent) * a.e2;
-    arcEnd_.push_back(end);
-    glm::dvec3 l = a.center + a.radius * a.e1, h = l;
-    l = glm::min(l, a.center + a.radius * end), h = glm::max(h, a.center + a.radius * end);
-    for (int c = 0; c < 3; ++c) {
-      // Coordinate c along the circle is center_c + R (cos φ e1_c + sin φ e2_c) = center_c + R A cos(φ − ψ).
-      const double amp = std::hypot(a.e1[c], a.e2[c]);
-      const double psi = std::atan2(a.e2[c], a.e1[c]);
-      for (double phi : {psi, psi + std::numbers::pi}) {
-        double p = std::fmod(phi, 2.0 * std::numbers::pi);
-        if (p < 0) p += 2.0 * std::numbers::pi;
-        if (p <= a.phiExtent) {
-          const double v = a.center[c] + a.radius * amp * std::cos(p - psi);
-          l[c] = std::min(l[c], v), h[c] = std::max(h[c], v);
-        }
-      }
-    }
-    // Rounding: grow by a hair so that an arc's own points are always inside its box.
-    const double pad = 1e-9 * (a.radius + 1.0);
-    flo.push_back(l - pad), fhi.push_back(h + pad);
+    arcEnd_.push_back(std::cos(a.phiExtent) * a.e1 + std::sin(a.phiExtent) * a.e2);
+    glm::dvec3 l(kInf), h(-kInf);
+    arcBox(a.center, a.e1, a.e2, a.radius, a.phiExtent, l, h);
+    flo.push_back(l), fhi.push_back(h);
   }
   for (const BallVertex& v : vertices_) flo.push_back(v.point), fhi.push_back(v.point);
   featureGrid_ = BoxGrid(flo, fhi, std::max(2.0 * reach_, 1.0), 0.0);
+
+  // The normal sectors, truncated at T = reach_: a point x whose nearest point of ∂U is the
+  // feature's point c lies at c + t u with u in the cone of the inward normals there (towards
+  // the centres of the feature's balls) and t = |x − c|. For a vertex the cone is spanned by its
+  // three contact directions; for an arc, at each φ, by the two, so the sector lies in the hull
+  // of the arc and of the arcs it makes moved by T towards each centre (homotheties about them).
+  std::vector<glm::dvec3> slo, shi;
+  for (const BallArc& a : arcs_) {
+    glm::dvec3 l(kInf), h(-kInf);
+    arcBox(a.center, a.e1, a.e2, a.radius, a.phiExtent, l, h);
+    for (std::uint32_t b : a.balls) {
+      const double s = 1.0 - reach_ / radii_[b];
+      arcBox(centers_[b] + s * (a.center - centers_[b]), a.e1, a.e2, s * a.radius, a.phiExtent, l, h);
+    }
+    slo.push_back(l), shi.push_back(h);
+  }
+  for (const BallVertex& v : vertices_) {
+    glm::dvec3 d[3];
+    for (int m = 0; m < 3; ++m) d[m] = glm::normalize(centers_[v.balls[m]] - v.point);
+    glm::dvec3 l = v.point, h = v.point;
+    for (int c = 0; c < 3; ++c) {
+      glm::dvec3 e(0.0);
+      e[c] = 1.0;
+      const double pad = 1e-9 * (reach_ + 1.0);
+      h[c] += reach_ * std::max(0.0, maxOnTriangle(e, d)) + pad;
+      l[c] -= reach_ * std::max(0.0, maxOnTriangle(-e, d)) + pad;
+    }
+    slo.push_back(l), shi.push_back(h);
+  }
+  sectorGrid_ = BoxGrid(slo, shi, std::max(0.33 * reach_, 0.4), 0.0);
 }
 
 bool BallUnion::exposed(std::uint32_t ball, const glm::dvec3& y) const {
   for (std::uint32_t k = neighbourStart_[ball]; k < neighbourStart_[ball + 1]; ++k) {
-    const std::uint32_t o = neighbours_[k];
-    const double limit = radii_[o] * (1.0 - kCoveredTolerance);
-    const glm::dvec3 d = y - centers_[o];
+    const glm::dvec4& b = balls_[neighbours_[k]];
+    const double limit = b.w * (1.0 - kCoveredTolerance);
+    const glm::dvec3 d = y - glm::dvec3(b);
     if (glm::dot(d, d) < limit * limit) return false;
   }
   return true;
@@ -242,94 +291,49 @@ void BallUnion::consider(std::uint32_t k, const glm::dvec3& x, double& best2, Un
 }
 
 UnionNearest BallUnion::nearest(const glm::dvec3& x) const {
-  // The spheres that pass within the reach of x, with their signed gaps |x − c| − R.
-  struct Near {
-    double gap;
-    std::uint32_t ball;
-  };
-  constexpr std::size_t kLocal = 256;
-  Near local[kLocal];
-  std::size_t count = 0;
-  thread_local std::vector<Near> spillStore;
-  std::vector<Near>& spill = spillStore;
-  spill.clear();
-  double lower = -kInf;
-  std::uint32_t deepest = 0;
-  for (std::uint32_t k : ballGrid_.cellAt(x)) {
-    const glm::dvec3 d = x - centers_[k];
-    const double q = glm::dot(d, d), outer = radii_[k] + reach_;
-    if (q >= outer * outer) continue;
-    const Near nk{std::sqrt(q) - radii_[k], k};
-    if (count < kLocal)
-      local[count++] = nk;
-    else
-      spill.push_back(nk);
-    if (-nk.gap > lower) lower = -nk.gap, deepest = k;
-  }
-  // Outside every ball (x is in A): the cell lists every ball within the reach, so the smallest
-  // gap among them is the distance to U unless there is none.
-  if (lower <= 0.0) {
-    if (count == 0) return nearestOutside(x);
-    const glm::dvec3 d = x - centers_[deepest];
-    const double len = glm::length(d);
-    return {UnionFeature::Outside, deepest, std::max(-lower, 0.0),
-            centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1))};
-  }
   // Every point of A lies outside every ball that holds x, so at least the largest depth
   // R − |x − c| away: only that deepest ball's sphere can hold the nearest point, and when its
   // radial projection lies in no other ball, that is the answer.
+  double lower = 0.0;
+  std::uint32_t deepest = 0;
+  for (std::uint32_t k : ballGrid_.cellAt(x)) {
+    const glm::dvec4& b = balls_[k];
+    const glm::dvec3 d = x - glm::dvec3(b);
+    const double q = glm::dot(d, d);
+    if (q >= b.w * b.w) continue;
+    const double depth = b.w - std::sqrt(q);
+    if (depth > lower) lower = depth, deepest = k;
+  }
+  if (!(lower > 0.0)) {
+    // Outside every ball (x is in A): the cell lists every ball within the reach.
+    UnionNearest best;
+    best.distance = kInf;
+    for (std::uint32_t k : outsideGrid_.cellAt(x)) {
+      const double gap = glm::length(x - glm::dvec3(balls_[k])) - balls_[k].w;
+      if (gap < best.distance) best.distance = gap, best.index = k;
+    }
+    if (!(best.distance <= reach_)) return nearestOutside(x);
+    const glm::dvec3 d = x - centers_[best.index];
+    const double len = glm::length(d);
+    best.point = centers_[best.index] + radii_[best.index] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1));
+    best.distance = std::max(best.distance, 0.0);
+    return best;
+  }
   {
     const glm::dvec3 d = x - centers_[deepest];
     const double len = glm::length(d);
     const glm::dvec3 y = centers_[deepest] + radii_[deepest] * (len > 0.0 ? d / len : glm::dvec3(0, 0, 1));
     if (exposed(deepest, y)) return {UnionFeature::Sphere, deepest, lower, y};
   }
-  // An arc or a vertex: a feature on sphere m is at least |gap_m| = ||x − c_m| − R_m| from x,
-  // so a feature whose spheres all pass within the best distance so far is a candidate, and
-  // once every such one is seen the best is final. The deepest sphere's own features first:
-  // they usually hold the answer, and then few spheres pass nearer than it.
-  struct Gap {
-    double gap;
-    std::uint64_t stamp;
-  };
-  thread_local std::vector<Gap> gapStore;
-  thread_local std::uint64_t stamp = 0;
-  if (gapStore.size() < centers_.size()) gapStore.resize(centers_.size(), Gap{0.0, 0});
-  // Plain pointers: thread-local storage costs a look-up at every use.
-  Gap* const gaps = gapStore.data();
-  const std::uint64_t now = ++stamp;
-  for (std::size_t k = 0; k < count; ++k) gaps[local[k].ball] = {std::abs(local[k].gap), now};
-  for (const Near& nk : spill) gaps[nk.ball] = {std::abs(nk.gap), now};
-  // A sphere outside the cell's list passes farther than the reach from x.
-  const double reach = reach_;
-  auto gap = [gaps, now, reach](std::uint32_t b) { return gaps[b].stamp == now ? gaps[b].gap : reach; };
+  // An arc or a vertex: the nearest one's normal sector holds x, so when it is within the
+  // reach it is among the features listed in x's cell.
   UnionNearest best;
   double best2 = kInf;
-  // Each feature once, from the sphere of its largest gap (ties: the higher index), and only
-  // when that gap is below the best distance.
-  auto last = [&](std::uint32_t b, double gb, std::uint32_t o) {
-    if (o == ~0u) return true;
-    const double go = gap(o);
-    return go < gb || (go == gb && o <= b);
-  };
-  auto scanBall = [&](std::uint32_t b, bool all) {
-    const double gb = gap(b);
-    for (std::uint32_t k = featureStart_[b]; k < featureStart_[b + 1]; ++k) {
-      const BallFeature& f = features_[k];
-      if (all || (last(b, gb, f.other[0]) && last(b, gb, f.other[1]))) consider(f.feature, x, best2, best);
-    }
-  };
-  scanBall(deepest, true);
-  auto scanNear = [&](const Near* begin, const Near* end) {
-    for (const Near* n = begin; n != end; ++n)
-      if (n->gap * n->gap < best2) scanBall(n->ball, false);
-  };
-  scanNear(local, local + count);
-  scanNear(spill.data(), spill.data() + spill.size());
+  for (std::uint32_t k : sectorGrid_.cellAt(x)) consider(k, x, best2, best);
   if (best2 > reach_ * reach_) {
-    // Deep inside: spheres beyond the reach may hold nearer features; search boxes of them.
+    // Deep inside: search boxes of features until one lies within the box.
     const double diag = featureGrid_.diagonal();
-    for (double r = std::sqrt(best2) < kInf ? std::sqrt(best2) : 2.0 * std::max(lower, reach_);; r *= 2.0) {
+    for (double r = std::max(lower, reach_);; r *= 2.0) {
       featureGrid_.forEachInBox(x, r, [&](std::uint32_t k) { consider(k, x, best2, best); });
       if (best2 <= r * r || r > diag) break;
     }

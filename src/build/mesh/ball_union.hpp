@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace surftrace::build::mesh {
 
@@ -65,8 +66,10 @@ struct UnionNearest {
 // builder knows them: its tori's probe circles and its concave triangles' probes).
 class BallUnion {
  public:
-  // `featureReach`: the distance (Å) from x within which the nearest point is found from the
-  // balls of one grid cell; beyond it (points deep inside) a box of cells is searched.
+  // `featureReach` T (Å): points up to T inside U find their nearest point among the arcs and
+  // vertices listed in their grid cell (those whose normal sector, truncated at T, meets the
+  // cell), and points up to T outside find the nearest ball in their cell; farther ones search
+  // boxes of cells.
   BallUnion(std::vector<glm::dvec3> centers, std::vector<double> radii, std::vector<BallArc> arcs,
             std::vector<BallVertex> vertices, double featureReach);
 
@@ -75,7 +78,7 @@ class BallUnion {
   // (relative tolerance 1e-10), the nearest point of an arc within its φ range, a vertex; the
   // minimum is exact because the nearest point always is one of them. Outside U, the nearest
   // ball's radial projection. Cost: the balls of one cell, and when the deepest sphere's
-  // projection is covered, the arcs and vertices on the spheres that pass near x.
+  // projection is covered, the arcs and vertices of one cell whose normal sectors may hold x.
   UnionNearest nearest(const glm::dvec3& x) const;
 
   std::size_t size() const { return centers_.size(); }
@@ -93,19 +96,16 @@ class BallUnion {
 
   std::vector<glm::dvec3> centers_;
   std::vector<double> radii_;
+  std::vector<glm::dvec4> balls_;  // (centre, radius) together: one cache line per ball in the hot loops
   std::vector<BallArc> arcs_;
   std::vector<glm::dvec3> arcEnd_;  // cos(phiExtent) e1 + sin(phiExtent) e2
   std::vector<BallVertex> vertices_;
   std::vector<std::uint32_t> neighbourStart_, neighbours_;  // CSR: balls that overlap ball k
-  // CSR: the arcs and vertices on ball k, each with the other balls it lies on (~0u: none).
-  struct BallFeature {
-    std::uint32_t feature, other[2];
-  };
-  std::vector<std::uint32_t> featureStart_;
-  std::vector<BallFeature> features_;
   double reach_ = 0.0;
-  BoxGrid ballGrid_;     // balls grown by reach_: those whose sphere passes within reach_ of a point
-  BoxGrid featureGrid_;  // arcs [0, arcs), then vertices
+  BoxGrid ballGrid_;     // balls, margin 0: those that may hold a point
+  BoxGrid outsideGrid_;  // balls grown by reach_: the nearest ball of a point up to reach_ outside
+  BoxGrid sectorGrid_;   // features (arcs [0, arcs), then vertices) by their normal sectors
+  BoxGrid featureGrid_;  // features by their own boxes, for points deep inside
 };
 
 template <class F>
