@@ -95,7 +95,10 @@ class SkinDistance final : public SurfaceDistance {
     const double f0 = (1.0 - s_) * v.value, f1 = (1.0 - s_) * gl;
     const double f2 = q.radial + q.axial * glm::dot(g, q.axis) * glm::dot(g, q.axis);
     const double t = nearestRoot(f2, f1, f0);
-    const double d = std::isfinite(t) ? std::abs(t) : (gl > 0.0 ? std::abs(v.value) / gl : std::sqrt(std::abs(v.value)));
+    double d = std::isfinite(t) ? std::abs(t) : (gl > 0.0 ? std::abs(v.value) / gl : std::sqrt(std::abs(v.value)));
+    // Near the skin the distance itself, to the closest point (exact), so that the mesher's
+    // samples and its certificate see the true distance; farther, the estimate.
+    if (d <= reach()) d = glm::length(closest(x).point - x);
     return v.value < 0.0 ? -d : d;
   }
 
@@ -106,6 +109,7 @@ class SkinDistance final : public SurfaceDistance {
     // cell's quadric on the line.
     glm::dvec3 p = x;
     SkinValue v = evaluate(p);
+    const SkinValue v0 = v;
     for (int step = 0; step < 64 && !onSkin(v); ++step) {
       const mss::SkinQuadric q = quadricOf(v);
       const double gl = glm::length(v.gradient);
@@ -120,19 +124,30 @@ class SkinDistance final : public SurfaceDistance {
     // both quadrics). Every patch that may come nearer than the point found so far offers all
     // of its foot points that lie in its cell.
     if (onSkin(v)) {
+      // Boxes growing from the first-order distance up to |p − x|: once the best foot point is
+      // within the box, every patch whose ball comes nearer has been seen.
       double best = glm::length(p - x);
-      thread_local std::vector<std::uint32_t> near;
-      near.clear();
-      patchGrid_.forEachInBox(x, best, [&](std::uint32_t k) { near.push_back(k); });
-      std::sort(near.begin(), near.end());
-      near.erase(std::unique(near.begin(), near.end()), near.end());
+      thread_local std::vector<std::uint64_t> seenStore;
+      thread_local std::uint64_t seenStamp = 0;
+      if (seenStore.size() < mss_.size()) seenStore.resize(mss_.size(), 0);
+      std::uint64_t* const seen = seenStore.data();
+      const std::uint64_t now = ++seenStamp;
       bool moved = false;
-      for (std::uint32_t k : near) {
-        if (glm::length(x - mss_.center[k]) - mss_.boundRadius[k] > best) continue;
+      auto visit = [&](std::uint32_t k) {
+        if (seen[k] == now) return;
+        seen[k] = now;
+        if (glm::length(x - mss_.center[k]) - mss_.boundRadius[k] > best) return;
         forEachFootPoint(k, x, [&](const glm::dvec3& q) {
           const double d = glm::length(q - x);
           if (d < best && inPatch(k, q)) best = d, p = q, moved = true;
         });
+      };
+      const double gl0 = glm::length(v0.gradient);
+      double r = std::min(best, std::max(gl0 > 0.0 ? 1.5 * std::abs(v0.value) / gl0 : best, 0.05));
+      for (;;) {
+        patchGrid_.forEachInBox(x, r, visit);
+        if (best <= r) break;
+        r = std::min(2.0 * r, best);
       }
       if (moved) v = evaluate(p);
     }
@@ -224,40 +239,75 @@ class SkinDistance final : public SurfaceDistance {
       const glm::dvec3 q = z + (hx / p1) * a + vx / p2;
       if (std::isfinite(q.x + q.y + q.z)) f(q);
     };
-    double poles[2];
-    int poleCount = 0;
-    if (k1 != 0.0 && A > 0.0) poles[poleCount++] = 0.5 / k1;
-    if (k2 != 0.0 && B > 0.0 && (poleCount == 0 || k2 != k1)) poles[poleCount++] = 0.5 / k2;
-    if (poleCount == 2 && poles[0] > poles[1]) std::swap(poles[0], poles[1]);
+    // φ'(μ) = 4 k1² A/(1 − 2μk1)³ + 4 k2² B/(1 − 2μk2)³: of one sign where both factors are,
+    // and zero only where (1 − 2μk2)/(1 − 2μk1) = −t with t = ∛(k2² B / (k1² A)), a single μ_E.
+    // So the poles and μ_E cut the line into monotone pieces,
+    // each with at most one root, bracketed and polished by safeguarded Newton–bisection.
+    auto dphi = [&](double mu) {
+      const double p1 = 1.0 - 2.0 * mu * k1, p2 = 1.0 - 2.0 * mu * k2;
+      return 4.0 * ((A > 0.0 ? k1 * k1 * A / (p1 * p1 * p1) : 0.0) + (B > 0.0 ? k2 * k2 * B / (p2 * p2 * p2) : 0.0));
+    };
+    double cuts[3];
+    int cutCount = 0;
+    if (k1 != 0.0 && A > 0.0) cuts[cutCount++] = 0.5 / k1;
+    if (k2 != 0.0 && B > 0.0 && (cutCount == 0 || k2 != k1)) cuts[cutCount++] = 0.5 / k2;
+    if (cutCount == 2) {
+      // φ' vanishes at most once, at μ_E (where the factors have opposite signs: between the
+      // poles, or beyond them when k1 and k2 differ in sign): a cut wherever it falls.
+      const double t = std::cbrt(k2 * k2 * B / (k1 * k1 * A));
+      const double muE = (1.0 + t) / (2.0 * (k2 + t * k1));
+      if (std::isfinite(muE) && muE != cuts[0] && muE != cuts[1]) cuts[cutCount++] = muE;
+      std::sort(cuts, cuts + cutCount);
+    }
     const double scale = 0.5 / std::max({std::abs(k1), std::abs(k2), 1e-6});
-    constexpr int kSamples = 48;
-    for (int interval = 0; interval <= poleCount; ++interval) {
-      const double lo = interval == 0 ? -kInf : poles[interval - 1];
-      const double hi = interval == poleCount ? kInf : poles[interval];
-      auto at = [&](double tau) {  // tau in (0, 1), denser towards the ends
-        if (std::isfinite(lo) && std::isfinite(hi)) return lo + (hi - lo) * 0.5 * (1.0 - std::cos(std::numbers::pi * tau));
-        if (std::isfinite(lo)) return lo + scale * tau / (1.0 - tau);
-        if (std::isfinite(hi)) return hi - scale * (1.0 - tau) / tau;
-        return scale * std::tan(std::numbers::pi * (tau - 0.5));
-      };
-      double prevMu = at(0.5 / kSamples), prev = phi(prevMu);
-      for (int i = 1; i < kSamples; ++i) {
-        const double mu = at((i + 0.5) / kSamples), value = phi(mu);
-        if ((prev < 0.0) != (value < 0.0)) {
-          double l = prevMu, h = mu, fl = prev;
-          for (int it = 0; it < 200; ++it) {
-            const double mid = 0.5 * (l + h);
-            if (mid <= l || mid >= h) break;
-            const double fm = phi(mid);
-            if ((fm < 0.0) == (fl < 0.0))
-              l = mid, fl = fm;
-            else
-              h = mid;
-          }
-          emit(0.5 * (l + h));
+    // The sign φ takes near a cut from inside a piece: ±∞ at a pole (the sign of its term's
+    // coefficient), the value itself at the extremum, c at ±∞.
+    auto isPole = [&](double mu) { return (A > 0.0 && mu == 0.5 / k1) || (B > 0.0 && mu == 0.5 / k2); };
+    for (int piece = 0; piece <= cutCount; ++piece) {
+      const double lo = piece == 0 ? -kInf : cuts[piece - 1];
+      const double hi = piece == cutCount ? kInf : cuts[piece];
+      if (!std::isfinite(lo) && !std::isfinite(hi)) break;  // no cut: A = B = 0, x at the centre
+      // A finite point inside the piece, then one near each end with the end's sign.
+      auto inside = [&](double end, double from) {
+        // From `from` towards `end` (a cut or ±∞) until φ takes the end's limiting sign.
+        double mu = from;
+        for (int halving = 1; halving <= 80; ++halving) {
+          mu = std::isfinite(end) ? end + (from - end) * std::ldexp(1.0, -halving)
+                                  : from + (end > 0 ? 1.0 : -1.0) * scale * std::ldexp(1.0, halving);
+          const double v = phi(mu);
+          const double limit = std::isfinite(end) ? (isPole(end) ? (end == 0.5 / k1 && A > 0.0 ? k1 : k2) : phi(end)) : c;
+          if (limit == 0.0 || (v < 0.0) == (limit < 0.0)) return mu;
         }
-        prevMu = mu, prev = value;
+        return mu;
+      };
+      const double mid = std::isfinite(lo) && std::isfinite(hi) ? 0.5 * (lo + hi)
+                         : std::isfinite(lo)                   ? lo + scale
+                                                               : hi - scale;
+      const double l = std::isfinite(lo) && !isPole(lo) ? lo : inside(lo, mid);
+      const double h = std::isfinite(hi) && !isPole(hi) ? hi : inside(hi, mid);
+      double fl = phi(l), fh = phi(h);
+      if (fl == 0.0) { emit(l); continue; }
+      if (fh == 0.0) { emit(h); continue; }
+      if ((fl < 0.0) == (fh < 0.0)) continue;
+      // Safeguarded Newton–bisection on [left, right] with φ of opposite signs at the ends.
+      double left = l, right = h, mu = 0.5 * (l + h);
+      for (int it = 0; it < 100; ++it) {
+        const double v = phi(mu);
+        if (v == 0.0) break;
+        if ((v < 0.0) == (fl < 0.0))
+          left = mu, fl = v;
+        else
+          right = mu;
+        const double d = dphi(mu);
+        double next = d != 0.0 ? mu - v / d : 0.5 * (left + right);
+        if (!(next > std::min(left, right) && next < std::max(left, right))) next = 0.5 * (left + right);
+        if (next == mu || std::abs(right - left) <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(mu)) {
+          mu = next;
+          break;
+        }
+        mu = next;
       }
+      emit(mu);
     }
     // x on the plane h = 0 (A = 0): at μ = 1/(2k1) h is free; x on the axis (B = 0): v is.
     if (A == 0.0 && k1 != 0.0 && k1 != k2) {
