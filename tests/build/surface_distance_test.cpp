@@ -284,20 +284,23 @@ void checkUnionOfBalls(build::SurfaceKind kind) {
   const std::size_t n = m.size();
   std::vector<double> R(n);
   for (std::size_t k = 0; k < n; ++k) R[k] = m.radii[k] + inflate;
-  // Dense samples of every sphere (a Fibonacci lattice) that lie in no other ball: the boundary.
+  // Dense samples of every sphere (a Fibonacci lattice) that lie in no other ball: the boundary,
+  // kept per sphere so that a query looks only at the spheres that pass near it.
   constexpr int kSamples = 20000;
-  std::vector<glm::dvec3> boundary;
+  std::vector<std::vector<glm::dvec3>> boundary(n);
   double gap = 0.0;  // an upper bound on how far a boundary point is from its nearest sample
   for (std::size_t k = 0; k < n; ++k) {
     gap = std::max(gap, 2.0 * R[k] * std::sqrt(4.0 * M_PI / kSamples));
+    std::vector<std::size_t> overlapping;
+    for (std::size_t o = 0; o < n; ++o)
+      if (o != k && glm::length(m.centers[o] - m.centers[k]) < R[o] + R[k]) overlapping.push_back(o);
     for (int i = 0; i < kSamples; ++i) {
       const double z = 1.0 - (2.0 * i + 1.0) / kSamples, rho = std::sqrt(1.0 - z * z);
       const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
       const glm::dvec3 y = m.centers[k] + R[k] * glm::dvec3(rho * std::cos(phi), rho * std::sin(phi), z);
       bool covered = false;
-      for (std::size_t o = 0; o < n && !covered; ++o)
-        covered = o != k && glm::length(y - m.centers[o]) < R[o];
-      if (!covered) boundary.push_back(y);
+      for (std::size_t o : overlapping) covered = covered || glm::length(y - m.centers[o]) < R[o];
+      if (!covered) boundary[k].push_back(y);
     }
   }
   const std::vector<glm::dvec3> points = pointsNearSurface(*field, 1.5, 300, 13);
@@ -321,8 +324,11 @@ void checkUnionOfBalls(build::SurfaceKind kind) {
       EXPECT_NEAR(sd, outside, 1e-9) << "point " << i;
       continue;
     }
+    // A sample of sphere k is at least ||x − c_k| − R_k| from x.
     double sampled = std::numeric_limits<double>::infinity();
-    for (const glm::dvec3& y : boundary) sampled = std::min(sampled, glm::length(y - x));
+    for (std::size_t k = 0; k < n; ++k)
+      if (std::abs(glm::length(x - m.centers[k]) - R[k]) < sampled)
+        for (const glm::dvec3& y : boundary[k]) sampled = std::min(sampled, glm::length(y - x));
     EXPECT_LT(sd, 0.0) << "point " << i;
     EXPECT_LE(-sd, sampled + 1e-9) << "point " << i;
     EXPECT_GE(-sd, sampled - gap) << "point " << i;
