@@ -137,6 +137,9 @@ class SkinDistance final : public SurfaceDistance {
         if (seen[k] == now) return;
         seen[k] = now;
         if (glm::length(x - mss_.center[k]) - mss_.boundRadius[k] > best) return;
+        // The patch lies in its cell, at least as far from x as x is beyond any cell plane.
+        for (std::uint32_t c = mss_.cellBegin[k]; c < mss_.cellBegin[k] + mss_.cellCount[k]; ++c)
+          if (glm::dot(glm::dvec3(cellPlanes_[c]), x) + cellPlanes_[c].w > best) return;
         forEachFootPoint(k, x, [&](const glm::dvec3& q) {
           const double d = glm::length(q - x);
           if (d < best && inPatch(k, q)) best = d, p = q, moved = true;
