@@ -147,6 +147,32 @@ TEST(SurfaceDistance, ThreeAtomsConcaveTriangleIsTheProbeSphereByHand) {
   }
 }
 
+// Three atoms whose two probe positions p± are closer than 2 rp: their spheres cut each other
+// at the atoms' plane, and the SES has a ridge there (the circle of radius √(rp² − h²)).
+// Points between the probes whose normal from p+ lands beyond the plane are nearest to it.
+TEST(SurfaceDistance, TwinProbesRidgeIsTheirSpheresCircle) {
+  const double r = 1.5, rp = 1.4, circum = 2.6;
+  std::vector<glm::dvec3> c;
+  for (int k = 0; k < 3; ++k) c.push_back(circum * glm::dvec3(std::cos(2 * M_PI * k / 3), std::sin(2 * M_PI * k / 3), 0));
+  const std::vector<double> radii{r, r, r};
+  const PatchList list = build::buildSes(c, radii, {rp});
+  const auto field = makeSurfaceDistance(list, c, radii);
+  const double h = std::sqrt((r + rp) * (r + rp) - circum * circum);
+  ASSERT_LT(h, rp);
+  const double ring = std::sqrt(rp * rp - h * h);
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    const double phi = 2 * M_PI * unit(rng), rho = 0.05 + 0.4 * unit(rng), z = 0.02 + 0.1 * unit(rng);
+    const glm::dvec3 x(rho * std::cos(phi), rho * std::sin(phi), z);
+    const glm::dvec3 ridge(ring * std::cos(phi), ring * std::sin(phi), 0.0);
+    EXPECT_NEAR(field->signedDistance(x), glm::length(x - ridge), kExact) << "trial " << i;
+    const SurfacePoint s = field->closest(x);
+    EXPECT_NEAR(glm::length(s.point - ridge), 0.0, kExact) << "trial " << i;
+    EXPECT_EQ(s.kind, 3) << "trial " << i;
+  }
+}
+
 TEST(SurfaceDistance, WrongAtomCountIsRefused) {
   const std::vector<glm::dvec3> c{{0, 0, 0}};
   const std::vector<double> r{1.5};
