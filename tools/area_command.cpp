@@ -27,7 +27,8 @@ struct AreaOptions : SurfaceInputOptions {
   std::string frames;
 };
 
-// One CSV row per atom: who it is, its radius, then the named per-atom columns (Å²).
+// One CSV row per atom: who it is (`atom`: its place in the file from 0, MDAnalysis's index,
+// also under --select), its radius, then the named per-atom columns (Å²).
 void printPerAtomCsv(const build::Molecule& m,
                      std::initializer_list<std::pair<const char*, const std::vector<double>*>> columns) {
   std::printf("atom,serial,chain,residue,residue_number,name,element,radius");
@@ -35,7 +36,7 @@ void printPerAtomCsv(const build::Molecule& m,
   std::printf("\n");
   for (std::size_t i = 0; i < m.size(); ++i) {
     const auto& r = m.atoms[i];
-    std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f", i, r.serial, r.chain.c_str(), r.residue.c_str(), r.residueNumber,
+    std::printf("%zu,%d,%s,%s,%d,%s,%s,%.4f", r.fileIndex, r.serial, r.chain.c_str(), r.residue.c_str(), r.residueNumber,
                 r.name.c_str(), r.element.c_str(), m.radii[i]);
     for (const auto& [name, values] : columns) std::printf(",%.6f", (*values)[i]);
     std::printf("\n");
