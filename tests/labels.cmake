@@ -81,7 +81,7 @@ set(slow_tests
   "Messages\\..*"
   "Output\\.(AClosedPipeStopsALongRunEarly|DashIsTheStandardOutput|DevicesAreWrittenInPlace|FilesOnAFullDiskAreErrorsAndLeaveNothing|ImageNamesAreCheckedBeforeTheWork|ParseErrorsExitOne|PathsAreCheckedBeforeTheWork|SymbolicLinksStayLinksAndTheirTargetIsReplaced|TrajectoryFramesAreWholeAndResumeChecksThem)"
   "Reference\\..*"
-  "SelectCli\\.(InfoAtomsListsWhatMDAnalysisSelects|SelectionsThatCannotApplyAreErrorsNamingThem)"
+  "SelectCli\\.(InfoAtomsListsWhatMDAnalysisSelects|RenderOfASelectionIsTheRenderOfAFileOfItsAtoms|SelectionsThatCannotApplyAreErrorsNamingThem|TrajectoryOfASelectionIsTheTrajectoryOfAFileOfItsAtoms)"
   "Startup\\..*"
   "TrajectoryCli\\..*"
   "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"
