@@ -21,7 +21,7 @@ set(slow_tests
   "AreaPer\\.(ResidueSasMatchesFreesasaLeeRichardsWithItsRadii|PresetRadiiAreFreesasaClassifierRadiiOnEveryAtom)"
   # build_tests
   "ContourBuildup\\.SealedCavityIsItsOwnComponent"
-  "ElementGuess\\.AgreesWithMDAnalysis"
+  "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
   "ExactPredicates\\.ProbeErrorBoundHoldsOnHardTriples"
   "MssAreas\\.(MatchesTheAdaptiveReferencePatchByPatch|SameValuesForAnyThreadCount|SignJitteredCubeHasTheExactCubesAreas|SignJitteredLatticeHasTheExactLatticesAreas)"
   "NeighbourGrid\\.MatchesBruteForceOnSampleOf1aon"
@@ -87,6 +87,7 @@ set(slow_tests
   "Messages\\..*"
   "Output\\.(AClosedPipeStopsALongRunEarly|DashIsTheStandardOutput|DevicesAreWrittenInPlace|FilesOnAFullDiskAreErrorsAndLeaveNothing|ImageNamesAreCheckedBeforeTheWork|ParseErrorsExitOne|PathsAreCheckedBeforeTheWork|SymbolicLinksStayLinksAndTheirTargetIsReplaced|TrajectoryFramesAreWholeAndResumeChecksThem)"
   "Reference\\..*"
+  "SelectCli\\.(InfoAtomsListsWhatMDAnalysisSelects|RenderOfASelectionIsTheRenderOfAFileOfItsAtoms|SelectionsThatCannotApplyAreErrorsNamingThem|TrajectoryOfASelectionIsTheTrajectoryOfAFileOfItsAtoms)"
   "Startup\\..*"
   "TrajectoryCli\\..*"
   "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"
@@ -115,7 +116,9 @@ set(gl_tests
 # The tests outside the oracle programs that run MDAnalysis, FreeSASA or a Python oracle script.
 set(oracle_tests
   "AtomCulling\\.ContainedAtomsMatchFreesasa"
-  "ElementGuess\\.AgreesWithMDAnalysis"
+  "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
+  "MoleculePdb\\.AltLocsNeverDropAnAtomWithoutAlternative3al1"
+  "SelectCli\\.InfoAtomsListsWhatMDAnalysisSelects"
   "MssBuilder\\.ApproachesTheVanDerWaalsAreaAsShrinkTendsToOne"
   "EffectsCli\\.SilhouettesAreExactlyTheDepthJumpsInTheExr"
   "CompareExample\\..*"

@@ -183,11 +183,11 @@ void AreaRows::printRows(const build::Molecule& m, const std::vector<AreaGroup>&
       const build::AtomRecord& r = m.atoms[i];
       prefix();
       if (csv)
-        std::printf("%zu,%d,%s,%s,%d,%s,%s,%s,%s,%.4f", i, r.serial, r.chain.c_str(), r.residue.c_str(),
+        std::printf("%zu,%d,%s,%s,%d,%s,%s,%s,%s,%.4f", r.fileIndex, r.serial, r.chain.c_str(), r.residue.c_str(),
                     r.residueNumber, charText(r.insertionCode).c_str(), charText(r.altLoc).c_str(), r.name.c_str(),
                     r.element.c_str(), m.radii[i]);
       else
-        std::printf("%7zu %7d %-5s %-5s %8d %-5s %-6s %-5s %-5s %7.4f", i, r.serial, cell(r.chain).c_str(),
+        std::printf("%7zu %7d %-5s %-5s %8d %-5s %-6s %-5s %-5s %7.4f", r.fileIndex, r.serial, cell(r.chain).c_str(),
                     cell(r.residue).c_str(), r.residueNumber, cell(charText(r.insertionCode)).c_str(),
                     cell(charText(r.altLoc)).c_str(), cell(r.name).c_str(), cell(r.element).c_str(), m.radii[i]);
       for (const AreaColumn& c : columns) area((*c.perAtom)[i]);
@@ -227,7 +227,7 @@ nlohmann::json AreaRows::json(const build::Molecule& m, const std::vector<AreaGr
   if (level == AreaLevel::Atom) {
     for (std::size_t i = 0; i < m.size(); ++i) {
       const build::AtomRecord& r = m.atoms[i];
-      nlohmann::json row = {{"atom", i},
+      nlohmann::json row = {{"atom", r.fileIndex},
                             {"serial", r.serial},
                             {"chain", r.chain},
                             {"residue", r.residue},

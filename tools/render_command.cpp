@@ -46,6 +46,9 @@ void checkRenderOptions(const RenderCommandOptions& o, const view::RenderOptions
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
     throw std::invalid_argument("--frame " + std::to_string(o.frame) + " needs --trajectory FILE (and FILE its topology)");
   if (!fromPatchList) return;
+  if (o.read.selection)
+    throw std::invalid_argument("--select needs the structure file: " + o.path +
+                                " is a patch list, which holds no atom records (render the structure file)");
   if (o.image.ballAndStick)
     throw std::invalid_argument("--ball-and-stick needs the atoms and their records, which a patch list (" + o.path +
                                 ") does not hold: render the structure file");

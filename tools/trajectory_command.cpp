@@ -730,7 +730,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       ->default_val("all");
   CLI::Option* flexible = cmd->add_option("--flexible", o->flexible,
                   "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
-                  "a partial update. MDAnalysis's selection language: name, resname, resid, chain/segid, element, "
+                  "a partial update. MDAnalysis's selection language: name, resname, resid, chain, segid, element, "
                   "index (from 0), atom (from 1; MDAnalysis's bynum), protein, backbone, water, all; several values "
                   "(resid 10-20 45, name CA CB, name H*); combined with not, then and/or left to right, and "
                   "parentheses, e.g. 'resname R2M and name Ru1' or 'protein and (resid 120-160 or chain B)'; commas "
