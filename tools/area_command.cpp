@@ -2,9 +2,11 @@
 // and of the skin, for a structure, a patch list, or every frame of a trajectory.
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +28,7 @@ struct AreaOptions : SurfaceInputOptions {
   std::string trajectory;  // FILE is then its topology: one row per frame
   std::string frames;
   std::string per;  // --per atom|residue|chain; empty: the totals (table), per atom (csv)
+  bool cavities = false;  // --cavities: each cavity located instead of the areas
 };
 
 // One CSV row per atom: who it is (insertion code and alternate location included), its radius,
@@ -268,10 +271,12 @@ void runAreaOverTime(const AreaOptions& o) {
 }
 
 void printSesAreas(const AreaOptions& o, const Built& b);
+void printCavities(const AreaOptions& o, const Built& b);
 
 void runArea(const AreaOptions& o) {
   const auto limit = limitThreads(o.threads);
   if (!o.trajectory.empty()) {
+    if (o.cavities) throw std::invalid_argument("--cavities locates the cavities of one structure, not along a TRAJECTORY");
     if (isPatchListPath(o.path))
       throw std::invalid_argument(o.path + " is a patch list; areas over a trajectory need its topology as FILE");
     if (!o.per.empty()) runAreasPerOverTime(o);
@@ -279,7 +284,20 @@ void runArea(const AreaOptions& o) {
     return;
   }
   if (!o.frames.empty()) throw std::invalid_argument("--frames needs a TRAJECTORY after FILE");
+  if (o.cavities && o.surface.surface == "mss")
+    throw std::invalid_argument("--cavities locates the SES's cavities; the skin (--surface mss) has none to locate: its "
+                                "patches carry no component labels (the SES builder labels its connected surfaces, the "
+                                "skin builder does not). Leave out --surface mss");
+  if (o.cavities && o.surface.dropCavities)
+    throw std::invalid_argument("--cavities lists the cavities that --drop-cavities leaves out: give one of them");
+  if (o.cavities && !o.per.empty())
+    throw std::invalid_argument("--cavities lists each cavity's atoms and residues itself; --per " + o.per +
+                                " gives areas per group: give one of them");
   const Built b = readAndBuild(o);
+  if (o.cavities) {
+    printCavities(o, b);
+    return;
+  }
   if (o.surface.surface == "mss") {
     runMssArea(o, b);
     return;
@@ -336,6 +354,101 @@ void printSesAreas(const AreaOptions& o, const Built& b) {
   std::printf("build           %.1f ms (+ %.1f ms reading)\n", b.buildSeconds * 1e3, b.readSeconds * 1e3);
 }
 
+// One lining residue: chain, number, insertion code and name, as the file gives them.
+struct LiningResidue {
+  std::string chain;
+  int number;
+  char insertionCode;
+  std::string name;
+  bool operator<(const LiningResidue& o) const {
+    return std::tie(chain, number, insertionCode, name) < std::tie(o.chain, o.number, o.insertionCode, o.name);
+  }
+  bool operator==(const LiningResidue& o) const = default;
+};
+
+std::vector<LiningResidue> liningResidues(const build::Molecule& m, const Cavity& c) {
+  std::vector<LiningResidue> residues;
+  for (const std::uint32_t i : c.atoms) {
+    const auto& r = m.atoms[i];
+    residues.push_back({r.chain, r.residueNumber, r.insertionCode, r.residue});
+  }
+  std::sort(residues.begin(), residues.end());
+  residues.erase(std::unique(residues.begin(), residues.end()), residues.end());
+  return residues;
+}
+
+std::string icodeText(char code) { return code == ' ' ? std::string() : std::string(1, code); }
+
+// "A:LEU82C": chain, residue name, number and insertion code.
+std::string residueLabel(const LiningResidue& r) {
+  return (r.chain.empty() ? "" : r.chain + ":") + r.name + std::to_string(r.number) + icodeText(r.insertionCode);
+}
+
+constexpr const char* kCentroidMeaning =
+    "area-weighted centroid of the cavity's surface (integral of x dA over its patches / area), exact";
+constexpr const char* kBoxMeaning = "box of the cavity's surface patches (convex parts, tori, concave patches), exact";
+
+// Each cavity (an SES component of negative volume): its lining atoms and residues, the
+// centroid of its surface, its box, area and void.
+void printCavities(const AreaOptions& o, const Built& b) {
+  const std::vector<Cavity> cavities = locateCavities(b.patches);
+  const auto& m = b.molecule;
+  if (o.format == "json") {
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t n = 0; n < cavities.size(); ++n) {
+      const Cavity& c = cavities[n];
+      nlohmann::json atoms = nlohmann::json::array(), residues = nlohmann::json::array();
+      for (const std::uint32_t i : c.atoms) {
+        const auto& r = m.atoms[i];
+        atoms.push_back({{"atom", i}, {"serial", r.serial}, {"chain", r.chain}, {"resid", r.residueNumber},
+                         {"icode", icodeText(r.insertionCode)}, {"resname", r.residue}, {"name", r.name}, {"element", r.element}});
+      }
+      for (const LiningResidue& r : liningResidues(m, c))
+        residues.push_back({{"chain", r.chain}, {"resid", r.number}, {"icode", icodeText(r.insertionCode)}, {"resname", r.name}});
+      list.push_back({{"cavity", n + 1}, {"component", c.component}, {"area", c.area}, {"void_volume", c.volume},
+                      {"centroid", {c.centroid.x, c.centroid.y, c.centroid.z}},
+                      {"box", {{"min", {c.boxLower.x, c.boxLower.y, c.boxLower.z}}, {"max", {c.boxUpper.x, c.boxUpper.y, c.boxUpper.z}}}},
+                      {"atoms", atoms}, {"residues", residues}});
+    }
+    nlohmann::json j = {{"file", m.source}, {"probe_radius", b.patches.params.probeRadius}, {"atoms", m.size()},
+                        {"units", {{"area", "Å^2"}, {"volume", "Å^3"}, {"length", "Å"}}},
+                        {"centroid", kCentroidMeaning}, {"box", kBoxMeaning}, {"cavities", list}};
+    std::printf("%s\n", j.dump(1).c_str());
+    return;
+  }
+  if (o.format == "csv") {
+    // One row per lining atom, with its cavity's values repeated: group by `cavity`.
+    std::printf("cavity,component,area,void_volume,centroid_x,centroid_y,centroid_z,box_min_x,box_min_y,box_min_z,"
+                "box_max_x,box_max_y,box_max_z,atom,serial,chain,resid,icode,resname,name,element\n");
+    for (std::size_t n = 0; n < cavities.size(); ++n) {
+      const Cavity& c = cavities[n];
+      for (const std::uint32_t i : c.atoms) {
+        const auto& r = m.atoms[i];
+        std::printf("%zu,%u,%.6f,%.6f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%u,%d,%s,%d,%s,%s,%s,%s\n", n + 1, c.component,
+                    c.area, c.volume, c.centroid.x, c.centroid.y, c.centroid.z, c.boxLower.x, c.boxLower.y, c.boxLower.z,
+                    c.boxUpper.x, c.boxUpper.y, c.boxUpper.z, i, r.serial, r.chain.c_str(), r.residueNumber,
+                    icodeText(r.insertionCode).c_str(), r.residue.c_str(), r.name.c_str(), r.element.c_str());
+        build::checkStandardOutput();
+      }
+    }
+    return;
+  }
+  std::printf("file            %s (%zu atoms, probe %.3f Å)\n", m.source.c_str(), m.size(), b.patches.params.probeRadius);
+  std::printf("cavities        %zu (area Å², void Å³; centroid: %s; box: %s)\n", cavities.size(), kCentroidMeaning, kBoxMeaning);
+  if (cavities.empty()) return;
+  std::printf("%6s %9s %10s %10s %26s %26s %26s %6s  %s\n", "cavity", "component", "area", "void", "centroid x y z",
+              "box min x y z", "box max x y z", "atoms", "lining residues");
+  for (std::size_t n = 0; n < cavities.size(); ++n) {
+    const Cavity& c = cavities[n];
+    std::string residues;
+    for (const LiningResidue& r : liningResidues(m, c)) residues += (residues.empty() ? "" : " ") + residueLabel(r);
+    std::printf("%6zu %9u %10.4f %10.4f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %6zu  %s\n", n + 1, c.component,
+                c.area, c.volume, c.centroid.x, c.centroid.y, c.centroid.z, c.boxLower.x, c.boxLower.y, c.boxLower.z,
+                c.boxUpper.x, c.boxUpper.y, c.boxUpper.z, c.atoms.size(), residues.c_str());
+    build::checkStandardOutput();
+  }
+}
+
 }  // namespace
 
 void addAreaCommand(CLI::App& app) {
@@ -361,6 +474,9 @@ void addAreaCommand(CLI::App& app) {
                   "atom; with TRAJECTORY per frame); with --per, the rows of that level in this format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->default_val("table");
+  cmd->add_flag("--cavities", o->cavities,
+                "Locate the SES's cavities instead: per cavity its lining atoms and residues, the centroid of its "
+                "surface, its box, area and void (table; csv: one row per lining atom; json)");
   cmd->callback([o] { runArea(*o); });
 }
 
