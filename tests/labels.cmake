@@ -20,6 +20,8 @@ set(slow_tests
   # tools_tests: FreeSASA's Lee & Richards at 2000 slices, its classifier on three structures
   "AreaPer\\.(ResidueSasMatchesFreesasaLeeRichardsWithItsRadii|PresetRadiiAreFreesasaClassifierRadiiOnEveryAtom)"
   # build_tests
+  "Cavities\\.(BoxHoldsSampledSurfacePointsTightly|GroelHasItsCavitiesLocated)"
+  "Proteins/CavitiesOnProteins\\..*"
   "ContourBuildup\\.SealedCavityIsItsOwnComponent"
   "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
   "ExactPredicates\\.ProbeErrorBoundHoldsOnHardTriples"

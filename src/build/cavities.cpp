@@ -66,49 +66,60 @@ void extendByArc(const CircleArc& c, glm::dvec3& lo, glm::dvec3& hi) {
   }
 }
 
-// Whether u is on the left of the first of `arcs` that the great circle from u towards d
-// (unit, ⊥ u) crosses: u is in the region the arcs bound iff that crossing leaves it. No
-// answer when the circle meets no arc, or u is on an arc, or the crossing grazes.
-std::optional<bool> insideByFirstCrossing(const glm::dvec3& u, const glm::dvec3& d, const std::vector<CircleArc>& arcs) {
-  double best = std::numeric_limits<double>::infinity(), side = 0.0;
+// Whether u lies in the region on the left of `arcs` (its whole boundary): a point w just to
+// the left of an arc's middle is inside, and u is inside iff the great-circle path from u to
+// w crosses the arcs an even number of times. No answer when the path grazes an arc or
+// passes through an arc's end (the caller tries another arc).
+std::optional<bool> insideByParity(const glm::dvec3& u, const CircleArc& reference, double fraction,
+                                   const std::vector<CircleArc>& arcs) {
+  const double phiMid = reference.phi0 + fraction * (reference.phi1 - reference.phi0);
+  const glm::dvec3 v = reference.at(phiMid);
+  const glm::dvec3 T = (reference.phi1 > reference.phi0 ? 1.0 : -1.0) *
+                       (-std::sin(phiMid) * reference.e1 + std::cos(phiMid) * reference.e2);
+  const glm::dvec3 w = glm::normalize(v + 1e-6 * glm::normalize(glm::cross(v, T)));
+  glm::dvec3 d = w - glm::dot(w, u) * u;
+  if (!(glm::length(d) > 1e-9)) return std::nullopt;
+  d = glm::normalize(d);
+  const double sEnd = std::atan2(glm::dot(w, d), glm::dot(w, u));  // in (0, π]
+  int crossings = 0;
   for (const CircleArc& c : arcs) {
     // (cos s u + sin s d)·a = α.
     const double P = glm::dot(u, c.a), Q = glm::dot(d, c.a), M = std::hypot(P, Q);
     if (!(M > 0.0) || std::abs(c.alpha) > M) continue;
+    if (std::abs(std::abs(c.alpha) - M) < 1e-12) return std::nullopt;  // tangent to the circle
     const double psi = std::atan2(Q, P), delta = std::acos(std::clamp(c.alpha / M, -1.0, 1.0));
     const double from = std::min(c.phi0, c.phi1), to = std::max(c.phi0, c.phi1);
     for (double s : {psi + delta, psi - delta}) {
       s = std::fmod(s, kTwoPi);
       if (s < 0.0) s += kTwoPi;
-      const glm::dvec3 v = std::cos(s) * u + std::sin(s) * d;
-      const double phi = std::atan2(glm::dot(v, c.e2), glm::dot(v, c.e1));
-      if (!inAngleRange(phi, from, to) || !(s < best)) continue;
-      if (s < 1e-7 || s > kTwoPi - 1e-7) return std::nullopt;  // u on the arc
-      best = s;
-      const glm::dvec3 t = -std::sin(s) * u + std::cos(s) * d;
-      const glm::dvec3 T = (c.phi1 > c.phi0 ? 1.0 : -1.0) * (-std::sin(phi) * c.e1 + std::cos(phi) * c.e2);
-      side = glm::dot(t, glm::cross(v, T));
+      if (s > sEnd + 1e-9) continue;
+      if (s < 1e-9 || s > sEnd - 1e-9) return std::nullopt;  // u or w on the circle
+      const glm::dvec3 x = std::cos(s) * u + std::sin(s) * d;
+      const double phi = std::atan2(glm::dot(x, c.e2), glm::dot(x, c.e1));
+      if (to - from < kTwoPi) {
+        // Near an arc's end: a vertex, where two arcs meet, is counted once or twice; retry.
+        double e = std::fmod(phi - from, kTwoPi);
+        if (e < 0.0) e += kTwoPi;
+        if (std::abs(e) < 1e-9 || std::abs(e - (to - from)) < 1e-9 || std::abs(e - kTwoPi) < 1e-9) return std::nullopt;
+        if (e > to - from) continue;
+      }
+      ++crossings;
     }
   }
-  if (!(best < kTwoPi) || std::abs(side) < 1e-7) return std::nullopt;
-  return side < 0.0;  // moving to the right of the arc: leaving the region, so u was in it
+  return crossings % 2 == 0;
 }
 
 // The box (on the unit sphere about the atom) of the part of atom x's convex patch that
 // belongs to `component`: bounded by the contact arcs of x's tori of that component. Its
-// extremes lie on those arcs or at a pole ±e_k inside the part. A pole is inside when no
-// neighbour's cap covers it (the caps of x's tori: a neighbour that meets x's exposed part
-// has a torus with x) and, where x faces several components, when it is on the part's side
-// of the nearest arc along a great circle.
+// extremes lie on those arcs or at a pole ±e_k inside the part (insideByParity). (Not "outside
+// every torus neighbour's cap": an atom with no torus with x can still cover a pole, where
+// its own circle is covered by others.)
 Box convexPartBox(const PatchList& p, std::uint32_t x, const glm::dvec3& center, double radius, std::uint32_t component,
                   const std::vector<std::uint32_t>& tori) {
   const double sasRadius = radius + p.params.probeRadius;
   std::vector<CircleArc> own;
-  bool mixed = false;
-  for (const std::uint32_t t : tori) {
+  for (const std::uint32_t t : tori)
     if (p.tori.component[t] == component) own.push_back(contactArc(p, t, x, center, sasRadius));
-    else mixed = true;
-  }
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   if (own.empty()) {
     // A patch with no arc of its component: the whole sphere (an atom alone), conservatively.
@@ -119,22 +130,10 @@ Box convexPartBox(const PatchList& p, std::uint32_t x, const glm::dvec3& center,
       for (const double sign : {1.0, -1.0}) {
         glm::dvec3 u(0.0);
         u[k] = sign;
-        bool covered = false;
-        for (const std::uint32_t t : tori) {
-          const CircleArc c = contactArc(p, t, x, center, sasRadius);
-          const double toOther = p.tori.atomI[t] == x ? 1.0 : -1.0;  // the cap: u·(toOther a) > toOther α
-          covered = covered || toOther * glm::dot(u, c.a) > toOther * c.alpha + kSlack;
-        }
-        if (covered) continue;
-        bool inside = true;
-        if (mixed) {
-          glm::dvec3 e1(0.0), e2(0.0);
-          e1[(k + 1) % 3] = 1.0, e2[(k + 2) % 3] = 1.0;
-          std::optional<bool> answer;
-          for (const glm::dvec3 d : {glm::normalize(e1 + 0.3719 * e2), glm::normalize(e2 - 0.5813 * e1), -glm::normalize(e1 - 0.2417 * e2)})
-            if (!answer) answer = insideByFirstCrossing(u, d, own);
-          inside = answer.value_or(true);  // undecided: taken, so the box stays conservative
-        }
+        std::optional<bool> answer;
+        for (std::size_t r = 0; r < 3 * own.size() && !answer; ++r)
+          answer = insideByParity(u, own[r % own.size()], 0.5 - 0.13 * static_cast<double>(r / own.size()), own);
+        const bool inside = answer.value_or(true);  // undecided: taken, so the box stays conservative
         if (inside) lo = glm::min(lo, u), hi = glm::max(hi, u);
       }
     }
