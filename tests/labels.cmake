@@ -21,7 +21,7 @@ set(slow_tests
   "AreaPer\\.(ResidueSasMatchesFreesasaLeeRichardsWithItsRadii|PresetRadiiAreFreesasaClassifierRadiiOnEveryAtom)"
   # build_tests
   "Cavities\\.(BoxHoldsSampledSurfacePointsTightly|GroelHasItsCavitiesLocated)"
-  "Proteins/CavitiesOnProteins\\..*"
+  "Proteins/CavitiesOnProteins\\.LiningAtomsMatchTheProbeGridOracle/.*"
   "ContourBuildup\\.SealedCavityIsItsOwnComponent"
   "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
   "ExactPredicates\\.ProbeErrorBoundHoldsOnHardTriples"
