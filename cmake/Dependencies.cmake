@@ -8,6 +8,7 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(OpenImageIO REQUIRED)
+find_package(assimp REQUIRED)  # meshes in (compare) and out
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
 
 include(${CMAKE_CURRENT_LIST_DIR}/OpenImageIOFix.cmake)  # its include path to opencv4

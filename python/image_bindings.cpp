@@ -681,7 +681,7 @@ CompareTest testOf(py::handle test, const ForeignKeywords& fk) {
       throw py::value_error("depth_convention, origin, normal_space, normal_encoding, depth_channel and normal apply "
                             "to another renderer's buffers; the test is a surftrace.Image");
     const PyImage& im = test.cast<const PyImage&>();
-    return CompareTest{"test (Image)", *im.frame, im.metadata, std::nullopt};
+    return CompareTest{"test (Image)", *im.frame, im.metadata, std::nullopt, std::nullopt};
   }
   if (py::isinstance<py::dict>(test)) {
     if (fk.depthChannel || fk.normalPath)

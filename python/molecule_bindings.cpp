@@ -242,7 +242,13 @@ PyMolecule readFile(py::handle path, int model, py::handle chains, bool water, b
   } else if (!chains.is_none()) {
     options.chains = stringsFrom(chains, "chains", py::len(chains));
   }
-  if (!radii.is_none()) options.radiiFile = pathFrom(radii);
+  if (!radii.is_none()) {
+    // "protor" and "naccess" name FreeSASA's classifiers, as on the command line (--radii).
+    const auto preset = py::isinstance<py::str>(radii) ? build::radiusPresetNamed(radii.cast<std::string>())
+                                                       : std::nullopt;
+    if (preset) options.radiiPreset = preset;
+    else options.radiiFile = pathFrom(radii);
+  }
   if (defaultRadius) options.defaultRadius = positiveOrThrow(*defaultRadius, "default_radius");
   if (beadRadius) options.beadRadius = positiveOrThrow(*beadRadius, "bead_radius");
   options.dropZeroRadius = dropZeroRadius;

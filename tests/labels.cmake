@@ -17,9 +17,13 @@
 
 # Regular expressions, each matched against the whole test name.
 set(slow_tests
+  # tools_tests: FreeSASA's Lee & Richards at 2000 slices, its classifier on three structures
+  "AreaPer\\.(ResidueSasMatchesFreesasaLeeRichardsWithItsRadii|PresetRadiiAreFreesasaClassifierRadiiOnEveryAtom)"
   # build_tests
+  "Cavities\\.(BoxHoldsSampledSurfacePointsTightly|GroelHasItsCavitiesLocated)"
+  "Proteins/CavitiesOnProteins\\.LiningAtomsMatchTheProbeGridOracle/.*"
   "ContourBuildup\\.SealedCavityIsItsOwnComponent"
-  "ElementGuess\\.AgreesWithMDAnalysis"
+  "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
   "ExactPredicates\\.ProbeErrorBoundHoldsOnHardTriples"
   "MssAreas\\.(MatchesTheAdaptiveReferencePatchByPatch|SameValuesForAnyThreadCount|SignJitteredCubeHasTheExactCubesAreas|SignJitteredLatticeHasTheExactLatticesAreas)"
   "NeighbourGrid\\.MatchesBruteForceOnSampleOf1aon"
@@ -62,9 +66,12 @@ set(slow_tests
   "ConcaveArea\\..*"
   "Ses/RealMolecule\\.PatchPointsLieOnTheSes(/.*)?"
   "SesVolume\\..*"
+  # view_tests
+  "ColorMap\\.EveryMapEqualsMatplotlibs"
   # tools_tests
   "BallStickCli\\.(BadOptionsAreRefusedNamingThem|GlMatchesEmbreeAloneAndUnderTheSurface|TrajectoryFramesGetTheModel|UnderATransparentSurfaceTheModelShows)"
   "CameraCli\\..*"
+  "ColorsCli\\..*"
   "Cases/Reference\\..*"
   "Cli\\.(CompareDefaultsToTheStrictPresetOfItsEngines|DropCavitiesChangesNoPixel|HelpTeachesTheCommands|HemeProteinWorksOutOfTheBox|OpacityIsRecordedAndGlPeelsIt|OptionErrorsAreReadable|PatchListRendersAsTheStructureDoes|RenderRejectsImpossibleOptionsClearly|RenderWritesImagesWithTheirCamera|SkinAreaBuildAndShrinkErrors|SkinPatchListRendersAsTheStructureDoes|SliverPatchesDoNotMoveTheSkinsFraming|WideSkinFillsThePicture)"
   "CompareDiff\\..*"
@@ -72,6 +79,7 @@ set(slow_tests
   "CompareForeign\\..*"
   "CompareHtml\\..*"
   "CompareMasks\\..*"
+  "CompareMesh(OneView|Views)\\..*"
   "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
   "EngineCli\\.(TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
   "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"
@@ -81,6 +89,7 @@ set(slow_tests
   "Messages\\..*"
   "Output\\.(AClosedPipeStopsALongRunEarly|DashIsTheStandardOutput|DevicesAreWrittenInPlace|FilesOnAFullDiskAreErrorsAndLeaveNothing|ImageNamesAreCheckedBeforeTheWork|ParseErrorsExitOne|PathsAreCheckedBeforeTheWork|SymbolicLinksStayLinksAndTheirTargetIsReplaced|TrajectoryFramesAreWholeAndResumeChecksThem)"
   "Reference\\..*"
+  "SelectCli\\.(InfoAtomsListsWhatMDAnalysisSelects|RenderOfASelectionIsTheRenderOfAFileOfItsAtoms|SelectionsThatCannotApplyAreErrorsNamingThem|TrajectoryOfASelectionIsTheTrajectoryOfAFileOfItsAtoms)"
   "Startup\\..*"
   "TrajectoryCli\\..*"
   "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"
@@ -109,7 +118,9 @@ set(gl_tests
 # The tests outside the oracle programs that run MDAnalysis, FreeSASA or a Python oracle script.
 set(oracle_tests
   "AtomCulling\\.ContainedAtomsMatchFreesasa"
-  "ElementGuess\\.AgreesWithMDAnalysis"
+  "ElementGuess\\.(AgreesWithMDAnalysis|IonsAgreeWithMDAnalysis)"
+  "MoleculePdb\\.AltLocsNeverDropAnAtomWithoutAlternative3al1"
+  "SelectCli\\.InfoAtomsListsWhatMDAnalysisSelects"
   "MssBuilder\\.ApproachesTheVanDerWaalsAreaAsShrinkTendsToOne"
   "EffectsCli\\.SilhouettesAreExactlyTheDepthJumpsInTheExr"
   "CompareExample\\..*"

@@ -5,12 +5,15 @@
 #include <iterator>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "option_checks.hpp"
+#include "progress_bar.hpp"
+#include "surface_options.hpp"
 #include "surftrace/compare.hpp"
 #include "surftrace/files.hpp"
 #include "surftrace/image.hpp"
@@ -25,6 +28,14 @@ struct CompareOptions {
   bool ignoreSettings = false;
   // Another renderer's buffers (empty: not given; the defaults are foreignOptions').
   std::string depthChannel, depthConvention, testNormal, normalSpace, normalEncoding, testOrigin;
+  // Meshes: moved into the structure's frame, and compared all around with a structure.
+  std::string meshTransform;
+  int views = 0;
+  std::string size = "512x512";
+  std::optional<double> maxError;
+  std::string maxErrorStat = "p99";
+  SurfaceOptions surface;
+  build::ReadOptions read;
   bool foreignFlags() const {
     return !depthChannel.empty() || !depthConvention.empty() || !testNormal.empty() || !normalSpace.empty() ||
            !normalEncoding.empty() || !testOrigin.empty();
@@ -61,6 +72,73 @@ CompareTest readTest(const CompareOptions& o) {
   return test;
 }
 
+// Whether REFERENCE is a structure rather than an image: OpenImageIO knows no format for it.
+bool isStructureLike(const std::string& path) {
+  try {
+    (void)hasFrameBufferChannels(path);
+    return false;
+  } catch (const std::exception&) {
+    return true;
+  }
+}
+
+// A mesh TEST against a reference EXR: drawn along the reference's rays.
+CompareTest readMeshOf(const CompareOptions& o, const CompareReference& ref) {
+  std::optional<glm::dmat4> transform;
+  if (!o.meshTransform.empty()) transform = parseMeshTransform(o.meshTransform);
+  return readingFile(o.test, "the mesh", [&] { return readMeshTest(o.test, ref, transform); });
+}
+
+// WIDTHxHEIGHT for --size.
+void parseViewSize(const std::string& text, int& width, int& height) {
+  std::istringstream in(text);
+  char x = 0;
+  if (!(in >> width >> x >> height) || (x != 'x' && x != 'X') || in.peek() != EOF || width < 1 || height < 1 ||
+      width > 32768 || height > 32768)
+    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, each 1..32768, e.g. 512x512");
+}
+
+// `compare MESH STRUCTURE --views N`: the mesh against the structure's exact surface all around.
+void runViews(const CompareOptions& o) {
+  if (!isMeshPath(o.test))
+    throw std::invalid_argument(o.test + ": --views compares a mesh (.obj, .ply, .stl, .off, .gltf, .glb) with a structure's "
+                                "exact surface; TEST is not one");
+  if (!o.diff.empty() || !o.html.empty())
+    throw std::invalid_argument("--diff and --html draw one view; with --views use --report");
+  if (!o.report.empty()) prepareOutputPath(o.report, "--report");
+  MeshViewsSettings settings;
+  settings.views = o.views;
+  parseViewSize(o.size, settings.width, settings.height);
+  TriangleMesh mesh = readingFile(o.test, "the mesh", [&] { return readMesh(o.test); });
+  if (!o.meshTransform.empty()) transformMesh(mesh, parseMeshTransform(o.meshTransform));
+  const build::Molecule molecule = readInput(o.reference, "", 0, o.read);
+  const build::PatchList patches = buildWithNotes(molecule, o.surface.request());
+  ProgressBar bar(true, "views");
+  settings.progress = [&bar](std::size_t done, std::size_t total) { bar.items(done, total, "views"); };
+  const MeshViewsResult r = compareMeshViews(mesh, patches, molecule, settings);
+  bar.clear();
+  std::printf("test      %s (a mesh of %zu vertices and %zu triangles, %s%s)\nreference %s (%s surface, exact: Embree)\n%s\n",
+              o.test.c_str(), mesh.vertexCount(), mesh.triangleCount(), mesh.normals.empty() ? "face normals" : "vertex normals",
+              o.meshTransform.empty() ? "" : ", moved by --mesh-transform", o.reference.c_str(), o.surface.surface.c_str(),
+              r.summary().c_str());
+  if (!o.report.empty()) writeFileAtomically(o.report, r.json() + "\n");
+  if (!o.maxError) {
+    std::printf("PASS (no limit: give --max-error to judge)\n");
+    return;
+  }
+  const bool useMax = o.maxErrorStat == "max";
+  const double error = r.error(useMax);
+  char line[320];
+  std::snprintf(line, sizeof line, "the larger %s of the two distance estimates is %.4g Å", o.maxErrorStat.c_str(), error);
+  if (error <= *o.maxError) {
+    std::printf("PASS (--max-error %g Å, %s): %s\n", *o.maxError, o.maxErrorStat.c_str(), line);
+    return;
+  }
+  char limit[96];
+  std::snprintf(limit, sizeof limit, "FAIL (--max-error %g Å, %s):\n  ", *o.maxError, o.maxErrorStat.c_str());
+  throw LimitsExceeded(std::string(limit) + line + " > " + std::to_string(*o.maxError) + " Å");
+}
+
 CompareSettings settingsOf(const CompareOptions& o) {
   CompareSettings s;
   s.preset = o.preset;
@@ -77,13 +155,21 @@ CompareSettings settingsOf(const CompareOptions& o) {
 }
 
 void runCompare(const CompareOptions& o) {
+  if (o.views > 0) return runViews(o);
+  const bool mesh = isMeshPath(o.test);
+  if (!mesh && !o.meshTransform.empty())
+    throw std::invalid_argument("--mesh-transform moves a mesh (.obj, .ply, .stl, .off, .gltf, .glb); " + o.test + " is not one");
+  if (o.maxError) throw std::invalid_argument("--max-error judges `compare MESH STRUCTURE --views N`; give --views");
+  if (mesh && isStructureLike(o.reference))
+    throw std::invalid_argument(o.reference + " is not an image: to compare the mesh with a structure's exact surface all "
+                                "around, give --views N (e.g. --views 26)");
   if (!o.report.empty()) prepareOutputPath(o.report, "--report");
   if (!o.diff.empty()) view::checkImageOutputName(o.diff, "--diff", view::ImageContent::Colour);
   if (!o.diff.empty()) prepareOutputPath(o.diff, "--diff", OutputContent::Binary);
   if (!o.html.empty()) prepareOutputPath(o.html, "--html");
   const CompareReference ref =
       readingFile(o.reference, "the image", [&] { return readCompareReference(o.reference); });
-  const CompareResult r = surftrace::compare(readTest(o), ref, settingsOf(o));
+  const CompareResult r = surftrace::compare(mesh ? readMeshOf(o, ref) : readTest(o), ref, settingsOf(o));
   std::printf("%s", r.settingsLines.c_str());
   std::printf("test      %s (%s)\n%sreference %s (%s)\n%s\n", o.test.c_str(), r.testDescription.c_str(),
               r.testDetails.c_str(), o.reference.c_str(), r.referenceDescription.c_str(), r.figures.summary().c_str());
@@ -135,6 +221,34 @@ void addForeignBufferOptions(CLI::App& cmd, CompareOptions& o) {
       ->group(foreignGroup);
 }
 
+// Meshes (README, compare): TEST may be a mesh, drawn along REFERENCE's rays, or with --views
+// judged against a structure's exact surface all around.
+void addMeshOptions(CLI::App& cmd, CompareOptions& o) {
+  const char* group = "Meshes (TEST .obj, .ply, .stl, .off, .gltf or .glb)";
+  cmd.add_option("--mesh-transform", o.meshTransform,
+                 "Move the mesh by a 4x4 affine matrix, given row by row (x' = M (x, y, z, 1), last row 0 0 0 1): a file of "
+                 "16 numbers, or 16 comma-separated numbers; normals move by the inverse transpose. For PyMOL's OBJ, which "
+                 "is in its camera frame, see README, compare")
+      ->group(group);
+  cmd.add_option("--views", o.views,
+                 "Compare the mesh with the exact surface of REFERENCE (then a structure: PDB, mmCIF, PQR, XYZR, ...) from "
+                 "N orthographic views spread evenly over the sphere, each framed tightly: per-kind depth errors, two-sided "
+                 "distance estimates and the worst places")
+      ->check(wholeIn(1, 10000))
+      ->group(group);
+  cmd.add_option("--size", o.size, "With --views: each view's size WIDTHxHEIGHT")->default_val("512x512")->group(group);
+  cmd.add_option("--max-error", o.maxError,
+                 "With --views: the largest distance (Å) allowed to either distance estimate's statistic "
+                 "(--max-error-stat); exit status 2 beyond it")
+      ->check(numberIn(0, HUGE_VAL))
+      ->group(group);
+  cmd.add_option("--max-error-stat", o.maxErrorStat, "With --views: which statistic --max-error limits: p99 (the default) or max")
+      ->check(CLI::IsMember({"p99", "max"}))
+      ->group(group);
+  addSurfaceOptions(cmd, o.surface, SurfaceChoice::Any);
+  addMoleculeOptions(cmd, o.read);
+}
+
 }  // namespace
 
 void addCompareCommand(CLI::App& app) {
@@ -148,10 +262,14 @@ void addCompareCommand(CLI::App& app) {
       "Exit status 0 within the limits, 2 outside them, 1 on an error");
   cmd->add_option("TEST", o->test,
                   "Image under test: an EXR from surftrace render (e.g. --engine gl), or another renderer's depth "
-                  "buffer in any format OpenImageIO reads (EXR, PFM, float TIFF, 16-bit PNG; see --depth-convention)")
+                  "buffer in any format OpenImageIO reads (EXR, PFM, float TIFF, 16-bit PNG; see --depth-convention), or a "
+                  "mesh (.obj, .ply, .stl, .off, .gltf, .glb) drawn along REFERENCE's rays")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("REFERENCE", o->reference, "Reference EXR; its masks and camera are used")->required()->check(CLI::ExistingFile);
+  cmd->add_option("REFERENCE", o->reference,
+                  "Reference EXR; its masks and camera are used. With --views: a structure, whose exact surface is rendered")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--report", o->report, "Write the metrics as JSON here; - for the standard output");
   cmd->add_option("--diff", o->diff,
                   "Write a false-colour difference PNG here (its colours: README, `compare`; its surftrace:legend "
@@ -185,6 +303,7 @@ void addCompareCommand(CLI::App& app) {
                 "Compare even if the images' recorded render settings differ (colour scheme, background, lighting, "
                 "samples, opacity, effects, ball and stick); the preset's colour limit is then not applied");
   addForeignBufferOptions(*cmd, *o);
+  addMeshOptions(*cmd, *o);
   cmd->callback([o] {
     try {
       runCompare(*o);

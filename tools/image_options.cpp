@@ -2,6 +2,8 @@
 #include "image_options.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -11,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "option_checks.hpp"
+#include "view/color_map.hpp"
+#include "view/image_io.hpp"
 #include "surftrace/files.hpp"
 
 namespace surftrace::tools {
@@ -21,6 +25,34 @@ glm::vec3 parseColor(const std::string& option, const std::string& text) {
   if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > 1 || c.y > 1 || c.z > 1)
     throw std::invalid_argument(option + " '" + text + "': colour components must be in [0, 1]");
   return glm::vec3(c);
+}
+
+// --color-range LO:HI, both finite, LO < HI.
+std::array<double, 2> parseRange(const std::string& text) {
+  std::istringstream in(text);
+  double lo = 0.0, hi = 0.0;
+  char colon = 0;
+  if (!(in >> lo >> colon >> hi) || colon != ':' || in.peek() != EOF || !std::isfinite(lo) || !std::isfinite(hi))
+    throw std::invalid_argument("--color-range '" + text + "': expected LO:HI, two finite numbers, e.g. 0:80 or -4.5:4.5");
+  if (!(lo < hi)) throw std::invalid_argument("--color-range '" + text + "': LO must be below HI");
+  return {lo, hi};
+}
+
+// --color-select 'SEL=#rrggbb': the selection up to the last '=', then the colour in hex.
+view::ColorOverride parseColorSelect(const std::string& text) {
+  const auto eq = text.rfind('=');
+  const std::string selection = eq == std::string::npos ? "" : text.substr(0, eq);
+  const std::string hex = eq == std::string::npos ? "" : text.substr(eq + 1);
+  const bool hexOk = hex.size() == 7 && hex[0] == '#' &&
+                     std::all_of(hex.begin() + 1, hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+  if (selection.find_first_not_of(" \t") == std::string::npos || !hexOk)
+    throw std::invalid_argument("--color-select '" + text + "': expected SELECTION=#rrggbb, e.g. 'resname HEM=#ff0000' "
+                                "(quote it for the shell)");
+  view::ColorOverride o;
+  o.selection = selection;
+  for (int c = 0; c < 3; ++c)
+    o.color[c] = static_cast<float>(std::stoi(hex.substr(1 + 2 * static_cast<std::size_t>(c), 2), nullptr, 16)) / 255.0f;
+  return o;
 }
 
 void parseSize(const std::string& text, int& width, int& height) {
@@ -89,7 +121,97 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
       ->group(group);
 }
 
+// The colour scheme's options, checked against one another before any work.
+void resolveColorOptions(const ImageOptions& o, ImageSetup& setup) {
+  view::ColorScheme& s = setup.colors;
+  s.mode = setup.render.color;
+  s.uniform = setup.uniformColor;
+  s.map = o.colorMap;
+  const bool mapped = view::usesColorMap(s.mode);
+  if (!o.colorMap.empty() && !mapped)
+    throw std::invalid_argument("--color-map applies to --color bfactor, value, hydrophobicity and rainbow, not to --color " +
+                                o.color);
+  if (!o.colorRange.empty()) {
+    if (!mapped || s.mode == view::ColorMode::Rainbow)
+      throw std::invalid_argument("--color-range applies to --color bfactor, value and hydrophobicity, not to --color " +
+                                  o.color);
+    s.range = parseRange(o.colorRange);
+  }
+  if (s.mode == view::ColorMode::Value && o.values.empty())
+    throw std::invalid_argument("--color value needs --values FILE: a CSV with a header `atom,NAME` or "
+                                "`chain,resid[,icode],NAME` and a number per atom or residue");
+  if (!o.values.empty() && s.mode != view::ColorMode::Value)
+    throw std::invalid_argument("--values " + o.values + " is read by --color value only (not --color " + o.color + ")");
+  setup.valuesPath = o.values;
+  if ((o.legend || !o.legendFile.empty()) && !mapped)
+    throw std::invalid_argument(std::string(o.legend ? "--legend" : "--legend-file") +
+                                " shows a colour map: it needs --color bfactor, value, hydrophobicity or rainbow, not "
+                                "--color " + o.color);
+  setup.legend = o.legend;
+  if (!o.legendFile.empty()) {
+    view::checkImageOutputName(o.legendFile, "--legend-file", view::ImageContent::Colour);
+    build::prepareOutputPath(o.legendFile, "--legend-file", build::OutputContent::Binary);
+    setup.legendFile = o.legendFile;
+  }
+  if (!o.colorSelect.empty() && s.mode == view::ColorMode::Patch)
+    throw std::invalid_argument("--color-select paints atoms, but --color patch colours by patch kind: choose a scheme "
+                                "that colours by atom (e.g. --color uniform or element)");
+  for (const std::string& text : o.colorSelect) s.overrides.push_back(parseColorSelect(text));
+  setup.colorSelect = o.colorSelect;
+}
+
 }  // namespace
+
+std::vector<glm::vec3> colorAtoms(ImageSetup& setup, const build::Molecule& molecule) {
+  std::optional<view::AtomValues> values;
+  view::ColorScheme scheme = setup.colors;
+  if (!setup.valuesPath.empty()) {
+    values = view::readAtomValues(setup.valuesPath, molecule);
+    scheme.values = &*values;
+    if (values->unmatchedRows > 0)
+      std::fprintf(stderr, "surftrace: note: --values %s: %zu of %zu rows name no atom of %s (first: %s)\n",
+                   setup.valuesPath.c_str(), values->unmatchedRows, values->rows, molecule.source.c_str(),
+                   values->firstUnmatched.c_str());
+  }
+  view::AtomColoring coloring = view::colorAtoms(molecule, scheme);
+  setup.colorLegend = coloring.legend;
+  if (const auto& l = coloring.legend) {
+    if (setup.legend) {
+      view::checkLegendFits(setup.render.camera.width, setup.render.camera.height, *l);
+      setup.render.legend = l;
+    }
+    if (scheme.mode == view::ColorMode::Rainbow)
+      std::printf("colour map %s: each chain's residues from the N terminus (0) to the C terminus (1)", l->map.c_str());
+    else
+      std::printf("colour map %s: %s from %.6g to %.6g (%s)", l->map.c_str(), l->label.c_str(), l->lo, l->hi,
+                  l->rangeFromData ? "the data's min..max; set it with --color-range" : "--color-range");
+    if (l->missing > 0) std::printf("; %zu atoms without a value are grey 0.5,0.5,0.5", l->missing);
+    std::printf("\n");
+  }
+  for (std::size_t k = 0; k < coloring.overridden.size(); ++k)
+    std::printf("--color-select %s: %zu atoms\n", setup.colorSelect[k].c_str(), coloring.overridden[k]);
+  return std::move(coloring.colors);
+}
+
+void describeColors(const ImageSetup& setup, ImageRecord& record) {
+  record.backgroundAlpha = setup.render.backgroundAlpha;
+  record.colorMap = setup.colorLegend;
+  record.valuesFile = setup.valuesPath;
+  record.colorSelect = setup.colorSelect;
+  record.legendInImage = setup.render.legend.has_value();
+  record.legendFile = setup.legendFile;
+}
+
+void writeLegendFile(const ImageSetup& setup) {
+  if (setup.legendFile.empty() || !setup.colorLegend) return;
+  const view::FrameBuffers legend = view::legendImage(
+      *setup.colorLegend, setup.render.background,
+      view::legendScale(setup.render.camera.width, setup.render.camera.height));
+  view::writePng(setup.legendFile, legend,
+                 {{"surftrace:color_map", setup.colorLegend->map},
+                  {"surftrace:color_range", std::to_string(setup.colorLegend->lo) + ":" + std::to_string(setup.colorLegend->hi)},
+                  {"surftrace:color_label", setup.colorLegend->label}});
+}
 
 view::ImageEffects resolveEffects(const ImageOptions& o) {
   view::ImageEffects e;
@@ -109,6 +231,22 @@ view::ImageEffects resolveEffects(const ImageOptions& o) {
     throw std::invalid_argument("--depth-cue-end must lie beyond --depth-cue-start");
   e.validate();
   return e;
+}
+
+glm::dvec4 parseBackground(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> v;
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(x)) v.assign(5, 0.0);
+    v.push_back(x);
+  }
+  if ((v.size() != 3 && v.size() != 4) || std::any_of(v.begin(), v.end(), [](double x) { return x < 0.0 || x > 1.0; }))
+    throw std::invalid_argument("--background '" + text + "': expected r,g,b or r,g,b,a, each in [0, 1] (a: the "
+                                "background's alpha, 0 transparent)");
+  return {v[0], v[1], v[2], v.size() == 4 ? v[3] : 1.0};
 }
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text) {
@@ -148,14 +286,39 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--up", o.up, "Explicit up vector x,y,z");
   cmd.add_option("--fov", o.fov, "Vertical field of view in degrees (perspective)")->default_val(30.0);
   cmd.add_flag("--ortho", o.ortho, "Orthographic projection (framed to fit the molecule)");
-  cmd.add_option("--color", o.color, "Colouring: patch (SES: convex green, toroidal yellow, concave red; MSS: "
-                                     "convex green, edge hyperboloids red, face ones yellow, concave blue), element, "
-                                     "chain, bfactor, uniform")
-      ->check(CLI::IsMember({"patch", "element", "chain", "bfactor", "uniform"}))
+  cmd.add_option("--color", o.color,
+                 "Colouring: patch (SES: convex green, toroidal yellow, concave red; MSS: convex green, edge "
+                 "hyperboloids red, face ones yellow, concave blue), element (Jmol), chain, residue (RasMol amino), "
+                 "hydrophobicity (Kyte-Doolittle), rainbow (N to C terminus along each chain), bfactor, value (--values), "
+                 "uniform")
+      ->check(CLI::IsMember({"patch", "element", "chain", "residue", "hydrophobicity", "rainbow", "bfactor", "value",
+                             "uniform"}))
       ->default_val("patch");
   cmd.add_option("--uniform-color", o.uniformColor, "Colour r,g,b in [0,1] for --color uniform")
       ->default_val("0.8,0.8,0.8");
-  cmd.add_option("--background", o.background, "Background colour r,g,b in [0,1]")->default_val("1,1,1");
+  cmd.add_option("--color-map", o.colorMap,
+                 "Colour map of bfactor, value, hydrophobicity and rainbow: viridis, magma, cividis (perceptually "
+                 "uniform), coolwarm (diverging), rainbow; default coolwarm for bfactor and hydrophobicity, viridis for "
+                 "value, rainbow for rainbow")
+      ->check(CLI::IsMember(view::ColorMap::names()));
+  cmd.add_option("--color-range", o.colorRange,
+                 "The numbers LO:HI that the colour map's ends stand for (outside: the ends); default the data's "
+                 "min:max (printed)");
+  cmd.add_option("--values", o.values,
+                 "CSV of a number per atom for --color value: header `atom,NAME` (0-based atom index in the file, as "
+                 "MDAnalysis's atom.index) or `chain,resid,NAME` or `chain,resid,icode,NAME`, one row per atom or "
+                 "residue; atoms without a value are grey 0.5,0.5,0.5")
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--color-select", o.colorSelect,
+                 "'SELECTION=#rrggbb': paint the selected atoms (MDAnalysis-style selection, as --flexible) this "
+                 "colour over the scheme; repeatable, applied in order");
+  cmd.add_flag("--legend", o.legend,
+               "Draw the colour map's legend (bar, range, label) into the bottom-right corner of the image");
+  cmd.add_option("--legend-file", o.legendFile, "Write the colour map's legend as its own PNG");
+  cmd.add_option("--background", o.background,
+                 "Background colour r,g,b in [0,1], or r,g,b,a with a the background's alpha (below 1: a PNG with an "
+                 "alpha channel; the EXR's A)")
+      ->default_val("1,1,1");
   cmd.add_option("--spp", o.spp,
                  "Anti-aliasing: colour samples per pixel, rounded up to a k×k grid (2 to 4 take 2×2 = 4 samples, 5 "
                  "to 9 take 3×3 = 9); the buffers (depth, normal, ids) keep the pixel centre's")
@@ -200,8 +363,11 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   ro.camera.projection = o.ortho ? view::Projection::Orthographic : view::Projection::Perspective;
   ro.camera.fovY = o.fov;
   ro.color = view::parseColorMode(o.color);
-  ro.background = parseColor("--background", o.background);
+  const glm::dvec4 background = parseBackground(o.background);
+  ro.background = glm::vec3(background);
+  ro.backgroundAlpha = static_cast<float>(background.w);
   setup.uniformColor = parseColor("--uniform-color", o.uniformColor);
+  resolveColorOptions(o, setup);
   ro.samplesPerPixel = o.spp;
   ro.shadows = o.shadows;
   ro.aoSamples = o.ao;

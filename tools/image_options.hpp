@@ -12,11 +12,13 @@
 
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "surftrace/camera.hpp"
 #include "surftrace/image.hpp"
+#include "view/atom_colors.hpp"
 
 namespace surftrace::tools {
 
@@ -29,6 +31,13 @@ struct ImageOptions {
   std::string color = "patch";
   std::string uniformColor = "0.8,0.8,0.8";
   std::string background = "1,1,1";
+  // The schemes that map numbers to colours (view/atom_colors.hpp) and what paints over them.
+  std::string colorMap;                  // --color-map (default: the scheme's)
+  std::string colorRange;                // --color-range LO:HI (default: the data's min..max)
+  std::string values;                    // --values FILE, for --color value
+  std::vector<std::string> colorSelect;  // --color-select 'SEL=#rrggbb', in order
+  bool legend = false;                   // --legend: the colour bar drawn into the image
+  std::string legendFile;                // --legend-file FILE: the colour bar as its own image
   int spp = 1;
   bool shadows = false;
   int ao = 0;
@@ -70,6 +79,14 @@ struct ImageSetup {
   Framing framing;
   glm::vec3 uniformColor{0.8f};
   std::string cameraOut;
+  // The colour scheme's options, checked; the molecule's colours come from colorAtoms.
+  view::ColorScheme colors;
+  std::string valuesPath;
+  bool legend = false;
+  std::string legendFile;
+  std::vector<std::string> colorSelect;        // as given, for the record
+  std::optional<view::ColorLegend> colorLegend;  // set by colorAtoms for the mapped schemes
+  std::size_t missingColors = 0;
 };
 ImageSetup resolveImageOptions(const ImageOptions& options);
 // The effect options checked and parsed (std::invalid_argument naming the option otherwise).
@@ -94,10 +111,22 @@ void frameSpheres(ImageSetup& setup, const view::SphereFraming& framing);
 // framing, --eye/--look-at/--up override it, and the camera gets its depth range (near, far)
 // tight around what frames it.
 
+// The atoms' colours under the options' scheme (--color, --color-map, --color-range, --values,
+// --color-select), printed in a line that says the map, the range and where it comes from; the
+// legend goes into setup.render when --legend asks for it. Throws std::invalid_argument (the
+// scheme has no data in `molecule`, a selection selects nothing) and build::InputError (--values).
+std::vector<glm::vec3> colorAtoms(ImageSetup& setup, const build::Molecule& molecule);
+// What colorAtoms chose, into the image's record (surftrace:color_map, :color_select, :color_legend).
+void describeColors(const ImageSetup& setup, ImageRecord& record);
+// Writes --legend-file (if given), whole or not at all.
+void writeLegendFile(const ImageSetup& setup);
+
 // Writes the camera to --camera-out (if given), whole or not at all.
 void writeCameraOut(const ImageSetup& setup);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
+// --background: r,g,b (alpha 1) or r,g,b,a, each in [0, 1].
+glm::dvec4 parseBackground(const std::string& text);
 
 // ImageRecord and imageMetadata: surftrace/image.hpp.
 

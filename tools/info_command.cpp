@@ -30,10 +30,31 @@ void addMoleculeOptions(CLI::App& cmd, build::ReadOptions& options) {
   group->add_flag("--keep-water", options.keepWater, "Keep water molecules (dropped by default)");
   group->add_flag("!--no-hydrogens", options.keepHydrogens, "Drop hydrogen and deuterium atoms");
   group->add_option("--chains", options.chains, "Keep only these chains, e.g. --chains A,B")->delimiter(',');
-  group->add_option("--radii", options.radiiFile,
-                    "Radius table overriding the default radii (Bondi, then Mantina, then Alvarez): lines 'ELEMENT r' or "
-                    "'RES:ATOM r', '#' comments; elements not in it keep their default radius")
-      ->check(CLI::ExistingFile);
+  group->add_option("--select", options.selection,
+                    "Only these atoms (the others are not there), in MDAnalysis's selection language: name, resname, "
+                    "resid, chain (chainID), segid, element, index (from 0, in the file), atom (from 1; bynum), "
+                    "protein, backbone, water, all; several values (resid 10-20 45, name CA CB, name H*); not, then "
+                    "and/or left to right, parentheses, e.g. 'protein and not name H*' or 'not resname HEM'; applied "
+                    "after --keep-water, --no-hydrogens and --chains. A selection that selects no atom is an error");
+  group
+      ->add_option_function<std::string>(
+          "--radii",
+          [&options](const std::string& value) {
+            // A preset's name wins over a file of that name (give such a file as ./protor).
+            if (const auto preset = build::radiusPresetNamed(value)) options.radiiPreset = preset;
+            else options.radiiFile = value;
+          },
+          "protor or naccess: FreeSASA's radii by residue and atom name (its --radii=protor|naccess; atoms they "
+          "do not name get FreeSASA's element guess); or a radius table FILE overriding the default radii (Bondi, "
+          "then Mantina, then Alvarez): lines 'ELEMENT r' or 'RES:ATOM r', '#' comments; elements not in it keep "
+          "their default radius")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            if (build::radiusPresetNamed(value) || CLI::ExistingFile(value).empty()) return {};
+            return "expected protor, naccess or a radius table file, got '" + value + "', which is neither a preset "
+                   "nor an existing file";
+          },
+          "protor|naccess|FILE"));
   group->add_option("--default-radius", options.defaultRadius,
                     "Radius (Å) for elements with no known radius; without it they are an error")
       ->check(positive());
@@ -63,8 +84,55 @@ struct InfoOptions {
   std::string path;
   build::ReadOptions read;
   bool json = false;
+  std::string format = "table";  // table, csv, json (--json is json)
+  bool atoms = false;            // --atoms: the atoms themselves, one row each
   std::string xyzr;  // --xyzr OUT: the atoms as every command uses them
 };
+
+// --atoms: one row per atom as every command uses it (after --select and the other choices), in
+// the file's order. `index` is the atom's place in the file from 0 (MDAnalysis's index, what
+// `--select 'index N'` means), not its row: a user compares it with the file.
+void printAtoms(const build::Molecule& m, const std::string& format) {
+  const auto code = [](char c) { return c == ' ' ? std::string() : std::string(1, c); };
+  if (format == "json") {
+    nlohmann::json atoms = nlohmann::json::array();
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const build::AtomRecord& a = m.atoms[i];
+      atoms.push_back({{"index", a.fileIndex},      {"serial", a.serial},       {"name", a.name},
+                       {"resname", a.residue},      {"chain", a.chain},         {"segid", a.segid},
+                       {"resid", a.residueNumber},  {"icode", code(a.insertionCode)}, {"altloc", code(a.altLoc)},
+                       {"element", a.element},      {"x", m.centers[i].x},      {"y", m.centers[i].y},
+                       {"z", m.centers[i].z},       {"radius", m.radii[i]}});
+    }
+    nlohmann::json j = {{"file", m.source}, {"atoms", atoms}};
+    if (m.selection) j["selection"] = *m.selection;
+    std::printf("%s\n", j.dump(1).c_str());
+    return;
+  }
+  const bool csv = format == "csv";
+  if (csv)
+    std::printf("index,serial,name,resname,chain,segid,resid,icode,altloc,element,x,y,z,radius\n");
+  else
+    std::printf("%7s %7s %-5s %-7s %-5s %-6s %6s %-5s %-6s %-7s %10s %10s %10s %7s\n", "index", "serial", "name",
+                "resname", "chain", "segid", "resid", "icode", "altloc", "element", "x", "y", "z", "radius");
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const build::AtomRecord& a = m.atoms[i];
+    const glm::dvec3& c = m.centers[i];
+    // CSV: names never hold commas in these formats (PDB columns, whitespace-separated tokens).
+    if (csv)
+      std::printf("%zu,%d,%s,%s,%s,%s,%d,%s,%s,%s,%.3f,%.3f,%.3f,%.4f\n", a.fileIndex, a.serial, a.name.c_str(),
+                  a.residue.c_str(), a.chain.c_str(), a.segid.c_str(), a.residueNumber, code(a.insertionCode).c_str(),
+                  code(a.altLoc).c_str(), a.element.c_str(), c.x, c.y, c.z, m.radii[i]);
+    else
+      std::printf("%7zu %7d %-5s %-7s %-5s %-6s %6d %-5s %-6s %-7s %10.3f %10.3f %10.3f %7.3f\n", a.fileIndex, a.serial,
+                  a.name.c_str(), a.residue.c_str(), a.chain.empty() ? "-" : a.chain.c_str(),
+                  a.segid.empty() ? "-" : a.segid.c_str(), a.residueNumber,
+                  a.insertionCode == ' ' ? "-" : code(a.insertionCode).c_str(),
+                  a.altLoc == ' ' ? "-" : code(a.altLoc).c_str(), a.element.empty() ? "-" : a.element.c_str(), c.x,
+                  c.y, c.z, m.radii[i]);
+    build::checkStandardOutput();  // a reader that stopped early (| head) ends the command here
+  }
+}
 
 // The atoms as every command uses them (after the water, hydrogen, chain and model choices,
 // duplicates and radii), one "x y z r" line each in the fewest digits that read back to the
@@ -194,7 +262,8 @@ void printMoleculeJson(const build::Molecule& m, const MoleculeSummary& u, doubl
   j["radii"] = {{"set", m.radiiSet}, {"min", u.rMin}, {"mean", u.rMean}, {"max", u.rMax}, {"sources", bySource}};
   j["skipped"] = {{"water", s.water},          {"hydrogens", s.hydrogens},       {"alt_locs", s.altLocs},
                   {"other_chains", s.otherChains}, {"other_models", s.otherModels}, {"default_radius", s.defaultRadius},
-                  {"water_virtual_sites", s.virtualSites}, {"duplicates", s.duplicates}};
+                  {"water_virtual_sites", s.virtualSites}, {"duplicates", s.duplicates}, {"unselected", s.unselected}};
+  if (m.selection) j["selection"] = *m.selection;
   j["elements_guessed"] = {{"from_atom_names", m.elementsFromNames}, {"from_masses", m.elementsFromMasses}};
   if (m.beadRadius)
     j["coarse_grained"] = {{"martini", m.martini}, {"beads", m.size()}, {"bead_radius", *m.beadRadius}};
@@ -220,6 +289,7 @@ void printSkipped(std::ostringstream& out, const build::Molecule& m) {
   note(s.otherModels, "atoms of other models (--model)");
   note(s.virtualSites, "massless water sites (TIP4P MW, TIP5P LP)");
   note(s.duplicates, "atoms exactly on an earlier atom of the same radius");
+  note(s.unselected, "atoms outside --select");
   if (!any) out << "nothing";
   out << "\n";
   for (std::size_t k = 0; k < m.notes.size(); ++k) out << (k ? "           " : "notes      ") << m.notes[k] << "\n";
@@ -232,6 +302,7 @@ void printMoleculeText(const build::Molecule& m, const MoleculeSummary& u, doubl
       << std::dec << ", read in " << fixed(seconds * 1e3, 1) << " ms)\n";
   out << "models     " << m.modelCount << " (using model " << m.modelUsed << ")\n";
   out << "atoms      " << m.size() << " (" << u.hetatm << " HETATM) in " << u.residues << " residues\n";
+  if (m.selection) out << "selection  '" << *m.selection << "': " << m.size() << " atoms\n";
   out << "chains     " << u.chains.size() << ":";
   for (const auto& [c, n] : u.chains) out << " " << (c.empty() ? "-" : c) << " (" << n << ")";
   out << "\nelements   ";
@@ -254,7 +325,13 @@ void printMoleculeText(const build::Molecule& m, const MoleculeSummary& u, doubl
   std::fputs(out.str().c_str(), stdout);
 }
 
-void runInfo(const InfoOptions& o) {
+void runInfo(InfoOptions o) {
+  if (o.json) o.format = "json";
+  if (o.format == "csv" && !o.atoms)
+    throw std::invalid_argument("--format csv is a table of atoms: add --atoms (the summary is table or json)");
+  if (isPatchListPath(o.path) && (o.atoms || o.read.selection))
+    throw std::invalid_argument(std::string(o.atoms ? "--atoms" : "--select") + " needs the structure file: " + o.path +
+                                " is a patch list, which holds no atom records");
   if (!o.xyzr.empty()) {
     if (isPatchListPath(o.path))
       throw std::invalid_argument("--xyzr needs the structure file: " + o.path + " is a patch list, which holds no atoms");
@@ -265,8 +342,9 @@ void runInfo(const InfoOptions& o) {
   const build::Molecule m = readingFile(o.path, "the atoms", [&] { return build::readMolecule(o.path, o.read); });
   if (!o.xyzr.empty()) writeXyzr(o.xyzr, m);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (o.atoms) return printAtoms(m, o.format);
   const MoleculeSummary summary = summarise(m);
-  if (o.json)
+  if (o.format == "json")
     printMoleculeJson(m, summary, seconds);
   else
     printMoleculeText(m, summary, seconds);
@@ -288,7 +366,14 @@ void addInfoCommand(CLI::App& app) {
                   "Structure file (PDB, mmCIF, PQR, XYZR, XYZ; .gz allowed) or a patch list from `build` (.stp)")
       ->required();
   addMoleculeOptions(*cmd, o->read);
-  cmd->add_flag("--json", o->json, "Print the summary as JSON");
+  cmd->add_flag("--json", o->json, "Print the summary as JSON (--format json)");
+  cmd->add_flag("--atoms", o->atoms,
+                "Print the atoms instead of the summary, one row each as every command uses them (after --select "
+                "and the other choices): index (from 0, the place in the file), serial, name, resname, chain, "
+                "segid, resid, icode, altloc, element, x, y, z, radius");
+  cmd->add_option("--format", o->format, "Output: table, csv (with --atoms), json")
+      ->check(CLI::IsMember({"table", "csv", "json"}))
+      ->default_val("table");
   cmd->add_option("--xyzr", o->xyzr,
                   "Also write the atoms as every command uses them (after the water, hydrogen, chain, model and "
                   "radius choices) to this file, one 'x y z r' line each, exactly (shortest round-trip digits), "

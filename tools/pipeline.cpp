@@ -73,7 +73,7 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.input = input;
   record.color = image.color;
   record.uniformColor = parseVector("--uniform-color", image.uniformColor);
-  record.background = parseVector("--background", image.background);
+  record.background = glm::dvec3(parseBackground(image.background));
   record.shadows = image.shadows;
   record.aoSamples = image.ao;
   record.aoDistance = image.aoDistance;

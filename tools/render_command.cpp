@@ -32,6 +32,7 @@ struct RenderCommandOptions {
   std::string output, exr;
   int threads = 0;
   bool quiet = false;
+  bool cavities = false;  // --cavities: the SES's cavities alone
   std::string commandLine;
 };
 
@@ -43,9 +44,17 @@ void checkRenderOptions(const RenderCommandOptions& o, const view::RenderOptions
   if (!o.exr.empty()) view::checkImageOutputName(o.exr, "--exr", view::ImageContent::Buffers);
   if (!o.output.empty()) build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
   if (!o.exr.empty()) build::prepareOutputPath(o.exr, "--exr", build::OutputContent::Binary);
+  if (o.cavities && o.surface.dropCavities)
+    throw std::invalid_argument("--cavities draws the cavities that --drop-cavities leaves out: give one of them");
+  if (o.cavities && o.surface.surface != "ses")
+    throw std::invalid_argument("--cavities draws the SES's cavities; --surface " + o.surface.surface +
+                                " has none (its patches carry no component labels): leave out --surface");
   if (o.frameOption && o.frameOption->count() > 0 && o.trajectory.empty())
     throw std::invalid_argument("--frame " + std::to_string(o.frame) + " needs --trajectory FILE (and FILE its topology)");
   if (!fromPatchList) return;
+  if (o.read.selection)
+    throw std::invalid_argument("--select needs the structure file: " + o.path +
+                                " is a patch list, which holds no atom records (render the structure file)");
   if (o.image.ballAndStick)
     throw std::invalid_argument("--ball-and-stick needs the atoms and their records, which a patch list (" + o.path +
                                 ") does not hold: render the structure file");
@@ -59,6 +68,9 @@ void checkRenderOptions(const RenderCommandOptions& o, const view::RenderOptions
   if (color != view::ColorMode::Patch && color != view::ColorMode::Uniform)
     throw std::invalid_argument("--color " + o.image.color + " needs the atoms' records, which a patch list (" + o.path +
                                 ") does not hold: render the structure file, or use --color patch|uniform");
+  if (!o.image.colorSelect.empty())
+    throw std::invalid_argument("--color-select needs the atoms' records, which a patch list (" + o.path +
+                                ") does not hold: render the structure file");
 }
 
 // The patch list FILE names, held to the options that cannot change it.
@@ -167,6 +179,7 @@ void printRenderSummary(const RenderCommandOptions& o, const build::PatchList& l
   if (!frame.layers.empty()) printLayerSummary(frame.layers, o.image.maxLayers);
   if (!o.output.empty()) std::printf("wrote %s\n", o.output.c_str());
   if (!o.exr.empty()) std::printf("wrote %s\n", o.exr.c_str());
+  if (!o.image.legendFile.empty()) std::printf("wrote %s\n", o.image.legendFile.c_str());
 }
 
 void runRender(const RenderCommandOptions& o) {
@@ -176,12 +189,22 @@ void runRender(const RenderCommandOptions& o) {
   const auto limit = limitThreads(o.threads);
   build::Molecule molecule;
   double readSeconds = 0.0, buildSeconds = 0.0;
-  const build::PatchList list = readAndBuild(o, fromPatchList, molecule, readSeconds, buildSeconds);
+  build::PatchList list = readAndBuild(o, fromPatchList, molecule, readSeconds, buildSeconds);
+  // Framed on the whole surface, so that the cavities stand where the whole render has them.
   frameRender(setup, list, molecule, fromPatchList, o.path);
+  if (o.cavities) {
+    if (list.params.surface != build::SurfaceKind::Ses)
+      throw std::invalid_argument("--cavities draws the SES's cavities; " + o.path + " is a " +
+                                  build::surfaceKindName(list.params.surface) + " patch list, which has none");
+    list = build::cavityComponents(list);
+    if (list.patchCount() == 0)
+      throw std::invalid_argument(o.path + " has no cavity a probe of " + std::to_string(list.params.probeRadius) +
+                                  " Å fits in: --cavities has nothing to draw (a smaller --probe may find some)");
+  }
   // An EXR is what `compare` takes as a reference: it records where its masks belong.
   setup.render.referenceMasks = !o.exr.empty();
   const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
-                                    : view::atomColors(molecule, setup.render.color, setup.uniformColor);
+                                    : colorAtoms(setup, molecule);
   const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
   const build::BallStickModel model =
       ballAndStick.on ? ballAndStick.model(molecule.centers, molecule.radii) : build::BallStickModel();
@@ -194,7 +217,9 @@ void runRender(const RenderCommandOptions& o) {
   ImageRecord record = recordOfRender(o, list, fromPatchList);
   describeEngine(*engine, record);
   ballAndStick.describe(record);
+  describeColors(setup, record);
   writeImage(o.output, o.exr, frame, record, setup.render.camera);
+  writeLegendFile(setup);
   printRenderSummary(o, list, frame, readSeconds, buildSeconds, engine->sceneSeconds());
 }
 
@@ -231,6 +256,10 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
                   "Multi-channel EXR to write (colour, depth, normal, ids, flags; with Embree also each hit's "
                   "distance to the edge of its patch and the pixels an edge of the surface crosses, for `compare`); "
                   "- for the standard output");
+  cmd->add_flag("--cavities", o->cavities,
+                "Draw the SES's buried cavities alone (the inverse of --drop-cavities), framed as the whole surface "
+                "is; the convex patch of an atom that also faces the outside is left out (it would be drawn as its "
+                "whole sphere), so such a wall shows as a hole. With --opacity below 1 the cavities are transparent too");
   addEngineOptions(*cmd, o->engine);
   cmd->add_option("--threads", o->threads, "Worker threads (default: all cores); images do not depend on it")
       ->check(wholeIn(0, 4096));

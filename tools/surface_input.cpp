@@ -26,6 +26,9 @@ Built readAndBuild(const SurfaceInputOptions& o) {
   auto start = std::chrono::steady_clock::now();
   Built b;
   if (isPatchListPath(o.path)) {
+    if (o.read.selection)
+      throw std::invalid_argument("--select needs the structure file: " + o.path +
+                                  " is a patch list, which holds no atom records (build it from the selection)");
     b.patches = readingFile(o.path, "the patch list", [&] { return build::readPatchList(o.path); });
     if (o.surface.probeGiven() && o.surface.probe != b.patches.params.probeRadius)
       throw std::invalid_argument(o.path + " was built with probe " + std::to_string(b.patches.params.probeRadius) +
@@ -39,6 +42,7 @@ Built readAndBuild(const SurfaceInputOptions& o) {
       b.molecule.centers.resize(b.patches.params.atomCount);
       b.molecule.radii.assign(b.patches.params.atomCount, std::numeric_limits<double>::quiet_NaN());
     });
+    for (std::size_t k = 0; k < b.molecule.atoms.size(); ++k) b.molecule.atoms[k].fileIndex = k;
     for (std::size_t k = 0; k < b.patches.convex.size(); ++k)
       b.molecule.radii[b.patches.convex.atom[k]] = b.patches.convex.radius[k];
     b.readSeconds = secondsSince(start);

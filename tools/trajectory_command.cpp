@@ -421,6 +421,7 @@ class FrameLoop {
     record_ = recordOf(o.surface, o.topology, o.image, o.commandLine);
     record_.trajectory = o.trajectory;
     ballAndStick_.describe(record_);
+    describeColors(setup, record_);
   }
 
   void run(const std::vector<std::size_t>& todo);
@@ -665,8 +666,9 @@ void runTrajectory(const TrajectoryOptions& o) {
   const double setupMs = millisecondsSince(start);
   printPlan(o, trajectory, reference, frames.size(), mine.size(), shard, todo.size(), skipped, flexible.atoms.size());
 
-  FrameLoop loop(o, trajectory, reference, flexible, setup,
-                 view::atomColors(reference, setup.render.color, setup.uniformColor), out);
+  std::vector<glm::vec3> colors = colorAtoms(setup, reference);
+  writeLegendFile(setup);
+  FrameLoop loop(o, trajectory, reference, flexible, setup, std::move(colors), out);
   const auto loopStart = std::chrono::steady_clock::now();
   // From the first frame on (before it, a signal ends the process as it always does: there is
   // nothing to keep).
@@ -728,7 +730,7 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
       ->default_val("all");
   CLI::Option* flexible = cmd->add_option("--flexible", o->flexible,
                   "Only these atoms move (the rest stay where the first selected frame has them) and each frame is "
-                  "a partial update. MDAnalysis's selection language: name, resname, resid, chain/segid, element, "
+                  "a partial update. MDAnalysis's selection language: name, resname, resid, chain, segid, element, "
                   "index (from 0), atom (from 1; MDAnalysis's bynum), protein, backbone, water, all; several values "
                   "(resid 10-20 45, name CA CB, name H*); combined with not, then and/or left to right, and "
                   "parentheses, e.g. 'resname R2M and name Ru1' or 'protein and (resid 120-160 or chain B)'; commas "

@@ -15,6 +15,7 @@
 #include "surftrace/camera.hpp"
 #include "surftrace/molecule.hpp"
 #include "view/atom_colors.hpp"
+#include "view/color_map.hpp"
 #include "view/frame_buffers.hpp"
 #include "view/image_effects.hpp"
 #include "view/image_io.hpp"
@@ -35,6 +36,12 @@ using view::Lighting;
 using view::RenderOptions;
 using view::applyImageEffects;  // silhouettes, creases, depth darkening and cueing, on any engine's buffers
 using view::atomColors;         // (molecule, scheme, uniform colour) -> one colour per atom
+using view::colorAtoms;         // (molecule, ColorScheme) -> colours, legend; maps, ranges, values, selections
+using view::ColorScheme;
+using view::ColorLegend;
+using view::ColorMap;           // viridis, magma, cividis, coolwarm, rainbow: t in [0, 1] -> colour
+using view::readAtomValues;     // (CSV path, molecule) -> one number per atom, for ColorMode::Value
+using view::legendImage;        // the colour bar as its own image
 using view::parseColorMode;
 using view::PatchKind;       // what each pixel shows: the patch kinds, stored in EXRs
 using view::kPatchKinds;
@@ -56,6 +63,15 @@ struct ImageRecord {
   std::string color;
   glm::dvec3 uniformColor{0.8};        // recorded with color "uniform"
   glm::dvec3 background{1.0};
+  double backgroundAlpha = 1.0;        // recorded as the background's fourth number when below 1
+  // The colour map, its range and label (surftrace:color_map) for the schemes that map numbers;
+  // the --values file; the --color-select paintings in order; where the legend went
+  // (surftrace:color_legend: drawn into the image, and/or its own file).
+  std::optional<view::ColorLegend> colorMap;
+  std::string valuesFile;
+  std::vector<std::string> colorSelect;
+  bool legendInImage = false;
+  std::string legendFile;
   Lighting lighting;                   // the headlight's terms; recorded with shadows and AO
   bool shadows = false;
   int aoSamples = 0;

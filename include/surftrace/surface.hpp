@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "build/bonds.hpp"
+#include "build/cavities.hpp"
 #include "build/io/stp_file.hpp"
 #include "build/patch_list.hpp"
 #include "build/surface.hpp"
@@ -44,6 +45,11 @@ using build::readPatchList;
 using build::writePatchList;
 // The SES's outer component alone (its cavities left out).
 using build::outerComponent;
+// The SES's cavities alone (the outer components left out), and each cavity located: its
+// lining atoms, the centroid of its surface, its box, area and void.
+using build::Cavity;
+using build::cavityComponents;
+using build::locateCavities;
 
 // One closed piece of a surface: an outer surface, or a cavity inside one.
 struct ComponentArea {

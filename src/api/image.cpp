@@ -39,7 +39,22 @@ ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
   // alike from two made differently (it reads them back).
   auto triple = [](const glm::dvec3& v) { return shortNumber(v.x) + "," + shortNumber(v.y) + "," + shortNumber(v.z); };
   if (r.color == "uniform") meta["surftrace:uniform_color"] = triple(r.uniformColor);
-  meta["surftrace:background"] = triple(r.background);
+  meta["surftrace:background"] =
+      triple(r.background) + (r.backgroundAlpha < 1.0 ? "," + shortNumber(r.backgroundAlpha) : std::string());
+  if (r.colorMap) {
+    const ColorLegend& c = *r.colorMap;
+    nlohmann::json j{{"map", c.map},
+                     {"range", {c.lo, c.hi}},
+                     {"range_from", c.rangeFromData ? "data" : "--color-range"},
+                     {"label", c.label},
+                     {"missing_atoms", c.missing},
+                     {"missing_color", triple(glm::dvec3(view::kMissingColor))}};
+    if (!r.valuesFile.empty()) j["values"] = r.valuesFile;
+    meta["surftrace:color_map"] = j.dump();
+  }
+  if (!r.colorSelect.empty()) meta["surftrace:color_select"] = nlohmann::json(r.colorSelect).dump();
+  if (r.legendInImage) meta["surftrace:color_legend"] = "image";
+  if (!r.legendFile.empty()) meta["surftrace:color_legend_file"] = r.legendFile;
   meta["surftrace:lighting"] = nlohmann::json{{"model", "Blinn-Phong headlight"},
                                               {"ambient", r.lighting.ambient},
                                               {"diffuse", r.lighting.diffuse},

@@ -265,6 +265,38 @@ void checkCamera(const ImageMetadata& test, const Camera& camera) {
                                 "metadata); compare only renderings of the same view, or pass --ignore-camera");
 }
 
+// On a failure with a mesh: whether it is plainly in another frame than the reference's
+// structure (PyMOL's OBJ is in its camera frame): the two cover mostly different pixels, or
+// where both hit, the depths differ by much more than a mesh's error (a quarter of the scene's
+// depth and over 1 Å at the median). "hint: ..." or "".
+std::string frameHint(const FrameBuffers& test, const FrameBuffers& ref, const FrameComparison& c) {
+  std::size_t both = 0, either = 0, testHits = 0;
+  for (std::size_t p = 0; p < ref.pixels(); ++p) {
+    const bool t = std::isfinite(test.depth[p]), r = ref.kind[p] != 0;
+    both += t && r, either += t || r, testHits += t;
+  }
+  char text[512];
+  const double shared = either > 0 ? static_cast<double>(both) / static_cast<double>(either) : 1.0;
+  if (shared < 0.5) {
+    std::snprintf(text, sizeof text,
+                  "hint: the mesh covers %zu px and the reference %zu px, but only %zu px (%.1f%% of either's) are "
+                  "covered by both: the mesh looks to be in another frame than the structure (PyMOL's `save x.obj` "
+                  "writes its camera frame); give the map that takes it to the structure's frame with "
+                  "--mesh-transform (README, compare)",
+                  testHits, c.referenceHits, both, 100.0 * shared);
+    return text;
+  }
+  if (c.depthSamples > 0 && c.depthMedian > 1.0 && c.depthMedian > 0.25 * c.sceneSize) {
+    std::snprintf(text, sizeof text,
+                  "hint: where both hit, the mesh's depth is off by %.3g Å at the median (the scene is %.3g Å deep): "
+                  "the mesh looks to be in another frame than the structure; give the map that takes it to the "
+                  "structure's frame with --mesh-transform (README, compare)",
+                  c.depthMedian, c.sceneSize);
+    return text;
+  }
+  return "";
+}
+
 // The preset's limits, with each limit `given` sets in their place.
 CompareThresholds limitsOf(const std::string& preset, const CompareThresholds& given) {
   CompareThresholds limits = preset == "none" ? CompareThresholds{} : CompareThresholds::preset(preset);
@@ -345,9 +377,14 @@ CompareResult compareWith(FrameBuffers&& frame, const CompareTest& test, const C
   CompareResult r;
   r.testName = test.name;
   r.referenceName = reference.name;
-  r.foreign = test.foreign.has_value();
+  r.foreign = test.foreign.has_value() || test.drawn.has_value();
   r.camera = reference.camera;
-  if (test.foreign) {
+  if (test.drawn) {
+    r.testFrame = test.drawn->frame;
+    r.carried = test.drawn->carried;
+    r.testDescription = test.drawn->description;
+    r.testDetails = test.drawn->details;
+  } else if (test.foreign) {
     const ForeignBuffers& b = *test.foreign;
     for (const ImageChannels* image : {static_cast<const ImageChannels*>(&b.depth), b.normalImage()})
       if (image && (image->width != ref.width || image->height != ref.height))
@@ -386,8 +423,9 @@ CompareResult compareWith(FrameBuffers&& frame, const CompareTest& test, const C
     r.preset = settings.preset;
   } else if (r.foreign) {
     r.preset = "foreign";
-    r.presetChoice = "limits    --preset foreign (another renderer's buffers: coverage, depth and normals when given; "
-                     "pass --preset to choose)";
+    r.presetChoice = test.drawn ? "limits    --preset foreign (a mesh: coverage, depth and normals; pass --preset to choose)"
+                                : "limits    --preset foreign (another renderer's buffers: coverage, depth and normals when given; "
+                                  "pass --preset to choose)";
   } else {
     r.preset = defaultPreset(test.metadata, reference.metadata, r.presetChoice);
   }
@@ -399,14 +437,16 @@ CompareResult compareWith(FrameBuffers&& frame, const CompareTest& test, const C
     r.notes += line;
     r.limits.maxColorP99.reset();
   }
-  if (r.foreign && r.carried.normal && viewIsUnrotated(*camera))
+  if (test.foreign && r.carried.normal && viewIsUnrotated(*camera))
     r.notes += "note      the reference camera's view is not rotated (its axes are the world's): view and world normals "
                "are the same numbers here, so a wrong --normal-space cannot show; render the reference from a rotated "
                "view (e.g. --view 1,0.3,-1) to check the normals' space\n";
   // A limit on a buffer the test does not carry is neither passed nor failed.
   r.notCompared = r.limits.notCompared(r.figures);
   r.violations = r.limits.violations(r.figures);
-  if (!r.violations.empty() && r.foreign) {
+  if (!r.violations.empty() && test.drawn) {
+    if (std::string hint = frameHint(r.testFrame, ref, r.figures); !hint.empty()) r.hints.push_back(std::move(hint));
+  } else if (!r.violations.empty() && test.foreign) {
     const ForeignBuffers& b = *test.foreign;
     for (std::string hint : {originHint(b, b.options, reference, r.figures),
                              conventionHint(b, b.options, reference, r.limits, &r.figures),
@@ -419,7 +459,7 @@ CompareResult compareWith(FrameBuffers&& frame, const CompareTest& test, const C
 }  // namespace
 
 CompareResult compare(const CompareTest& test, const CompareReference& reference, const CompareSettings& settings) {
-  return compareWith(test.foreign ? FrameBuffers{} : FrameBuffers(test.frame), test, reference, settings);
+  return compareWith(test.foreign || test.drawn ? FrameBuffers{} : FrameBuffers(test.frame), test, reference, settings);
 }
 
 CompareResult compare(CompareTest&& test, const CompareReference& reference, const CompareSettings& settings) {

@@ -34,13 +34,24 @@ struct ForeignBuffers {
 ImageChannels memoryChannels(std::string name, int width, int height, std::vector<std::string> channels,
                              std::vector<float> values);
 
+// A test the caller has already drawn along the reference camera's rays: a mesh
+// (surftrace::readMeshTest, trace::drawMesh). Judged as another renderer's buffers are.
+struct DrawnTest {
+  FrameBuffers frame;     // depth (Å along the reference's rays), viewZ, world normals
+  TestChannels carried{true, false, false, false};  // normals; no patch kinds, ids or colour
+  std::string description;  // what was drawn, for the "test" line
+  std::string details;      // lines under "test", each ending in a newline
+};
+
 // The rendering under test: SurfTrace's own buffers and metadata, or (when `foreign` is set)
-// another renderer's buffers, read along the reference camera's rays.
+// another renderer's buffers, read along the reference camera's rays, or (when `drawn` is set)
+// a mesh drawn along them.
 struct CompareTest {
   std::string name;  // its file, or what messages call it
-  FrameBuffers frame;  // SurfTrace's buffers (unused when foreign)
+  FrameBuffers frame;  // SurfTrace's buffers (unused when foreign or drawn)
   ImageMetadata metadata;
   std::optional<ForeignBuffers> foreign;
+  std::optional<DrawnTest> drawn;
 };
 
 // The reference: SurfTrace's buffers with their metadata. Its masks come from the buffers; its
@@ -84,7 +95,7 @@ struct CompareSettings {
 
 struct CompareResult {
   std::string testName, referenceName;
-  bool foreign = false;               // the test is another renderer's buffers
+  bool foreign = false;               // the test is another renderer's buffers (or a mesh drawn)
   std::string testDescription;        // its renderer, or what was compared
   std::string testDetails;            // lines under "test" (each ending in a newline), or ""
   std::string referenceDescription;   // the reference's renderer, "?" when not recorded
@@ -97,7 +108,8 @@ struct CompareResult {
   std::vector<std::string> notCompared;  // limits on buffers the test does not carry
   std::vector<std::string> violations;   // limits exceeded: empty is a pass
   std::vector<std::string> hints;        // on a failure with another renderer's buffers: a
-                                         // reading of them that fits ("hint: ...")
+                                         // reading of them that fits ("hint: ..."); with a mesh:
+                                         // that it looks to be in another frame
   std::vector<WorstPixel> worstPixels;   // with CompareSettings::report
   // What the difference image and the page draw.
   FrameBuffers testFrame;              // the test as compared (another renderer's: along the reference's rays)

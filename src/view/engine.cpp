@@ -25,6 +25,14 @@ FrameBuffers Engine::render(const Frame& asked) {
   FrameBuffers buffers = draw(frame);
   // The one place the image-space effects run: on the buffers, whichever engine filled them.
   applyImageEffects(buffers, frame.options.effects, frame.options.camera, frame.options.background);
+  // Then what lies over the picture, and the background's transparency under it all: one pass
+  // here for every engine, so that GL and Embree agree by construction.
+  const glm::vec3& background = frame.options.background;
+  if (frame.options.legend) drawLegend(buffers, *frame.options.legend, background);
+  if (frame.options.backgroundAlpha < 1.0f) {
+    const float rgb[3] = {background.r, background.g, background.b};
+    applyBackgroundAlpha(buffers, rgb, frame.options.backgroundAlpha);
+  }
   return buffers;
 }
 

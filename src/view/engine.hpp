@@ -55,7 +55,8 @@ class Engine {
   //   at opacity 1 is what the engine sees);
   // - an empty model is no model;
   // - the image-space effects (options.effects) run after the engine, here and nowhere else,
-  //   so that every engine's buffers get the same pass.
+  //   so that every engine's buffers get the same pass; then the legend (options.legend) and
+  //   the background's alpha (options.backgroundAlpha).
   // Throws std::invalid_argument for a frame without a surface or with centres and radii of
   // different counts, and what the engine throws (e.g. GL: options it cannot draw).
   FrameBuffers render(const Frame& frame);

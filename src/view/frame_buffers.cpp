@@ -22,4 +22,13 @@ void FrameBuffers::reset(int newWidth, int newHeight) {
   layers.clear();
 }
 
+void applyBackgroundAlpha(FrameBuffers& f, const float (&background)[3], float alpha) {
+  for (std::size_t p = 0; p < f.pixels(); ++p) {
+    const float coverage = f.rgba[4 * p + 3];
+    for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] -= (1.0f - coverage) * (1.0f - alpha) * background[c];
+    f.rgba[4 * p + 3] = coverage + (1.0f - coverage) * alpha;
+  }
+  f.transparentBackground = true;
+}
+
 }  // namespace surftrace::view

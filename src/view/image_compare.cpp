@@ -105,19 +105,40 @@ struct KindSample {
 };
 std::vector<KindErrors> kindTable(const FrameBuffers& ref, const std::vector<KindSample>& depth,
                                   const std::vector<KindSample>& normal) {
-  std::vector<KindErrors> rows;
-  std::vector<std::vector<double>> signedError(kPatchKindCount + 1), angle(kPatchKindCount + 1);
   std::vector<std::size_t> pixels(kPatchKindCount + 1, 0);
   for (std::uint32_t k : ref.kind)
     if (k != 0 && k <= kPatchKindCount) ++pixels[k];
-  auto row = [&](std::size_t p) { return std::min<std::size_t>(ref.kind[p], kPatchKindCount); };
-  for (const KindSample& s : depth) signedError[row(s.pixel)].push_back(s.value);
-  for (const KindSample& s : normal) angle[row(s.pixel)].push_back(s.value);
+  auto kindOf = [&](const std::vector<KindSample>& samples) {
+    std::vector<KindValue> out;
+    out.reserve(samples.size());
+    for (const KindSample& s : samples) out.push_back({ref.kind[s.pixel], s.value});
+    return out;
+  };
+  return kindErrors(pixels, kindOf(depth), kindOf(normal));
+}
+
+// "none compared" for a statistic without samples, else the figures.
+std::string figures(std::size_t samples, const char* format, double a, double b, double c) {
+  if (samples == 0) return "none compared (0 px)";
+  char text[160];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+}  // namespace
+
+std::vector<KindErrors> kindErrors(std::span<const std::size_t> pixelsPerKind, const std::vector<KindValue>& depth,
+                                   const std::vector<KindValue>& normal) {
+  std::vector<KindErrors> rows;
+  std::vector<std::vector<double>> signedError(kPatchKindCount + 1), angle(kPatchKindCount + 1);
+  auto row = [](std::uint32_t kind) { return std::min<std::size_t>(kind, kPatchKindCount); };
+  for (const KindValue& s : depth) signedError[row(s.kind)].push_back(s.value);
+  for (const KindValue& s : normal) angle[row(s.kind)].push_back(s.value);
   for (std::size_t k = 1; k <= kPatchKindCount; ++k) {
-    if (pixels[k] == 0) continue;
+    if (k >= pixelsPerKind.size() || pixelsPerKind[k] == 0) continue;
     KindErrors e;
     e.kind = static_cast<std::uint32_t>(k);
-    e.pixels = pixels[k];
+    e.pixels = pixelsPerKind[k];
     e.samples = signedError[k].size();
     e.depthMedian = percentile(signedError[k], 0.5);
     e.depthP1 = percentile(signedError[k], 0.01);
@@ -137,16 +158,6 @@ std::vector<KindErrors> kindTable(const FrameBuffers& ref, const std::vector<Kin
   }
   return rows;
 }
-
-// "none compared" for a statistic without samples, else the figures.
-std::string figures(std::size_t samples, const char* format, double a, double b, double c) {
-  if (samples == 0) return "none compared (0 px)";
-  char text[160];
-  std::snprintf(text, sizeof text, format, a, b, c);
-  return text;
-}
-
-}  // namespace
 
 double seamTolerance(double footprint, double t, PatchKind kind) {
   const double tangent = kind == PatchKind::Convex || kind == PatchKind::Toroidal ? std::sqrt(kSeamTangency * std::abs(t)) : 0.0;
@@ -229,7 +240,7 @@ NanCounts countNan(const FrameBuffers& f, const TestChannels& carried, std::vect
 }
 
 FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref, const Camera* camera,
-                              const TestChannels& carried) {
+                              const TestChannels& carried, FrameSamples* samples) {
   checkSameSize(test, ref);
   FrameComparison c;
   c.pixels = ref.pixels();
@@ -326,10 +337,66 @@ FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& ref,
   c.occlusionDepthP99 = percentile(occludedDepth, 0.99);
   c.occlusionDepthMax = largest(occludedDepth);
   c.perKind = kindTable(ref, signedDepth, kindAngle);
+  if (samples) {
+    samples->depth.clear();
+    samples->depth.reserve(signedDepth.size());
+    for (const KindSample& d : signedDepth) samples->depth.push_back({d.pixel, d.value});
+    samples->normal.clear();
+    for (const KindSample& a : kindAngle) samples->normal.push_back({a.pixel, a.value});
+    samples->coverage.clear();
+    for (std::size_t p = 0; p < ref.pixels(); ++p)
+      if (!masks.mask[p].band && !nanTest[p] && !nanRef[p] && testHits(test, p, carried) != (ref.kind[p] != 0))
+        samples->coverage.push_back(p);
+  }
   // The scene size is the reference's depth range, at least its nearest depth's tenth, so that
   // a flat close-up does not make every error look huge.
   c.sceneSize = tMax >= tMin ? std::max(tMax - tMin, 0.1 * tMin) : 0.0;
   return c;
+}
+
+std::string kindTableText(const std::vector<KindErrors>& perKind, bool normalsCompared, const std::string& referenceName,
+                          const std::string& difference) {
+  char text[512];
+  std::string out = "per patch kind of the " + referenceName + " (depth error signed, " + difference + ", Å: < 0 in front)\n"
+                    "  kind              pixels  compared    median        p1       p99  in front    behind  normal median / p99";
+  for (const KindErrors& k : perKind) {
+    char normal[64] = "    not compared";
+    if (normalsCompared && k.normalSamples > 0)
+      std::snprintf(normal, sizeof normal, "  %10.3g° / %.3g°", k.normalMedianDegrees, k.normalP99Degrees);
+    else if (normalsCompared)
+      std::snprintf(normal, sizeof normal, "  none compared");
+    if (k.samples == 0)
+      std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu  none compared", k.kind,
+                    patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples);
+    else
+      std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu %9.3g %9.3g %9.3g %9zu %9zu%s", k.kind,
+                    patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples, k.depthMedian, k.depthP1,
+                    k.depthP99, k.inFront, k.behind, normal);
+    out += text;
+  }
+  return out;
+}
+
+std::string kindTableJson(const std::vector<KindErrors>& perKind, bool normalsCompared, const std::string& difference) {
+  nlohmann::json kinds = nlohmann::json::array();
+  for (const KindErrors& k : perKind) {
+    nlohmann::json row = {{"kind", patchKindName(static_cast<PatchKind>(k.kind))},
+                          {"code", k.kind},
+                          {"pixels", k.pixels},
+                          {"samples", k.samples},
+                          {"median", k.depthMedian},
+                          {"p1", k.depthP1},
+                          {"p99", k.depthP99},
+                          {"unit", "Å, " + difference},
+                          {"in_front", k.inFront},
+                          {"behind", k.behind},
+                          {"histogram", {{"range", k.histogramRange}, {"counts", k.histogram}}}};
+    row["normal_degrees"] = normalsCompared ? nlohmann::json{{"compared", true}, {"samples", k.normalSamples},
+                                                             {"median", k.normalMedianDegrees}, {"p99", k.normalP99Degrees}}
+                                            : nlohmann::json{{"compared", false}};
+    kinds.push_back(row);
+  }
+  return kinds.dump(1);
 }
 
 std::string FrameComparison::summary() const {
@@ -393,25 +460,7 @@ std::string FrameComparison::summary() const {
   };
   if (nanTest.pixels + nanReference.pixels > 0)
     out += "\nNaN              test: " + nanText(nanTest) + "; reference: " + nanText(nanReference) + " (mismatches)";
-  if (!perKind.empty()) {
-    out += "\nper patch kind of the reference (depth error signed, test − reference, Å: < 0 in front)\n"
-           "  kind              pixels  compared    median        p1       p99  in front    behind  normal median / p99";
-    for (const KindErrors& k : perKind) {
-      char normal[64] = "    not compared";
-      if (compared.normal && k.normalSamples > 0)
-        std::snprintf(normal, sizeof normal, "  %10.3g° / %.3g°", k.normalMedianDegrees, k.normalP99Degrees);
-      else if (compared.normal)
-        std::snprintf(normal, sizeof normal, "  none compared");
-      if (k.samples == 0)
-        std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu  none compared", k.kind,
-                      patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples);
-      else
-        std::snprintf(text, sizeof text, "\n  %u %-14s %7zu %9zu %9.3g %9.3g %9.3g %9zu %9zu%s", k.kind,
-                      patchKindName(static_cast<PatchKind>(k.kind)), k.pixels, k.samples, k.depthMedian, k.depthP1,
-                      k.depthP99, k.inFront, k.behind, normal);
-      out += text;
-    }
-  }
+  if (!perKind.empty()) out += "\n" + kindTableText(perKind, compared.normal, "reference", "test − reference");
   return out;
 }
 
@@ -449,25 +498,7 @@ std::string FrameComparison::json() const {
   };
   j["nan"] = {{"test", nanJson(nanTest)}, {"reference", nanJson(nanReference)}};
   // Keyed by the kind's name (the HTML page's plots are named so), with its code beside it.
-  nlohmann::json kinds = nlohmann::json::array();
-  for (const KindErrors& k : perKind) {
-    nlohmann::json row = {{"kind", patchKindName(static_cast<PatchKind>(k.kind))},
-                          {"code", k.kind},
-                          {"pixels", k.pixels},
-                          {"samples", k.samples},
-                          {"median", k.depthMedian},
-                          {"p1", k.depthP1},
-                          {"p99", k.depthP99},
-                          {"unit", "Å, test − reference"},
-                          {"in_front", k.inFront},
-                          {"behind", k.behind},
-                          {"histogram", {{"range", k.histogramRange}, {"counts", k.histogram}}}};
-    row["normal_degrees"] = compared.normal ? nlohmann::json{{"compared", true}, {"samples", k.normalSamples},
-                                                             {"median", k.normalMedianDegrees}, {"p99", k.normalP99Degrees}}
-                                            : nlohmann::json{{"compared", false}};
-    kinds.push_back(row);
-  }
-  j["per_kind"] = kinds;
+  j["per_kind"] = nlohmann::json::parse(kindTableJson(perKind, compared.normal, "test − reference"));
   return j.dump(1);
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -128,11 +129,43 @@ struct FrameComparison {
   std::string json() const;
 };
 
+// What compareFrames measured, pixel by pixel, for a caller that pools several views
+// (`compare --views`): the pixels whose depth it judged (both hit, off the band and occlusion
+// edges, no NaN), with the signed error t_test − t_ref (Å), and the pixels whose coverage
+// differs outside the silhouette band.
+struct FrameSamples {
+  struct Depth {
+    std::size_t pixel;
+    double signedError;
+  };
+  std::vector<Depth> depth;
+  std::vector<Depth> normal;  // the angle (°) between the normals, off seams, when normals are carried
+  std::vector<std::size_t> coverage;
+};
+
+// A value of one of the reference's patch kinds: a signed depth error (Å) or a normal angle (°).
+struct KindValue {
+  std::uint32_t kind;
+  double value;
+};
+// The per-kind table (FrameComparison::perKind) of pooled samples: a row for every kind k with
+// pixelsPerKind[k] > 0 (the reference's hits of that kind), in kind order.
+std::vector<KindErrors> kindErrors(std::span<const std::size_t> pixelsPerKind, const std::vector<KindValue>& depth,
+                                   const std::vector<KindValue>& normal);
+
+// The per-kind table as `compare` prints it (FrameComparison::summary's last lines, no final
+// newline), headed "per patch kind of the <referenceName> (depth error signed, <difference>, ...)",
+// and as the report's "per_kind" JSON array (a string of it).
+std::string kindTableText(const std::vector<KindErrors>& perKind, bool normalsCompared, const std::string& referenceName,
+                          const std::string& difference);
+std::string kindTableJson(const std::vector<KindErrors>& perKind, bool normalsCompared, const std::string& difference);
+
 // `camera` gives the pixel footprint at ray distance t (Camera::pixelFootprint) and the rays
 // that find occlusion edges; pass nothing to skip the footprint-relative figure and those edges. `carried` says which of the test's buffers hold
 // anything. Throws std::invalid_argument if the sizes differ.
 FrameComparison compareFrames(const FrameBuffers& test, const FrameBuffers& reference,
-                              const Camera* camera = nullptr, const TestChannels& carried = {});
+                              const Camera* camera = nullptr, const TestChannels& carried = {},
+                              FrameSamples* samples = nullptr);
 
 // Pass/fail limits; an unset limit is not checked.
 struct CompareThresholds {

@@ -167,13 +167,24 @@ void checkImageOutputName(const std::string& path, const std::string& option, Im
 
 EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const ImageMetadata& metadata,
                        int compressionLevel) {
-  oiio::ImageSpec spec(f.width, f.height, 3, oiio::TypeDesc::UINT8);
+  // RGB over an opaque background; RGBA over a transparent one, with the colour made straight
+  // (unassociated, as PNG stores it) here rather than by OpenImageIO from 8-bit values.
+  const int channels = f.transparentBackground ? 4 : 3;
+  oiio::ImageSpec spec(f.width, f.height, channels, oiio::TypeDesc::UINT8);
   spec.attribute("png:compressionLevel", compressionLevel);
+  if (f.transparentBackground) {
+    spec.alpha_channel = 3;
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+  }
   addMetadata(spec, metadata);
-  std::vector<unsigned char> pixels(3 * f.pixels());
-  for (std::size_t p = 0; p < f.pixels(); ++p)
-    for (int c = 0; c < 3; ++c)
-      pixels[3 * p + c] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(f.rgba[4 * p + c], 0.0f, 1.0f)));
+  const auto byte = [](float v) { return static_cast<unsigned char>(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f))); };
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(channels) * f.pixels());
+  for (std::size_t p = 0; p < f.pixels(); ++p) {
+    const float alpha = f.rgba[4 * p + 3];
+    const float straight = f.transparentBackground && alpha > 0.0f ? 1.0f / alpha : 1.0f;
+    for (int c = 0; c < 3; ++c) pixels[static_cast<std::size_t>(channels) * p + static_cast<std::size_t>(c)] = byte(f.rgba[4 * p + c] * straight);
+    if (f.transparentBackground) pixels[static_cast<std::size_t>(channels) * p + 3] = byte(alpha);
+  }
   return encode(path, spec, oiio::TypeDesc::UINT8, pixels.data(), "png");
 }
 

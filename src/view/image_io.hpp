@@ -22,7 +22,9 @@ using EncodedImage = std::vector<unsigned char>;
 inline constexpr int kDefaultPngLevel = 6;
 
 // 8-bit RGB PNG of the colour buffer (already composited over the background), encoded in
-// memory; `path` only chooses the format and names the file in errors.
+// memory; RGBA, straight alpha, when the frame's background is transparent
+// (FrameBuffers::transparentBackground). `path` only chooses the format and names the file in
+// errors.
 EncodedImage encodePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata,
                        int compressionLevel = kDefaultPngLevel);
 // encodePng, written whole to `path`.

@@ -3,10 +3,12 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include <glm/vec3.hpp>
 
 #include "view/camera.hpp"
+#include "view/color_legend.hpp"
 #include "view/image_effects.hpp"
 #include "view/shading.hpp"
 
@@ -19,6 +21,9 @@ struct RenderOptions {
   ColorMode color = ColorMode::Patch;
   Lighting lighting;
   glm::vec3 background{1.0f, 1.0f, 1.0f};
+  // Below 1, the background is transparent to this degree in the frame's alpha (PNG RGBA, EXR
+  // A): applyBackgroundAlpha, run by Engine::render for every engine alike.
+  float backgroundAlpha = 1.0f;
   int samplesPerPixel = 1;  // a k×k stratified grid per pixel (k = ceil(sqrt(spp)))
   bool shadows = false;     // a ray towards a key light above-left of the eye
   int aoSamples = 0;        // ambient-occlusion rays per hit (0 = off)
@@ -37,6 +42,9 @@ struct RenderOptions {
   // Image-space effects, applied after the engine by Engine::render (view/engine.hpp), not by
   // the engines: every engine's frame gets the same pass.
   ImageEffects effects;
+  // The colour map's legend, drawn opaque into the bottom-right corner by Engine::render after
+  // the effects (every engine's frame alike); none when empty.
+  std::optional<ColorLegend> legend;
   // The side k of the k×k grid of colour samples a pixel gets: samplesPerPixel rounded up to a
   // square (2..4 -> 2, 5..9 -> 3), 1 for the pixel centre alone. The colour averages k² samples.
   int sampleGridSide() const;

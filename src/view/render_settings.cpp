@@ -87,7 +87,10 @@ std::vector<Setting> settings() {
           {"samples per pixel", plain("surftrace:samples_per_pixel", numbers)},
           {"opacity", opacity},
           {"effects", whenOn("surftrace:effects", "none")},
-          {"ball and stick", whenOn("surftrace:ball_and_stick", "none")}};
+          {"ball and stick", whenOn("surftrace:ball_and_stick", "none")},
+          {"colour map", whenOn("surftrace:color_map", "none")},
+          {"colour selections", whenOn("surftrace:color_select", "none")},
+          {"legend", whenOn("surftrace:color_legend", "none")}};
 }
 
 }  // namespace

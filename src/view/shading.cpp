@@ -15,7 +15,12 @@ ColorMode parseColorMode(const std::string& name) {
   if (name == "chain") return ColorMode::Chain;
   if (name == "bfactor") return ColorMode::BFactor;
   if (name == "uniform") return ColorMode::Uniform;
-  throw std::invalid_argument("unknown colour scheme '" + name + "': use patch, element, chain, bfactor or uniform");
+  if (name == "residue") return ColorMode::Residue;
+  if (name == "hydrophobicity") return ColorMode::Hydrophobicity;
+  if (name == "rainbow") return ColorMode::Rainbow;
+  if (name == "value") return ColorMode::Value;
+  throw std::invalid_argument("unknown colour scheme '" + name +
+                              "': use patch, element, chain, residue, hydrophobicity, rainbow, bfactor, value or uniform");
 }
 
 const char* colorModeName(ColorMode mode) {
@@ -25,6 +30,10 @@ const char* colorModeName(ColorMode mode) {
     case ColorMode::Chain: return "chain";
     case ColorMode::BFactor: return "bfactor";
     case ColorMode::Uniform: return "uniform";
+    case ColorMode::Residue: return "residue";
+    case ColorMode::Hydrophobicity: return "hydrophobicity";
+    case ColorMode::Rainbow: return "rainbow";
+    case ColorMode::Value: return "value";
   }
   return "?";
 }

@@ -7,7 +7,7 @@
 
 namespace surftrace::view {
 
-enum class ColorMode { Patch, Element, Chain, BFactor, Uniform };
+enum class ColorMode { Patch, Element, Chain, BFactor, Uniform, Residue, Hydrophobicity, Rainbow, Value };
 ColorMode parseColorMode(const std::string& name);  // throws std::invalid_argument
 const char* colorModeName(ColorMode mode);
 

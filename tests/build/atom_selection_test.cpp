@@ -131,23 +131,38 @@ INSTANTIATE_TEST_SUITE_P(
                     "name CA, resid 3",
                     "resid 3, resid 4 and name CA"}},
         OracleCase{"trajectories/2r9r/2r9r-1b.psf",
-                   {"resname HSE", "protein and not backbone and name C*", "segid A and resid 380-390",
+                   {"resname HSE", "protein and not backbone and name C*", "segid A and resid 380-390", "segid B C",
+                    "chain D and segid D and name CA", "segid ? and name CA",
                     "resid 381:383 and not name H*", "index 1000-1283", "atom 1284"}},
         OracleCase{"trajectories/watdyn/watdyn.psf",
-                   {"water", "water and name H*", "index 3-5", "atom 15", "name OH2 or resid 2"}},
+                   {"water", "water and name H*", "index 3-5", "atom 15", "name OH2 or resid 2", "segid WAT and index 0-5"}},
         OracleCase{"formats/gro/ubiquitin.gro",
                    {"water", "not water", "water and name O*", "protein or water", "water or resid 1 and not backbone",
-                    "resid 1-5 and backbone", "index 1404", "name CA and resid 70-76"}},
+                    "resid 1-5 and backbone", "index 1404", "name CA and resid 70-76", "segid SYSTEM and resid 1-3",
+                    "segid SYS*"}},
         OracleCase{"structures/1ubq.pdb.gz",
                    {"chain A and resid 1-10", "element S", "element C N and not name CA", "element [NO] and resid 1",
-                    "protein and element O", "resname HOH and index 600-610", "water", "backbone"}},
+                    "protein and element O", "resname HOH and index 600-610", "water", "backbone",
+                    "segid A and resid 1-10", "chain A and segid A and name CA"}},
         OracleCase{"small/elements.pdb",
                    {"element Fe Cu", "element C* and not element Ca", "element ?", "element H", "resname Mg Ca",
-                    "not element C H N O S"}},
-        OracleCase{"small/tiny.pdb", {"chain C E", "chain E and not water", "resname UNK or resname HOH"}},
+                    "not element C H N O S", "segid A and element C"}},
+        // Columns 67-76 hold E for the ligand only: the other atoms have no segid (MDAnalysis: "").
+        OracleCase{"small/tiny.pdb",
+                   {"chain C E", "chain E and not water", "resname UNK or resname HOH", "segid E", "segid E and chain E",
+                    "not segid E and chain C", "chain C and not segid E"}},
+        // No segids: the chains are the segments; some atoms have neither.
+        OracleCase{"small/helix_amber.pdb", {"segid B", "chain B and name CA", "not segid B and name CA"}},
+        OracleCase{"small/names.pdb", {"segid R", "chain Y", "segid Y and not name C*"}},
+        OracleCase{"small/1grm_single.pdb", {"segid 1", "chain B and not segid 1", "chain A and name CA"}},
+        // Neither: the one segment SYSTEM.
+        OracleCase{"trajectories/sampletrajectory/sampletrajectory.pdb", {"segid SYSTEM and resid 242-244"}},
+        // A PQR's chain is its segment, SYSTEM without one.
+        OracleCase{"small/pqr/1000-chain-whitespace.pqr", {"segid A", "segid A and not name H*"}},
+        OracleCase{"small/pqr/1000-whitespace.pqr", {"segid SYSTEM and name C*"}},
         OracleCase{"trajectories/cobrotoxin/cobrotoxin.pdb.gz",
                    {"water", "not water and not protein", "protein and name CA", "index 19000-19384", "atom 19385",
-                    "resname NA CL"}}));
+                    "resname NA CL", "segid SYSTEM and resname NA"}}));
 
 // Insertion codes, on a PDB written here: a plain number is the residue without a code, as in
 // MDAnalysis, and a range runs from its first end's code to its last end's.
@@ -178,6 +193,53 @@ TEST(SelectionAgreesWithMDAnalysisOnInsertionCodes, SameAtoms) {
   for (std::size_t k = 0; k < selections.size(); ++k) {
     ASSERT_FALSE(mda[k].empty()) << selections[k];
     EXPECT_EQ(selectAtoms(m, selections[k]), mda[k]) << selections[k];
+  }
+}
+
+// Chains and segment ids apart, as MDAnalysis has them: a PDB whose chain column is blank and
+// whose segID column (73-76) names the segment (as adk_open.pdb, written by CHARMM), another
+// segment whose chain differs from it, and a GRO (no chains; MDAnalysis's one segment SYSTEM).
+TEST(SelectionAgreesWithMDAnalysisOnSegids, ChainsAndSegmentsApart) {
+  const fs::path dir = tempDir();
+  const fs::path pdb = dir / "segments.pdb";
+  {
+    std::ofstream out(pdb);
+    struct Row {
+      char chain;
+      const char* segid;
+      int resid;
+    };
+    const Row rows[] = {{' ', "4AKE", 1}, {' ', "4AKE", 2}, {'B', "PROB", 3}, {'B', "PROB", 4}, {'C', "4AKE", 5}};
+    int serial = 1;
+    for (const Row& r : rows)
+      for (const char* name : {" N  ", " CA ", " C  "}) {
+        char line[100];
+        std::snprintf(line, sizeof line, "ATOM  %5d %-4s ALA %c%4d    %8.3f%8.3f%8.3f%6.2f%6.2f      %-4s\n", serial,
+                      name, r.chain, r.resid, serial * 1.5, 0.0, 0.0, 1.0, 0.0, r.segid);
+        out << line;
+        ++serial;
+      }
+    out << "END\n";
+  }
+  const Molecule m = readTopology(pdb);
+  ASSERT_EQ(m.size(), 15u);
+  EXPECT_EQ(m.atoms[0].chain, "");
+  EXPECT_EQ(m.atoms[0].segid, "4AKE");
+  EXPECT_EQ(m.atoms[14].chain, "C");
+  EXPECT_EQ(m.atoms[14].segid, "4AKE");
+  const std::vector<std::string> selections = {"segid 4AKE", "segid PROB", "chain B", "chain C", "segid 4AKE and chain C",
+                                               "segid 4AKE and not chain C", "segid PROB or chain C", "segid 4*"};
+  const auto mda = mdaSelect(pdb, selections, m.size(), dir);
+  ASSERT_EQ(mda.size(), selections.size());
+  for (std::size_t k = 0; k < selections.size(); ++k) {
+    ASSERT_FALSE(mda[k].empty()) << selections[k];
+    EXPECT_EQ(selectAtoms(m, selections[k]), mda[k]) << selections[k];
+  }
+  // MDAnalysis reads no chain identifiers from a GRO; its one segment is SYSTEM.
+  const Molecule gro = readTopology(data("formats/gro/ubiquitin.gro"));
+  for (const AtomRecord& a : gro.atoms) {
+    ASSERT_EQ(a.chain, "");
+    ASSERT_EQ(a.segid, "SYSTEM");
   }
 }
 
@@ -273,6 +335,7 @@ TEST_F(SelectionErrors, EmptySelections) {
   EXPECT_THAT(errorOf(adk(), "water"), HasSubstr("'water' selects no atom (the molecule has residue names"));
   EXPECT_THAT(errorOf(adk(), "element Fe"), HasSubstr("(the molecule has elements 'C', 'H', 'N', 'O', 'S')"));
   EXPECT_THAT(errorOf(adk(), "chain B"), HasSubstr("(the molecule has chains '4AKE')"));
+  EXPECT_THAT(errorOf(adk(), "segid B"), HasSubstr("(the molecule has segids '4AKE')"));
 
   // Water the reader left out is named, with the option that keeps it.
   const Molecule dry = readMolecule(data("structures/1ubq.pdb.gz"));

@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "build/io/error.hpp"
@@ -106,6 +107,31 @@ TEST(ElementGuess, TokensTakeTwoLettersWhereTheNameMeansThem) {
   EXPECT_EQ(elementFromAtomName("X1", "LIG", L::Token), "");
   // Standard residues: the first letter.
   EXPECT_EQ(elementFromAtomName("Cd1", "LEU", L::Token), "C");
+}
+
+// Monatomic ions: the residue names the same element as the atom (MDAnalysis's table: NA, SOD,
+// CL, CLA, POT, CAL, with charges and counts after them), or is the generic ION. Heme's pyrrole
+// nitrogen NA and C-alpha stay N and C.
+TEST(ElementGuess, IonsByResidueAndName) {
+  EXPECT_EQ(elementFromAtomName(" NA ", "NA", L::PdbColumns), "Na");  // cobrotoxin.pdb
+  EXPECT_EQ(elementFromAtomName(" CL ", "CL", L::PdbColumns), "Cl");
+  EXPECT_EQ(elementFromAtomName("NA", "NA+", L::Token), "Na");  // adk_oplsaa.gro
+  EXPECT_EQ(elementFromAtomName("CL", "CL-", L::Token), "Cl");
+  EXPECT_EQ(elementFromAtomName("NA", "SOD", L::Token), "Na");
+  EXPECT_EQ(elementFromAtomName("SOD ", "SOD", L::PdbColumns), "Na");  // CHARMM PDB: not sulfur
+  EXPECT_EQ(elementFromAtomName("CLA ", "CLA", L::PdbColumns), "Cl");
+  EXPECT_EQ(elementFromAtomName(" POT", "POT", L::PdbColumns), "K");
+  EXPECT_EQ(elementFromAtomName(" K  ", "K", L::PdbColumns), "K");
+  EXPECT_EQ(elementFromAtomName("K+", "K+", L::Token), "K");
+  EXPECT_EQ(elementFromAtomName("MG", "MG2+", L::Token), "Mg");
+  EXPECT_EQ(elementFromAtomName(" CA ", "CA", L::PdbColumns), "Ca");  // calcium (MDAnalysis: C)
+  EXPECT_EQ(elementFromAtomName("CA", "CA2+", L::Token), "Ca");
+  EXPECT_EQ(elementFromAtomName(" ZN ", "ZN", L::PdbColumns), "Zn");
+  EXPECT_EQ(elementFromAtomName("NA", "ION", L::Token), "Na");
+  EXPECT_EQ(elementFromAtomName("CL", "ION", L::Token), "Cl");
+  EXPECT_EQ(elementFromAtomName(" NA ", "HEM", L::PdbColumns), "N");
+  EXPECT_EQ(elementFromAtomName("NA", "HEM", L::Token), "N");
+  EXPECT_EQ(elementFromAtomName(" CA ", "ALA", L::PdbColumns), "C");
 }
 
 TEST(ElementGuess, PdbNamesOffTheColumnsReadAsTokens) {
@@ -303,6 +329,90 @@ TEST(ElementGuess, MartiniWaterIsNoWaterInAnAtomisticFile) {
   const Molecule m = readMolecule(writeText("w.gro", gro({{1, "LIG", "C1"}, {2, "W", "W"}})), options);
   ASSERT_EQ(m.size(), 2u);
   EXPECT_EQ(m.atoms[1].element, "W");
+}
+
+// The ions of two solvated systems (cobrotoxin: NA in NA and CL in CL, PDB columns; AdK in OPLS-AA:
+// NA in NA+, GRO) against MDAnalysis's guess_atom_element, which reads NA and CL as sodium and
+// chlorine wherever they are: here every guess agrees with it, the protein's and the water's too.
+TEST(ElementGuess, IonsAgreeWithMDAnalysis) {
+  struct Case {
+    const char* file;
+    std::size_t sodium, chloride;
+  };
+  for (const Case& c : {Case{"trajectories/cobrotoxin/cobrotoxin.pdb.gz", 8, 11},
+                        Case{"small/adk_oplsaa_ions.gro", 4, 0}}) {
+    SCOPED_TRACE(c.file);
+    const test::OracleRun run = test::runOracleScript("mda_elements.py", {data(c.file).string()}, scratch());
+    ASSERT_TRUE(run.ok()) << run.describe();
+    std::map<std::size_t, std::string> guess;
+    std::map<std::string, std::size_t> mdaCounts;
+    std::istringstream lines(run.out);
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream fields(line);
+      std::size_t index = 0;
+      std::string residue, name, element;
+      fields >> index >> residue >> name >> element;
+      guess[index] = element;
+      ++mdaCounts[element];
+    }
+    ReadOptions options;
+    options.keepWater = true;
+    const Molecule m = readMolecule(data(c.file), options);
+    ASSERT_EQ(guess.size(), m.fileAtomCount);
+    for (const AtomRecord& a : m.atoms) {
+      ASSERT_EQ(a.elementSource, ElementSource::Name) << a.name;
+      std::string got = a.element;
+      for (char& ch : got) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      EXPECT_EQ(got, guess.at(a.fileIndex)) << a.name << " of " << a.residue << " " << a.residueNumber;
+    }
+    const auto counts = elementCounts(m);
+    EXPECT_EQ(counts.count("Na") ? counts.at("Na") : 0, c.sodium);
+    EXPECT_EQ(counts.count("Cl") ? counts.at("Cl") : 0, c.chloride);
+    EXPECT_EQ(mdaCounts["NA"], c.sodium);
+    EXPECT_EQ(mdaCounts["CL"], c.chloride);
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      if (m.atoms[i].element == "Na") {
+        EXPECT_DOUBLE_EQ(m.radii[i], 2.27);  // Bondi's sodium, not nitrogen's 1.55
+      }
+    }
+  }
+}
+
+// A lipid-only MARTINI system (no protein beads, no water: a membrane patch of POPE, POPG and
+// cholesterol, as martinize and insane write it) is recognised as coarse-grained; an atomistic
+// CHARMM36 POPE and a heme, whose names look alike in part (C1A of heme), are not.
+TEST(ElementGuess, MartiniLipidsAndSterolsAreBeads) {
+  std::vector<std::tuple<int, std::string, std::string>> beads;
+  for (const char* name : {"NH3", "PO4", "GL1", "GL2", "C1A", "D2A", "C3A", "C4A", "C1B", "C2B", "C3B", "C4B"})
+    beads.emplace_back(1, "POPE", name);
+  for (const char* name : {"GL0", "PO4", "GL1", "GL2", "C1A", "D2A", "C3A", "C4A", "C1B", "C2B", "C3B", "C4B"})
+    beads.emplace_back(2, "POPG", name);
+  for (const char* name : {"ROH", "R1", "R2", "R3", "R4", "R5", "C1", "C2"}) beads.emplace_back(3, "CHOL", name);
+  const fs::path lipids = writeText("lipids.gro", gro(beads));
+  const std::string e = readError(lipids);
+  EXPECT_THAT(e, HasSubstr("lipids.gro:3: "));
+  EXPECT_THAT(e, HasSubstr("'NH3' of POPE 1"));
+  EXPECT_THAT(e, HasSubstr("MARTINI coarse-grained"));
+  EXPECT_THAT(e, HasSubstr("--bead-radius R"));
+  ReadOptions options;
+  options.beadRadius = 2.35;
+  const Molecule m = readMolecule(lipids, options);
+  EXPECT_TRUE(m.martini);
+  ASSERT_EQ(m.size(), beads.size());
+  for (const AtomRecord& a : m.atoms) EXPECT_EQ(a.element, "") << a.name;  // no P of PO4, no G
+  // The sterol alone is recognised too.
+  const std::vector<std::tuple<int, std::string, std::string>> sterol(beads.end() - 8, beads.end());
+  EXPECT_TRUE(readMolecule(writeText("chol.gro", gro(sterol)), options).martini);
+
+  // Atomistic: CHARMM36's POPE head and glycerol, and heme's pyrrole carbons, read as atoms.
+  const Molecule atoms = readMolecule(writeText(
+      "atomistic.gro", gro({{1, "POPE", "N"}, {1, "POPE", "C12"}, {1, "POPE", "C11"}, {1, "POPE", "P"},
+                            {1, "POPE", "O13"}, {1, "POPE", "O11"}, {1, "POPE", "C1"}, {1, "POPE", "C2"},
+                            {1, "POPE", "O21"}, {1, "POPE", "C21"}, {1, "POPE", "C3"}, {1, "POPE", "O31"},
+                            {2, "HEM", "FE"}, {2, "HEM", "NA"}, {2, "HEM", "C1A"}, {2, "HEM", "C2A"}})));
+  EXPECT_FALSE(atoms.martini);
+  EXPECT_EQ(elementCounts(atoms).at("P"), 1u);
+  EXPECT_EQ(elementCounts(atoms).at("Fe"), 1u);
 }
 
 // MDAnalysis 2.4.2's guess_atom_element on every name of the GRO and PSF files in tests/data.

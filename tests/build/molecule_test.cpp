@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -22,6 +23,7 @@
 #include "build/io/error.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/text_fields.hpp"
+#include "oracles/python_oracle.hpp"
 #include "temp_dir.hpp"
 
 namespace surftrace::build {
@@ -250,6 +252,72 @@ TEST(MoleculePdb, AltLocsKeepTheHighestOccupancyConformer1cbn) {
       EXPECT_EQ(a.altLoc, 'A');  // THR 1: A 0.8, B 0.2
     }
   }
+}
+
+// One conformer per atom, and no atom left out for having no alternative: 3AL1's LYS A105 HA
+// has only an `A` record (occupancy 1.00) where the residue's B conformer wins (0.56 > 0.44 on
+// the side chain). The atoms kept are exactly one per (chain, residue, insertion code, name) of
+// what MDAnalysis reads (every record; tests/oracles/mda_atoms.py), as gemmi's
+// remove_alternative_conformations keeps them (679 records, 491 atoms).
+TEST(MoleculePdb, AltLocsNeverDropAnAtomWithoutAlternative3al1) {
+  ReadOptions options;
+  options.keepWater = true;
+  const Molecule m = readMolecule(data("structures/3al1.pdb.gz"), options);
+  const fs::path scratch = test::freshTempDir("altlocs");
+  const test::OracleRun run = test::runOracleScript("mda_atoms.py", {data("structures/3al1.pdb.gz").string()}, scratch);
+  ASSERT_TRUE(run.ok()) << run.describe();
+  using Key = std::tuple<std::string, int, std::string, std::string>;
+  std::set<Key> mda;
+  std::size_t records = 0;
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line); ++records) {
+    std::istringstream f(line);
+    std::string index, serial, name, resname, chain, segid, resid, icode, altloc;
+    f >> index >> serial >> name >> resname >> chain >> segid >> resid >> icode >> altloc;
+    mda.insert({chain == "-" ? "" : chain, std::stoi(resid), icode == "-" ? "" : icode, name});
+  }
+  EXPECT_EQ(records, 679u);
+  std::set<Key> ours;
+  for (const AtomRecord& a : m.atoms)
+    EXPECT_TRUE(ours.insert({a.chain, a.residueNumber, a.insertionCode == ' ' ? "" : std::string(1, a.insertionCode),
+                             a.name})
+                    .second)
+        << "two conformers of " << a.name << " " << a.chain << a.residueNumber;
+  EXPECT_EQ(ours, mda);
+  EXPECT_EQ(m.size(), 491u);
+  EXPECT_EQ(m.skipped.altLocs, 679u - 491u);
+  const auto ha = std::find_if(m.atoms.begin(), m.atoms.end(), [](const AtomRecord& a) {
+    return a.chain == "A" && a.residueNumber == 105 && a.name == "HA";
+  });
+  ASSERT_NE(ha, m.atoms.end()) << "LYS A105 HA was dropped";
+  EXPECT_EQ(ha->altLoc, 'A');
+  for (const AtomRecord& a : m.atoms) {
+    if (a.chain == "A" && a.residueNumber == 105 && a.name == "CB") {
+      EXPECT_EQ(a.altLoc, 'B');  // B wins the residue
+    }
+  }
+}
+
+// Chains and segment ids apart in mmCIF: the chain is auth_asym_id, the segment label_asym_id
+// (the entity instance: a ligand of chain A has its own, as PyMOL's segi shows); without
+// label_asym_id the chain is the segment.
+TEST(MoleculeMmcif, SegmentIsTheLabelAsymId) {
+  const fs::path dir = test::freshTempDir("segids");
+  const std::string head =
+      "data_test\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n_atom_site.label_atom_id\n"
+      "_atom_site.label_comp_id\n_atom_site.label_seq_id\n_atom_site.Cartn_x\n_atom_site.Cartn_y\n"
+      "_atom_site.Cartn_z\n_atom_site.auth_asym_id\n";
+  writeText(dir / "two.cif", head + "_atom_site.label_asym_id\n"
+                                    "ATOM 1 C CA ALA 1 0.0 0.0 0.0 A A\n"
+                                    "ATOM 2 C CB ALA 1 1.5 0.0 0.0 A A\n"
+                                    "HETATM 3 Zn ZN ZN . 5.0 0.0 0.0 A C\n");
+  const Molecule m = readMolecule(dir / "two.cif");
+  ASSERT_EQ(m.size(), 3u);
+  for (const AtomRecord& a : m.atoms) EXPECT_EQ(a.chain, "A");
+  EXPECT_EQ(m.atoms[0].segid, "A");
+  EXPECT_EQ(m.atoms[2].segid, "C");
+  writeText(dir / "auth.cif", head + "ATOM 1 C CA ALA 1 0.0 0.0 0.0 B\n");
+  EXPECT_EQ(readMolecule(dir / "auth.cif").atoms[0].segid, "B");
 }
 
 TEST(MoleculePdb, HydrogensCanBeLeftOut) {

@@ -10,8 +10,9 @@ when none).
 
 SurfTrace's selections are MDAnalysis's with these words translated first (word by word):
     atom  -> bynum    (MDAnalysis's own `atom` means "atom SEGID RESID NAME")
-    chain, chainID, segid -> chainID where the topology has chain identifiers (PDB), else segid
-             (surftrace keeps one chain field: a PSF's segment id, a PDB's chain)
+    chain, chainID -> chainID where the topology has chain identifiers (PDB), else segid
+             (a PSF has segments but no chains: surftrace's chain is its segid there)
+    segid stays segid: surftrace reads segment ids as MDAnalysis does
     water -> resname H2O HOH ...  where this MDAnalysis has no `water` keyword (added in 2.9.0;
              the names are its WaterSelection.water_res)
     A, B  -> (A) or (B)   (commas: surftrace's union of whole expressions)
@@ -33,7 +34,7 @@ def translate(selection: str, has_chain_ids: bool, has_water: bool) -> str:
         for word in part.replace("(", " ( ").replace(")", " ) ").split():
             if word == "atom":
                 word = "bynum"
-            elif word in ("chain", "chainID", "chainid", "segid"):
+            elif word in ("chain", "chainID", "chainid"):
                 word = "chainID" if has_chain_ids else "segid"
             elif word == "water" and not has_water:
                 word = "(resname " + " ".join(WATER_RES) + ")"

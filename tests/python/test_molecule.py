@@ -24,6 +24,7 @@ def xyzr_of(run_tool, path, tmp_path, *options):
     ("structures/1ubq.pdb.gz", ["--no-hydrogens", "--chains", "A"], {"hydrogens": False, "chains": "A"}),
     ("structures/1v5a-3models.cif.gz", ["--model", "2"], {"model": 2}),
     ("formats/gro/ubiquitin.gro", [], {}),
+    ("structures/1a0q.pdb.gz", ["--radii", "protor", "--keep-water"], {"radii": "protor", "water": True}),
 ])
 def test_read_gives_the_atoms_of_the_command_line(data, run_tool, tmp_path, name, options, kwargs):
     mol = surftrace.read(data / name, **kwargs)

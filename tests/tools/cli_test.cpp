@@ -245,8 +245,8 @@ TEST(Cli, NearCoincidentAtomsMergeWithANoteOrAreRefused) {
   EXPECT_NE(merged.output.find("surftrace: note: " + copies + ": 2 atoms lie within 1e-05 Å of a kept atom's ball"),
             std::string::npos)
       << merged.output;
-  EXPECT_NE(merged.output.find("\n2,3,,,0,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
-  EXPECT_NE(merged.output.find("\n3,4,,,0,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
+  EXPECT_NE(merged.output.find("\n2,3,,,0,,,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
+  EXPECT_NE(merged.output.find("\n3,4,,,0,,,,,1.7000,0.000000,0.000000\n"), std::string::npos) << merged.output;
 
   const Result refused = run("area " + crowd);
   EXPECT_EQ(refused.status, 1) << refused.output;
@@ -488,7 +488,7 @@ TEST(Cli, RenderRejectsImpossibleOptionsClearly) {
       {"--eye 1,2", "--eye '1,2'"},
       {"--fov 180", "field of view"},
       {"--background 2,0,0", "--background"},
-      {"--color rainbow", "rainbow"},
+      {"--color jet", "jet"},
       {"--patches " + data("structures/1crn.pdb"), "not a SurfTrace patch list"},
   };
   for (const auto& c : cases) {

@@ -47,7 +47,7 @@ TEST(InputCli, InfoShowsGuessedElementsWithTheMetal) {
 
   const Result csv = run("area --format csv " + gro);
   ASSERT_EQ(csv.status, 0) << csv.output;
-  EXPECT_TRUE(contains(csv.output, ",R2M,3,Ru1,Ru,2.4600,")) << csv.output;
+  EXPECT_TRUE(contains(csv.output, ",R2M,3,,,Ru1,Ru,2.4600,")) << csv.output;
 }
 
 TEST(InputCli, RadiiElementLineAppliesToGuessedElements) {

@@ -44,7 +44,7 @@ CompareTest foreignTest(ImageChannels depth, DepthConvention convention, RowOrig
   ForeignBufferOptions options;
   options.depthConvention = convention;
   options.origin = origin;
-  return CompareTest{"depth", {}, {}, ForeignBuffers{std::move(depth), std::nullopt, options}};
+  return CompareTest{"depth", {}, {}, ForeignBuffers{std::move(depth), std::nullopt, options}, std::nullopt};
 }
 
 TEST(Comparison, ReferencesOwnViewDepthFromMemoryPasses) {
@@ -109,7 +109,7 @@ TEST(Comparison, WrongDepthConventionGetsTheHint) {
 }
 
 TEST(Comparison, SurfTraceBuffersInMemoryAgainstThemselvesPassExact) {
-  const CompareTest same{"same", reference().frame, reference().metadata, std::nullopt};
+  const CompareTest same{"same", reference().frame, reference().metadata, std::nullopt, std::nullopt};
   const CompareResult r = compare(same, reference());
   EXPECT_TRUE(r.passed()) << r.verdict();
   EXPECT_EQ(r.preset, "exact");  // both record the engine embree

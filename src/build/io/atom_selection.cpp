@@ -45,7 +45,7 @@ constexpr std::string_view kBackboneNames[] = {"N", "CA", "C", "O"};
 constexpr std::string_view kWaterResidues[] = {"H2O", "HOH", "OH2", "HHO", "OHH",  "T3P",  "T4P",
                                                "T5P", "SOL", "WAT", "TIP", "TIP2", "TIP3", "TIP4"};
 
-enum class Key { All, Protein, Backbone, Water, Name, Resname, Chain, Element, Resid, Index, Atom };
+enum class Key { All, Protein, Backbone, Water, Name, Resname, Chain, Segid, Element, Resid, Index, Atom };
 
 struct Keyword {
   std::string_view word;
@@ -53,11 +53,11 @@ struct Keyword {
 };
 constexpr Keyword kKeywords[] = {{"name", Key::Name},         {"resname", Key::Resname}, {"resid", Key::Resid},
                                  {"chain", Key::Chain},       {"chainID", Key::Chain},   {"chainid", Key::Chain},
-                                 {"segid", Key::Chain},       {"element", Key::Element}, {"index", Key::Index},
+                                 {"segid", Key::Segid},       {"element", Key::Element}, {"index", Key::Index},
                                  {"atom", Key::Atom},         {"bynum", Key::Atom},      {"protein", Key::Protein},
                                  {"backbone", Key::Backbone}, {"water", Key::Water},     {"all", Key::All}};
 constexpr std::string_view kKeywordList =
-    "name, resname, resid, chain (chainID, segid), element, index, atom (bynum), protein, backbone, water, all";
+    "name, resname, resid, chain (chainID), segid, element, index, atom (bynum), protein, backbone, water, all";
 
 // MDAnalysis 2.4.2's other keywords. As there, they end a keyword's values; here they are an
 // error that says so, rather than names nobody has.
@@ -266,9 +266,14 @@ std::string present(const Molecule& m, Key key) {
   }
   std::set<std::string> names;
   for (const AtomRecord& a : m.atoms)
-    names.insert(key == Key::Name ? a.name : key == Key::Chain ? a.chain : key == Key::Element ? a.element : a.residue);
+    names.insert(key == Key::Name      ? a.name
+                 : key == Key::Chain   ? a.chain
+                 : key == Key::Segid   ? a.segid
+                 : key == Key::Element ? a.element
+                                       : a.residue);
   std::string what = (key == Key::Name      ? "atom names "
                       : key == Key::Chain   ? "chains "
+                      : key == Key::Segid   ? "segids "
                       : key == Key::Element ? "elements "
                                             : "residue names ") +
                      quotedList(names);
@@ -428,12 +433,13 @@ class Parser {
       fail(at, at, "needs values, e.g. " + inQuotes(keyword + example));
     }
 
-    if (key == Key::Name || key == Key::Resname || key == Key::Chain || key == Key::Element) {
+    if (key == Key::Name || key == Key::Resname || key == Key::Chain || key == Key::Segid || key == Key::Element) {
       std::vector<std::string_view> patterns;
       for (std::size_t k = first; k < pos_; ++k) patterns.push_back(words_[k].text);
       std::string AtomRecord::*field = key == Key::Name      ? &AtomRecord::name
                                        : key == Key::Resname ? &AtomRecord::residue
                                        : key == Key::Chain   ? &AtomRecord::chain
+                                       : key == Key::Segid   ? &AtomRecord::segid
                                                              : &AtomRecord::element;
       each([](const AtomRecord&) { return true; });
       byName(field, [&](std::string_view v) {

@@ -1,4 +1,4 @@
-// Atom selections for the command line (`trajectory --flexible`): which atoms of a molecule a
+// Atom selections for the command line (`--select`, `trajectory --flexible`): which atoms of a molecule a
 // user means, in the subset of MDAnalysis's selection language (MDAnalysis.core.selection)
 // that users type.
 #pragma once
@@ -14,8 +14,9 @@ namespace surftrace::build {
 // Terms, read as MDAnalysis's select_atoms reads them:
 //   name CA CB          atom names          } several values select their union; values are
 //   resname HIS GLU     residue names       } fnmatch patterns (* ? [abc], case-sensitive)
-//   chain A B           chain identifiers (also `chainID`, `segid`: a PSF's segment id is
-//                       the chain field here)
+//   chain A B           chain identifiers (also `chainID`; a PSF, which has segments but no
+//                       chains, answers with its segment ids)
+//   segid 4AKE          segment identifiers (AtomRecord::segid, as MDAnalysis reads them)
 //   element C N         element symbols, as the records hold them ("C", "Fe")
 //   resid 10-20 45      residue numbers; ranges 10-20, 10:20, "10 to 20" include both ends;
 //                       52A names an insertion code (as in MDAnalysis, plain 52 then means

@@ -371,6 +371,8 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     atom.name = f.atom->name;
     atom.residue = f.residue->name;
     atom.chain = f.chain->name;
+    // MDAnalysis's segid: columns 67-76, wider than the segID field (73-76) that gemmi reads.
+    if (line.size() > 66) atom.segid = std::string(trim(line.substr(66, 10)));
     atom.residueNumber = f.residue->seqid.num.has_value() ? f.residue->seqid.num.value : 0;
     atom.insertionCode = f.residue->seqid.icode;
     atom.serial = record.serial;
@@ -386,6 +388,14 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     molecule.atoms.push_back(std::move(atom));
   }
   countMoreElementNotes(molecule, unknownElements);
+  // As MDAnalysis's PDBParser: a file without segment ids takes its chains as segments, and
+  // one without either is the one segment SYSTEM.
+  const auto noSegid = [](const AtomRecord& a) { return a.segid.empty(); };
+  if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid)) {
+    for (AtomRecord& a : molecule.atoms) a.segid = a.chain;
+    if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid))
+      for (AtomRecord& a : molecule.atoms) a.segid = "SYSTEM";
+  }
   return molecule;
 }
 
@@ -680,6 +690,8 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
     atom.name = str(atomColumn);
     atom.residue = str(compColumn);
     atom.chain = str(asymColumn);
+    // label_asym_id, the entity instance, is PyMOL's segi; without it the chain.
+    atom.segid = table.has_column(kLabelAsym) ? str(kLabelAsym) : atom.chain;
     if (row.has2(static_cast<std::size_t>(seqColumn))) {
       const std::string value = gemmi::cif::as_string(row[static_cast<std::size_t>(seqColumn)]);
       const auto [ptr, ec] =

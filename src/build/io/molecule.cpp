@@ -18,12 +18,14 @@
 #include <map>
 #include <new>
 #include <set>
+#include <stdexcept>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
 
 #include "build/core/assert.hpp"
+#include "build/io/atom_selection.hpp"
 #include "build/io/error.hpp"
 #include "build/io/file_formats.hpp"
 #include "build/io/line_cursor.hpp"
@@ -393,6 +395,7 @@ Molecule parsePqr(const std::string& text, const std::string& name, const ReadOp
     atom.name = std::string(trim(f.name));
     atom.residue = f.residue;
     atom.chain = f.chain;
+    atom.segid = f.chain.empty() ? "SYSTEM" : f.chain;  // as MDAnalysis's PQRParser
     atom.residueNumber = f.residueNumber;
     atom.insertionCode = f.insertionCode;
     atom.serial = f.serial;
@@ -466,6 +469,7 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
     }
     AtomRecord atom;
     atom.serial = serial;
+    atom.segid = "SYSTEM";
     atom.line = lineNumber;
     if (xyzrn) atom.name = std::string(f[5]);
     molecule.centers.emplace_back(v[0], v[1], v[2]);
@@ -539,6 +543,7 @@ Molecule parseXyz(const std::string& text, const std::string& name, int model) {
         atom.element = elementSymbol(*z);
       if (!atom.element.empty()) atom.elementSource = ElementSource::File;
       atom.serial = i + 1;
+      atom.segid = "SYSTEM";  // as MDAnalysis's XYZParser
       atom.line = lineNumber;
       molecule.centers.emplace_back(v[0], v[1], v[2]);
       molecule.atoms.push_back(std::move(atom));
@@ -591,41 +596,64 @@ void compact(Molecule& molecule, const Keep& keep) {
 }
 
 // Keeps, in each residue with alternate locations, the conformer of highest mean occupancy
-// (the first one on a tie) with the atoms that have no alternate location.
+// (the first one on a tie) with the atoms that have no alternate location. An atom that has no
+// record in that conformer keeps its own best one (highest occupancy, the first on a tie): 3AL1's
+// LYS A105 HA has only an `A` record while B wins the residue, and is no less there. Atoms of
+// another residue name (microheterogeneity, 1CBN's PRO/SER 22) go with their conformer.
 std::size_t dropAlternateLocations(Molecule& molecule) {
   struct Conformer {
     char altLoc;
     double occupancy;
     std::size_t count;
+    std::string residue;
   };
-  std::map<std::tuple<std::string, int, char>, std::vector<Conformer>> residues;
+  using ResidueKey = std::tuple<std::string, int, char>;
+  const auto residueOf = [](const AtomRecord& a) { return ResidueKey{a.chain, a.residueNumber, a.insertionCode}; };
+  std::map<ResidueKey, std::vector<Conformer>> residues;
   bool any = false;
   for (const AtomRecord& atom : molecule.atoms) {
     if (atom.altLoc == ' ') continue;
     any = true;
-    auto& conformers = residues[{atom.chain, atom.residueNumber, atom.insertionCode}];
+    auto& conformers = residues[residueOf(atom)];
     auto it = std::find_if(conformers.begin(), conformers.end(),
                            [&](const Conformer& c) { return c.altLoc == atom.altLoc; });
-    if (it == conformers.end()) it = conformers.insert(conformers.end(), {atom.altLoc, 0.0, 0});
+    if (it == conformers.end()) it = conformers.insert(conformers.end(), {atom.altLoc, 0.0, 0, atom.residue});
     it->occupancy += atom.occupancy;
     ++it->count;
   }
   if (!any) return 0;
-  std::map<std::tuple<std::string, int, char>, char> chosen;
+  std::map<ResidueKey, const Conformer*> chosen;
   for (const auto& [key, conformers] : residues) {
     const Conformer* best = &conformers.front();
     for (const Conformer& c : conformers)
       if (c.occupancy / static_cast<double>(c.count) >
           best->occupancy / static_cast<double>(best->count))
         best = &c;
-    chosen[key] = best->altLoc;
+    chosen[key] = best;
   }
+  // Per atom name of a residue: the record kept among its alternate locations.
+  std::map<std::pair<ResidueKey, std::string>, std::size_t> kept;
+  for (std::size_t i = 0; i < molecule.size(); ++i) {
+    const AtomRecord& atom = molecule.atoms[i];
+    if (atom.altLoc == ' ') continue;
+    const Conformer& c = *chosen.at(residueOf(atom));
+    if (atom.residue != c.residue) continue;
+    const auto [it, fresh] = kept.try_emplace({residueOf(atom), atom.name}, i);
+    if (fresh) continue;
+    const AtomRecord& held = molecule.atoms[it->second];
+    const bool heldChosen = held.altLoc == c.altLoc;
+    if (atom.altLoc == c.altLoc ? !heldChosen : (!heldChosen && atom.occupancy > held.occupancy)) it->second = i;
+  }
+  // A name that also has a record without an alternate location keeps that one alone.
+  for (const AtomRecord& atom : molecule.atoms)
+    if (atom.altLoc == ' ') kept.erase({residueOf(atom), atom.name});
   std::vector<char> keep(molecule.size(), 1);
   std::size_t dropped = 0;
   for (std::size_t i = 0; i < molecule.size(); ++i) {
     const AtomRecord& atom = molecule.atoms[i];
     if (atom.altLoc == ' ') continue;
-    if (chosen.at({atom.chain, atom.residueNumber, atom.insertionCode}) != atom.altLoc) {
+    const auto it = kept.find({residueOf(atom), atom.name});
+    if (it == kept.end() || it->second != i) {
       keep[i] = 0;
       ++dropped;
     }
@@ -730,6 +758,23 @@ void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::stri
                        " (--no-hydrogens)");
 }
 
+// The user's selection, after the water, hydrogen and chain choices, so that `index` and `atom`
+// still count every atom of the file (AtomRecord::fileIndex) and a selection of water that
+// --keep-water would keep says so.
+void applySelection(Molecule& molecule, const std::string& selection, const std::string& name) {
+  std::vector<std::uint32_t> chosen;
+  try {
+    chosen = build::selectAtoms(static_cast<const Molecule&>(molecule), selection);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(name, 0, e.what());
+  }
+  std::vector<char> keep(molecule.size(), 0);
+  for (std::uint32_t i : chosen) keep[i] = 1;
+  molecule.skipped.unselected = molecule.size() - chosen.size();
+  molecule.selection = selection;
+  compact(molecule, keep);
+}
+
 std::string upperCase(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = upper(c);
@@ -752,12 +797,23 @@ std::string waysOut(const AtomRecord& atom, const std::string& element) {
 }
 
 // A MARTINI bead: BB (BB1-BB3 in nucleotides) and SC1-SC6 in biopolymer residues, the
-// single-bead waters W, WF and PW (whose polarizable beads are W, WP, WM).
+// single-bead waters W, WF and PW (whose polarizable beads are W, WP, WM), the head-group and
+// glycerol beads of lipids (NC3, NH3, CNO, PO4, GL0-GL2: POPC, POPE, POPS, POPG, ...) and the
+// sterol beads ROH and R1-R5 of CHOL. No atomistic force field names an atom so (CHARMM36's
+// POPE has N, P, C1-C3 and O11-O14; its cholesterol is CHL1), and a tail bead (C1A, D2A) alone
+// would not do: heme has atoms C1A-C4A.
 bool isMartiniBead(const AtomRecord& atom) {
   const std::string name = upperCase(trim(atom.name));
   if (isMartiniWaterResidue(atom.residue))
     return name == "W" || name == "WF" || name == "PW" || name == "WP" || name == "WM";
-  if (!isStandardResidue(atom.residue) || isWaterResidue(atom.residue)) return false;
+  if (!isStandardResidue(atom.residue)) {
+    if (name == "NC3" || name == "NH3" || name == "CNO" || name == "PO4" || name == "GL0" || name == "GL1" ||
+        name == "GL2")
+      return true;
+    return upperCase(trim(atom.residue)) == "CHOL" &&
+           (name == "ROH" || (name.size() == 2 && name[0] == 'R' && name[1] >= '1' && name[1] <= '5'));
+  }
+  if (isWaterResidue(atom.residue)) return false;
   if (name == "BB") return true;
   const auto numbered = [&](std::string_view prefix, char last) {
     return name.size() == prefix.size() + 1 && name.compare(0, prefix.size(), prefix) == 0 &&
@@ -786,7 +842,8 @@ void recogniseCoarseGrained(Molecule& molecule, const ReadOptions& options,
     throw InputError(name, bead->line,
                      describe(*bead) +
                          " is a MARTINI bead: this is a MARTINI coarse-grained system (BB and "
-                         "SC1-SC4 beads, W, WF and PW waters), whose particles are not atoms "
+                         "SC1-SC4 beads, lipid heads NC3, NH3, PO4 and GL1-GL2, sterol ROH, "
+                         "W, WF and PW waters), whose particles are not atoms "
                          "(the name would read as " + element +
                          "); draw it with --bead-radius R, every bead one sphere of R Å "
                          "(e.g. --bead-radius 2.35, half MARTINI's bead size of 0.47 nm)");
@@ -810,17 +867,24 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     throw InputError(name, 0,
                      "the bead radius must be a finite number > 0, got " +
                          std::to_string(*options.beadRadius));
+  if (options.radiiPreset && (options.radiiFile || options.beadRadius))
+    throw InputError(name, 0,
+                     std::string("--radii ") + radiusPresetName(*options.radiiPreset) +
+                         " gives every atom FreeSASA's radius by residue and atom name; it cannot be "
+                         "combined with " + (options.radiiFile ? "a radius table" : "--bead-radius") +
+                         " (choose one)");
   if (molecule.format == MoleculeFormat::Xyzr) {
-    if (options.radiiFile || options.beadRadius)
+    if (options.radiiFile || options.beadRadius || options.radiiPreset)
       throw InputError(name, 0,
                        "an XYZR file gives its own radii and no atom names or elements, so " +
-                           (options.radiiFile ? "the radius table " + options.radiiFile->string()
-                                              : std::string("--bead-radius")) +
+                           (options.radiiFile    ? "the radius table " + options.radiiFile->string()
+                            : options.radiiPreset ? std::string("--radii ") + radiusPresetName(*options.radiiPreset)
+                                                  : std::string("--bead-radius")) +
                            " cannot apply");
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
-  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile && !options.beadRadius) {
+  if (molecule.format == MoleculeFormat::Pqr && !options.radiiFile && !options.beadRadius && !options.radiiPreset) {
     molecule.radiusSources[static_cast<std::size_t>(RadiusSource::File)] = molecule.size();
     return;
   }
@@ -833,6 +897,8 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     molecule.radiiSet = text;
     if (table) molecule.radiiSet += ",table:" + table->path();
     molecule.beadRadius = options.beadRadius;
+  } else if (options.radiiPreset) {
+    molecule.radiiSet = radiusPresetName(*options.radiiPreset);
   } else {
     molecule.radiiSet = table ? "table:" + table->path() : std::string("bondi");
   }
@@ -852,7 +918,11 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     // An ion's residue is named like its atom (iodide I, uranium U), even where the name is
     // also a nucleotide's.
     const bool ion = upperCase(trim(atom.name)) == upperCase(trim(atom.residue));
-    if (atom.elementSource == ElementSource::Name && !ion &&
+    // A classifier that names the atom decides its radius whatever its element reads as.
+    if (options.radiiPreset)
+      if (const std::optional<double> r = presetRadius(*options.radiiPreset, trim(atom.residue), trim(atom.name)))
+        radius = TabulatedRadius{*r, RadiusSource::Preset};
+    if (!radius && atom.elementSource == ElementSource::Name && !ion &&
         !isPlausibleElement(atom.residue, atom.element)) {
       // The guess cannot be right; a RES:ATOM line gives the atom a radius all the same.
       const std::optional<double> r = table ? table->findAtom(atom.residue, atom.name) : std::nullopt;
@@ -876,6 +946,9 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     if (!radius && table)
       if (const std::optional<double> r = table->find(atom.residue, atom.name, atom.element))
         radius = TabulatedRadius{*r, RadiusSource::UserTable};
+    if (!radius && options.radiiPreset)
+      if (const std::optional<double> r = freesasaGuessRadius(atom.element))
+        radius = TabulatedRadius{*r, RadiusSource::PresetGuess};
     if (!radius) radius = elementRadius(atom.element);
     if (!radius && options.defaultRadius) {
       radius = TabulatedRadius{*options.defaultRadius, RadiusSource::Default};
@@ -1082,6 +1155,7 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   if (format != MoleculeFormat::Xyz && format != MoleculeFormat::Xyzr)
     recogniseCoarseGrained(molecule, options, name);
   selectAtoms(molecule, options, name);
+  if (options.selection) applySelection(molecule, *options.selection, name);
   if (!options.topologyOnly) dropExactDuplicates(molecule);
   assignRadii(molecule, options, name);
   countElementSources(molecule);

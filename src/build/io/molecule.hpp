@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include "build/io/radii.hpp"
+#include "build/io/radius_presets.hpp"
 
 namespace surftrace::build {
 
@@ -19,7 +20,11 @@ namespace surftrace::build {
 struct AtomRecord {
   std::string name;          // atom name, e.g. "CA"
   std::string residue;       // residue name, e.g. "ALA"; empty for XYZ/XYZR
-  std::string chain;         // chain id; empty when the format has none
+  std::string chain;         // chain id; empty when the format has none; a PSF's segid (PSF has no chains)
+  // Segment id, as MDAnalysis reads it: PDB columns 67-76 (the chain where no atom of the file
+  // has one, "SYSTEM" where neither has), mmCIF label_asym_id (PyMOL's segi), PSF's segid, a
+  // PQR's chain; "SYSTEM" in formats without segments (GRO, XYZ, XYZR).
+  std::string segid;
   int residueNumber = 0;
   char insertionCode = ' ';
   int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
@@ -50,6 +55,9 @@ struct ReadOptions {
   bool keepHydrogens = true;
   std::vector<std::string> chains;            // empty: all chains
   std::optional<std::filesystem::path> radiiFile;  // user radius table
+  // FreeSASA's classifier radii by residue and atom name (--radii protor|naccess), FreeSASA's
+  // element guess for the atoms the classifier does not name; instead of radiiFile.
+  std::optional<RadiusPreset> radiiPreset;
   std::optional<double> defaultRadius;        // radius for unknown elements
   // Coarse-grained systems: every particle one sphere of this radius (RES:ATOM lines of
   // radiiFile still win), no element guessed from a bead's name, and the MARTINI waters
@@ -58,6 +66,10 @@ struct ReadOptions {
   // PQR/XYZR atoms with radius exactly 0 (PDB2PQR gives some hydrogens, e.g. AMBER hydroxyl
   // H, no radius) are an error unless this is set; then they are left out and counted.
   bool dropZeroRadius = false;
+  // An atom selection in MDAnalysis's language (atom_selection.hpp): only these atoms are read,
+  // after the water, hydrogen and chain choices; AtomRecord::fileIndex keeps their place in
+  // the file. A selection that selects no atom is an InputError that quotes it.
+  std::optional<std::string> selection;
   // Reading the topology of a trajectory: a file without coordinates (PSF) is accepted and its
   // centres are NaN until a frame sets them; nothing checks the centres.
   bool topologyOnly = false;
@@ -74,6 +86,7 @@ struct SkipReport {
   std::size_t zeroRadius = 0;       // PQR/XYZR atoms of radius 0 left out (dropZeroRadius)
   std::size_t virtualSites = 0;     // massless water sites (TIP4P MW, TIP5P LP) of kept waters
   std::size_t duplicates = 0;       // atoms exactly on an earlier one of the same radius
+  std::size_t unselected = 0;       // atoms the selection (ReadOptions::selection) left out
 };
 
 struct Molecule {
@@ -85,7 +98,7 @@ struct Molecule {
   int modelCount = 1;                   // models/frames present in the file
   int modelUsed = 1;
   std::size_t fileAtomCount = 0;        // atoms of the model read, before any selection
-  std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), or "table:<path>"
+  std::string radiiSet;                 // "bondi", "file" (PQR/XYZR), "table:<path>", "protor" or "naccess"
   // How many atoms took their radius from each source, indexed by RadiusSource ("bondi"
   // is the chain Bondi, Mantina, Alvarez; see elementRadius).
   std::array<std::size_t, kRadiusSourceCount> radiusSources{};
@@ -93,11 +106,13 @@ struct Molecule {
   std::size_t elementsFromNames = 0;
   std::size_t elementsFromMasses = 0;
   // Recognised as a MARTINI coarse-grained system (BB and SC1-SC4 beads in amino-acid residues,
-  // W, WF or PW waters); read only with ReadOptions::beadRadius.
+  // lipid head and glycerol beads NC3, NH3, CNO, PO4, GL0-GL2, CHOL's ROH and R1-R5, W, WF or
+  // PW waters); read only with ReadOptions::beadRadius.
   bool martini = false;
   std::optional<double> beadRadius;     // the --bead-radius every particle got, when given
   std::uint32_t inputCrc32 = 0;         // CRC-32 of the (decompressed) input text, line ends made LF
   SkipReport skipped;
+  std::optional<std::string> selection;  // the ReadOptions::selection read with, when given
   // Bonds the file states (PDB CONECT, mmCIF _struct_conn links), pairs of serials (AtomRecord::serial),
   // lower first; atoms the selection left out may appear. build/bonds.hpp turns them into bonds.
   std::vector<std::array<int, 2>> bondRecords;

@@ -264,6 +264,28 @@ std::string elementFromToken(std::string_view name, std::string_view residue) {
   return singleLetterElement(first);
 }
 
+// What an ion's residue or atom name says, without the charge and count after it ("NA+",
+// "MG2+", "CL-"): the element it is named by (NA, CL, K, ZN) or MDAnalysis's table names it
+// (SOD, POT, CLA, CAL); "" for anything else.
+std::string ionName(std::string_view text) {
+  std::string key = toUpper(trim(text));
+  while (!key.empty() && (isDigit(key.back()) || key.back() == '+' || key.back() == '-')) key.pop_back();
+  if (key.empty() || !isAlpha(key[0])) return {};
+  if (std::string e = namedElement(key); !e.empty()) return e;
+  return canonicalElement(key);
+}
+
+// A monatomic ion: its residue names the same element as its atom (NA in NA, NA+ or SOD; CL in
+// CL, CL- or CLA; CA in CA, ZN in ZN), or the residue is the generic ION of GROMACS and
+// CHARMM-GUI. MDAnalysis reads NA and CL as sodium and chlorine whatever the residue, which
+// makes heme's pyrrole nitrogen NA sodium; the residue tells them apart here.
+std::string ionElement(std::string_view name, std::string_view residue) {
+  const std::string atom = ionName(name);
+  if (atom.empty()) return {};
+  if (equalsIgnoreCase(trim(residue), "ION") || ionName(residue) == atom) return atom;
+  return {};
+}
+
 }  // namespace
 
 bool isMartiniWaterResidue(std::string_view residue) { return inList(residue, {"W", "WF", "PW"}); }
@@ -288,6 +310,7 @@ bool isPlausibleElement(std::string_view residue, std::string_view element) {
 
 std::string elementFromAtomName(std::string_view name, std::string_view residue,
                                 AtomNameLayout layout) {
+  if (std::string ion = ionElement(name, residue); !ion.empty()) return ion;
   if (layout == AtomNameLayout::Token) return elementFromToken(name, residue);
 
   const std::string_view trimmed = trim(name);
@@ -352,6 +375,10 @@ const char* radiusSourceName(RadiusSource source) {
       return "--default-radius";
     case RadiusSource::Bead:
       return "--bead-radius";
+    case RadiusSource::Preset:
+      return "--radii preset (FreeSASA classifier)";
+    case RadiusSource::PresetGuess:
+      return "--radii preset (FreeSASA element guess)";
   }
   return "unknown";
 }

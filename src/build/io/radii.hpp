@@ -83,8 +83,10 @@ std::optional<double> bondiRadius(std::string_view element);
 
 // Where an atom's radius came from.
 // Bead: --bead-radius, one radius for every particle of a coarse-grained system.
-enum class RadiusSource { Bondi, Mantina, Alvarez, UserTable, File, Default, Bead };
-inline constexpr std::size_t kRadiusSourceCount = 7;
+// Preset: a FreeSASA classifier (--radii protor|naccess) by residue and atom name;
+// PresetGuess: FreeSASA's element guess for an atom that classifier does not name.
+enum class RadiusSource { Bondi, Mantina, Alvarez, UserTable, File, Default, Bead, Preset, PresetGuess };
+inline constexpr std::size_t kRadiusSourceCount = 9;
 const char* radiusSourceName(RadiusSource source);  // "Bondi 1964", "Alvarez 2013", ...
 
 struct TabulatedRadius {

@@ -164,7 +164,9 @@ std::string psfAtom(const std::vector<std::string_view>& f, AtomRecord& atom) {
     values[k] = *v;
   }
   atom.serial = *id;
-  atom.chain = std::string(f[1]);
+  // A PSF has segments but no chains: the segment id serves as both.
+  atom.segid = std::string(f[1]);
+  atom.chain = atom.segid;
   atom.residue = std::string(f[3]);
   atom.name = std::string(f[4]);
   atom.charge = values[0];
@@ -315,6 +317,7 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
     atom.residueNumber = *residue + residueOffset;
     atom.residue = std::string(trim(line.substr(5, 5)));
     atom.name = std::string(trim(line.substr(10, 5)));
+    atom.segid = "SYSTEM";  // GRO has no segments; MDAnalysis names its one segment so
     atom.serial = parseWhole<int>(line.substr(15, 5)).value_or(0);
     // GROMACS right-justifies names in their 5 columns, so the column tells nothing.
     atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);

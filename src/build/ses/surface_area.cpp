@@ -49,8 +49,24 @@ double torusFlux(const PatchList& p, std::size_t t) {
   return local + glm::dot(tr.center[t], normalIntegral);
 }
 
-// The concave patch as the probe sphere minus caps: three hemispheres beyond its edges
-// and one cap per clipping plane.
+// ∫ x dA of a torus patch: x = c + ρ e_ρ(φ) + rp sin θ n with ρ = R − rp cos θ and
+// dA = rp ρ dθ dφ (ORACLES A.3), integrated in closed form over each SES interval of θ.
+glm::dvec3 torusAreaMoment(const PatchList& p, std::size_t t, double area) {
+  const auto& tr = p.tori;
+  const double R = tr.bigRadius[t], rp = p.params.probeRadius, dphi = tr.phiExtent[t];
+  const glm::dvec3 n = tr.axis[t], e1 = tr.e1[t], e2 = glm::cross(n, e1);
+  const glm::dvec3 E = std::sin(dphi) * e1 + (1.0 - std::cos(dphi)) * e2;  // ∫ e_ρ dφ
+  glm::dvec3 moment = tr.center[t] * area;
+  forEachSesInterval(R, rp, tr.thetaI[t], tr.thetaJ[t], [&](double a, double b) {
+    auto rho2 = [&](double th) { return R * R * th - 2.0 * R * rp * std::sin(th) + rp * rp * (0.5 * th + 0.25 * std::sin(2 * th)); };
+    auto rhoSin = [&](double th) { return rp * (-R * std::cos(th) - 0.5 * rp * std::sin(th) * std::sin(th)); };
+    moment += rp * (rho2(b) - rho2(a)) * E + n * (rp * dphi * (rhoSin(b) - rhoSin(a)));
+  });
+  return moment;
+}
+
+}  // namespace
+
 std::vector<Cap>& concaveCaps(const PatchList& p, std::size_t c, std::vector<Cap>& caps) {
   const auto& cv = p.concave;
   const double rp = p.params.probeRadius;
@@ -70,6 +86,7 @@ std::vector<Cap>& concaveCaps(const PatchList& p, std::size_t c, std::vector<Cap
   return caps;
 }
 
+namespace {
 
 // One exposed arc of a convex patch's boundary on its atom's unit sphere: the contact
 // circle u(φ) = α·a + β(cos φ e1 + sin φ e2) of a torus, run with the atom's region on its
@@ -190,10 +207,11 @@ SurfaceAreas computeAreas(const PatchList& p) {
   s.sasPerAtom.assign(p.params.atomCount, 0.0);
   s.sesPerAtom.assign(p.params.atomCount, 0.0);
   s.components.resize(std::max<std::size_t>(1, p.componentCount));
-  auto addToComponent = [&s](std::uint32_t label, double area, double flux) {
+  auto addToComponent = [&s](std::uint32_t label, double area, double flux, const glm::dvec3& moment) {
     if (label >= s.components.size()) s.components.resize(label + 1);
     s.components[label].area += area;
     s.components[label].volume += flux / 3.0;
+    s.components[label].areaMoment += moment;
   };
 
   // A convex patch whose atom faces several components (a one-atom wall between the
@@ -211,15 +229,17 @@ SurfaceAreas computeAreas(const PatchList& p) {
     // Convex sphere, σ = +1: ∫ x·n dA = ρ² c·W + ρ A.
     const glm::dvec3 c = p.convex.center[k];
     auto flux = [&](double area, const glm::dvec3& w) { return r * r * glm::dot(c, w) + r * area; };
+    // ∫ x dA = ∫ (c + r u) r² dΩ = c A + r³ W.
+    auto moment = [&](double area, const glm::dvec3& w) { return c * area + (r * r * r) * w; };
     double ownArea = a;
     glm::dvec3 ownW = p.convex.vectorArea[k];
     for (const ConvexPart& part : others[k]) {
       ownArea -= part.area;
       ownW -= part.vectorArea;
-      addToComponent(part.component, part.area, flux(part.area, part.vectorArea));
+      addToComponent(part.component, part.area, flux(part.area, part.vectorArea), moment(part.area, part.vectorArea));
     }
     s.sesVolume += flux(a, p.convex.vectorArea[k]);
-    addToComponent(label, ownArea, flux(ownArea, ownW));
+    addToComponent(label, ownArea, flux(ownArea, ownW), moment(ownArea, ownW));
   }
   for (std::size_t t = 0; t < p.tori.size(); ++t) {
     const double a = torusPatchArea(p.tori.bigRadius[t], rp, p.tori.thetaI[t], p.tori.thetaJ[t], p.tori.phiExtent[t]);
@@ -228,11 +248,12 @@ SurfaceAreas computeAreas(const PatchList& p) {
     s.sesPerAtom[p.tori.atomJ[t]] += 0.5 * a;
     const double flux = torusFlux(p, t);
     s.sesVolume += flux;
-    addToComponent(p.tori.component[t], a, flux);
+    addToComponent(p.tori.component[t], a, flux, torusAreaMoment(p, t, a));
   }
   // Concave patches are many and independent: sum them in parallel, deterministically
   // (per-patch values first, then an ordered sum).
   std::vector<double> concaveArea(p.concave.size()), concaveFlux(p.concave.size());
+  std::vector<glm::dvec3> concaveMoment(p.concave.size());
   tbb::enumerable_thread_specific<std::pair<std::vector<Cap>, SphericalRegionScratch>> tls;
   tbb::parallel_for(std::size_t{0}, p.concave.size(), [&](std::size_t c) {
     auto& [caps, scratch] = tls.local();
@@ -240,11 +261,12 @@ SurfaceAreas computeAreas(const PatchList& p) {
     concaveArea[c] = rp * rp * region.area;
     // Concave sphere, σ = −1: ∫ x·n dA = −(ρ² c·W + ρ A).
     concaveFlux[c] = -(rp * rp * glm::dot(p.concave.probe[c], region.vectorArea) + rp * concaveArea[c]);
+    concaveMoment[c] = p.concave.probe[c] * concaveArea[c] + (rp * rp * rp) * region.vectorArea;
   });
   for (std::size_t c = 0; c < p.concave.size(); ++c) {
     s.sesConcave += concaveArea[c];
     s.sesVolume += concaveFlux[c];
-    addToComponent(p.concave.component[c], concaveArea[c], concaveFlux[c]);
+    addToComponent(p.concave.component[c], concaveArea[c], concaveFlux[c], concaveMoment[c]);
     for (const std::uint32_t atom : {p.concave.atomI[c], p.concave.atomJ[c], p.concave.atomK[c]})
       s.sesPerAtom[atom] += concaveArea[c] / 3.0;
   }

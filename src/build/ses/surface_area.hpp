@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "build/patch_list.hpp"
+#include "build/spherical_region.hpp"
 
 namespace surftrace::build {
 
@@ -24,6 +25,9 @@ struct SurfaceAreas {
   struct Component {
     double area = 0.0;
     double volume = 0.0;
+    // ∫ x dA over the component, Å³: moment / area is the area-weighted centroid of its
+    // surface (where `cavities` locates a cavity).
+    glm::dvec3 areaMoment{0.0};
     bool outer() const { return volume > 0.0; }
   };
   std::vector<Component> components;
@@ -44,6 +48,10 @@ struct ConvexPart {
 };
 // For every convex patch (index as in patches.convex), its parts of other components.
 std::vector<std::vector<ConvexPart>> convexPartsOfOtherComponents(const PatchList& patches);
+
+// Concave patch c as its probe sphere (unit) minus caps: the three half-spheres beyond its
+// edges and one cap per clipping plane (ORACLES A.4, A.5); `caps` is filled and returned.
+std::vector<Cap>& concaveCaps(const PatchList& patches, std::size_t c, std::vector<Cap>& caps);
 
 // Area of one torus patch (ORACLES A.3), spindle tori keeping only |θ| >= acos(R/rp).
 double torusPatchArea(double R, double rp, double thetaI, double thetaJ, double phiExtent);
