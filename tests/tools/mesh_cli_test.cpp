@@ -1,0 +1,194 @@
+// `surftrace mesh` on a real molecule (1CRN's SES), checked by oracles that share nothing with the
+// mesher: the brute-force SES oracle for every vertex (tests/oracles/ses_oracle), edge counting for
+// closure and orientation, `area`'s exact per-component areas and volumes, and `compare --views`,
+// which draws the mesh and the exact surface through the same rays from 26 directions.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "build/io/molecule.hpp"
+#include "oracles/ses_oracle.hpp"
+#include "run_tool.hpp"
+#include "temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using surftrace::tools::test::runTool;
+
+std::string data(const std::string& file) { return std::string(SURFTRACE_TEST_DATA) + "/" + file; }
+
+// The binary PLY that `mesh` writes, read by hand from its header's layout (doubles x y z, floats
+// nx ny nz, uint atom_id, uchar patch_kind, uint component; faces as uchar count + 3 uint).
+struct PlyMesh {
+  std::vector<glm::dvec3> positions;
+  std::vector<glm::dvec3> normals;
+  std::vector<std::uint32_t> component;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+template <class T>
+T take(const std::string& bytes, std::size_t& at) {
+  T v;
+  std::memcpy(&v, bytes.data() + at, sizeof(T));
+  at += sizeof(T);
+  return v;
+}
+
+PlyMesh readPly(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t end = bytes.find("end_header\n");
+  if (end == std::string::npos) throw std::runtime_error("no PLY header in " + path.string());
+  const std::string header = bytes.substr(0, end);
+  const std::string expected =
+      "property double x\nproperty double y\nproperty double z\nproperty float nx\nproperty float ny\n"
+      "property float nz\nproperty uint atom_id\nproperty uchar patch_kind\nproperty uint component\n";
+  if (header.find(expected) == std::string::npos) throw std::runtime_error("unexpected PLY layout:\n" + header);
+  std::size_t vertices = 0, faces = 0;
+  std::istringstream h(header);
+  for (std::string line; std::getline(h, line);) {
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoull(line.substr(15));
+    if (line.rfind("element face ", 0) == 0) faces = std::stoull(line.substr(13));
+  }
+  PlyMesh m;
+  std::size_t at = end + std::strlen("end_header\n");
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const double x = take<double>(bytes, at), y = take<double>(bytes, at), z = take<double>(bytes, at);
+    const float nx = take<float>(bytes, at), ny = take<float>(bytes, at), nz = take<float>(bytes, at);
+    take<std::uint32_t>(bytes, at);
+    take<std::uint8_t>(bytes, at);
+    m.positions.push_back({x, y, z});
+    m.normals.push_back({nx, ny, nz});
+    m.component.push_back(take<std::uint32_t>(bytes, at));
+  }
+  for (std::size_t f = 0; f < faces; ++f) {
+    if (take<std::uint8_t>(bytes, at) != 3) throw std::runtime_error("a face that is not a triangle");
+    std::array<std::uint32_t, 3> t{};
+    for (auto& i : t) i = take<std::uint32_t>(bytes, at);
+    m.triangles.push_back(t);
+  }
+  if (at != bytes.size()) throw std::runtime_error("PLY size does not match its header");
+  return m;
+}
+
+std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
+  const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1crn");
+  const std::string pdb = data("structures/1crn.pdb");
+  const double maxError = 0.1;
+  const auto made = runTool("mesh " + pdb + " --max-error 0.1 -o " + (dir / "m.ply").string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const PlyMesh m = readPly(dir / "m.ply");
+  ASSERT_GT(m.triangles.size(), 1000u);
+
+  // Every vertex on the SES: dist(x, accessible probe centres) = rp, by the brute-force oracle.
+  const surftrace::build::Molecule mol = surftrace::build::readMolecule(pdb);
+  std::vector<surftrace::oracle::Sphere> atoms;
+  for (std::size_t i = 0; i < mol.size(); ++i) atoms.push_back({mol.centers[i], mol.radii[i]});
+  const surftrace::oracle::SesOracle oracle(atoms, 1.4);
+  double worst = 0.0;
+  for (const glm::dvec3& p : m.positions) worst = std::max(worst, std::abs(oracle.distanceToAccessible(p).dist - 1.4));
+  EXPECT_LT(worst, 1e-9) << "a vertex off the SES";
+
+  // Closed and consistently oriented: every directed edge once, and its reverse once.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  std::size_t unmatched = 0;
+  for (const auto& [e, n] : directed)
+    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  EXPECT_EQ(unmatched, 0u) << "edges not shared by exactly two triangles in opposite directions";
+
+  // Connected components (by shared vertices), each with its Euler characteristic, signed volume
+  // and area, against `area`'s exact per-component values (outer first, then the cavity).
+  std::vector<std::uint32_t> parent(m.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const auto& t : m.triangles) {
+    parent[root(parent, t[1])] = root(parent, t[0]);
+    parent[root(parent, t[2])] = root(parent, t[0]);
+  }
+  struct Piece {
+    std::size_t vertices = 0, triangles = 0;
+    double area = 0.0, volume = 0.0;
+    std::uint32_t component = 0;
+  };
+  std::map<std::uint32_t, Piece> pieces;
+  for (std::uint32_t v = 0; v < m.positions.size(); ++v) {
+    Piece& p = pieces[root(parent, v)];
+    ++p.vertices;
+    p.component = m.component[v];
+  }
+  double normalsAgainst = 0;
+  for (const auto& t : m.triangles) {
+    const glm::dvec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    Piece& p = pieces[root(parent, t[0])];
+    ++p.triangles;
+    p.area += 0.5 * glm::length(n);
+    p.volume += glm::dot(a, glm::cross(b, c)) / 6.0;
+    if (glm::dot(n, m.normals[t[0]] + m.normals[t[1]] + m.normals[t[2]]) < 0.0) ++normalsAgainst;
+  }
+  EXPECT_LT(normalsAgainst, 1e-3 * m.triangles.size()) << "vertex normals against the winding";
+
+  const auto areas = runTool("area " + pdb + " --format json");
+  ASSERT_EQ(areas.status, 0) << areas.output;
+  const auto exact = nlohmann::json::parse(areas.output.substr(areas.output.find('{')))["ses"]["components"];
+  ASSERT_EQ(pieces.size(), exact.size()) << "mesh components against the surface's";
+  std::vector<Piece> sorted;
+  for (const auto& [r, p] : pieces) sorted.push_back(p);
+  std::sort(sorted.begin(), sorted.end(), [](const Piece& a, const Piece& b) { return a.volume > b.volume; });
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    const Piece& p = sorted[k];
+    const double euler = double(p.vertices) - 1.5 * double(p.triangles) + double(p.triangles);
+    // Crambin's two SES components (its outer surface and one cavity) are spheres topologically:
+    // no probe path of 2.8 Å runs through the protein.
+    EXPECT_EQ(euler, 2.0) << "component " << k;
+    const double area = exact[k]["area"], volume = exact[k]["volume"];
+    EXPECT_EQ(p.volume > 0.0, !exact[k]["cavity"].get<bool>()) << "component " << k << " faces the wrong way";
+    // A mesh within ε of the surface: its volume differs from the exact one by at most the shell
+    // of thickness ε (ε times the area); its area by at most about 2ε/r of it, where r is the
+    // smallest radius of curvature (a chord at sagitta ε across a sphere of radius r; here the
+    // probe's 1.4 Å and crambin's smallest atom's are both >= 1.1 Å).
+    EXPECT_NEAR(p.area, area, 2.0 * maxError / 1.1 * area) << "component " << k;
+    EXPECT_LT(std::abs(p.area - area), 0.02 * area) << "component " << k;
+    EXPECT_NEAR(p.volume, volume, maxError * area) << "component " << k;
+  }
+
+  // Drawn through the exact surface's own rays from 26 directions, within the bound (p99).
+  const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + pdb +
+                                " --surface ses --views 26 --size 256x256 --max-error 0.1");
+  EXPECT_EQ(compared.status, 0) << compared.output;
+}
+
+TEST(MeshCli, OtherSurfacesAreRefusedBeforeAnyWork) {
+  const fs::path dir = surftrace::test::freshTempDir("mesh_cli_refused");
+  for (const char* surface : {"vdw", "sas", "mss"}) {
+    const auto r = runTool("mesh " + data("structures/1crn.pdb") + " --surface " + surface + " -o " +
+                           (dir / "m.ply").string());
+    EXPECT_NE(r.status, 0) << surface;
+    EXPECT_NE(r.output.find("SES meshes only"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "m.ply")) << surface;
+  }
+}
+
+}  // namespace
