@@ -678,9 +678,12 @@ std::vector<glm::dvec3> surfaceSeeds(const PatchList& p) {
   return seeds;
 }
 
-std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh) {
-  const std::size_t n = mesh.positions.size();
-  std::vector<std::uint32_t> parent(n);
+namespace {
+
+// For each vertex, a representative of its connected piece of the mesh (vertices joined by
+// triangles): union-find with path halving.
+std::vector<std::uint32_t> pieceRoots(const TriangleMesh& mesh) {
+  std::vector<std::uint32_t> parent(mesh.positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
   const auto find = [&](std::uint32_t v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
@@ -690,12 +693,20 @@ std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh) {
     parent[find(t.y)] = find(t.x);
     parent[find(t.z)] = find(t.x);
   }
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = find(v);
+  return parent;
+}
+
+}  // namespace
+
+std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  const std::vector<std::uint32_t> root = pieceRoots(mesh);
   std::unordered_map<std::uint32_t, std::size_t> index;
   std::vector<MeshComponent> out;
   std::vector<std::size_t> ofTriangle(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const std::uint32_t root = find(mesh.triangles[t].x);
-    const auto [it, added] = index.emplace(root, out.size());
+    const auto [it, added] = index.emplace(root[mesh.triangles[t].x], out.size());
     if (added) {
       out.emplace_back();
       if (!mesh.component.empty()) out.back().surfaceComponent = mesh.component[mesh.triangles[t].x];
@@ -734,22 +745,13 @@ std::vector<MeshComponent> meshComponents(const TriangleMesh& mesh) {
 TriangleMesh keepComponents(const TriangleMesh& mesh, const std::vector<bool>& keep) {
   // Components numbered as meshComponents numbers them: by first triangle.
   const std::size_t n = mesh.positions.size();
-  std::vector<std::uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const glm::uvec3& t : mesh.triangles) {
-    parent[find(t.y)] = find(t.x);
-    parent[find(t.z)] = find(t.x);
-  }
+  const std::vector<std::uint32_t> root = pieceRoots(mesh);
   std::unordered_map<std::uint32_t, std::size_t> index;
   std::vector<std::uint32_t> newIndex(n, ~0u);
   TriangleMesh out;
   const bool attributes = !mesh.normals.empty();
   for (const glm::uvec3& t : mesh.triangles) {
-    const auto [it, added] = index.emplace(find(t.x), index.size());
+    const auto [it, added] = index.emplace(root[t.x], index.size());
     if (!keep.at(it->second)) continue;
     glm::uvec3 mapped;
     for (int e = 0; e < 3; ++e) {
