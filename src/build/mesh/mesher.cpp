@@ -35,6 +35,10 @@ constexpr int kRootIterations = 100;
 // Refinement gives up when the mesh has grown this many times over the marching-tetrahedra mesh
 // (about 100x is what ε = h²/1000 asks of a smooth surface): past it, splits no longer converge.
 constexpr std::size_t kMaxGrowth = 200;
+// And whatever the start, at this many triangles (a few GB with their vertices and the
+// certificate's work), so that a surface the refinement cannot finish stops with a message
+// instead of filling the memory (1AON's SES at 0.1 Å passed 18 GB without finishing).
+constexpr std::size_t kMaxTriangles = 20'000'000;
 
 // Grid vertices are (i, j, k) in [0, 2^20)^3, packed into one key; a cell is keyed by its
 // lowest corner.
@@ -574,7 +578,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
                                std::to_string(worst) + " Å > --max-error " + std::to_string(eps) +
                                " Å (a cusp or a very thin feature there?); ask for a larger --max-error");
     }
-    if (mesh.triangles.size() > kMaxGrowth * initialTriangles + 1000000)
+    if (mesh.triangles.size() > std::min(kMaxGrowth * initialTriangles + 1000000, kMaxTriangles))
       throw std::runtime_error("mesh: refinement has grown the mesh to " + std::to_string(mesh.triangles.size()) +
                                " triangles from " + std::to_string(initialTriangles) + " without meeting --max-error " +
                                std::to_string(eps) + " Å (worst bound " + std::to_string(worst) +
