@@ -169,14 +169,20 @@ std::vector<double> areaRow(const AreaOptions& o, const build::PatchList& list, 
   return {a.sas, a.total, a.byKind[0], a.byKind[1], a.byKind[2], a.volume};
 }
 
-// `area TOPOLOGY TRAJECTORY --per atom|residue|chain`: one table whose rows are those of `area
-// --per` on each frame alone, each after its frame number and time.
-void runAreasPerOverTime(const AreaOptions& o) {
-  const build::SurfaceRequest request = o.surface.request();
+// The trajectory of `area TOPOLOGY TRAJECTORY`, its reader's notes said on the standard error.
+build::Trajectory openTrajectory(const AreaOptions& o) {
   build::Trajectory trajectory =
       readingFile(o.trajectory, "the trajectory", [&] { return build::Trajectory(o.path, o.trajectory, o.read); });
   for (const std::string& note : trajectory.source().notes())
     std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
+  return trajectory;
+}
+
+// `area TOPOLOGY TRAJECTORY --per atom|residue|chain`: one table whose rows are those of `area
+// --per` on each frame alone, each after its frame number and time.
+void runAreasPerOverTime(const AreaOptions& o) {
+  const build::SurfaceRequest request = o.surface.request();
+  build::Trajectory trajectory = openTrajectory(o);
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
   const bool mss = request.surface == build::SurfaceKind::Mss;
   const AreaLevel level = areaLevelNamed(o.per);
@@ -228,10 +234,7 @@ void runAreasPerOverTime(const AreaOptions& o) {
 // SurfaceBuilder that keeps its memory frame after frame.
 void runAreaOverTime(const AreaOptions& o) {
   const build::SurfaceRequest request = o.surface.request();
-  build::Trajectory trajectory =
-      readingFile(o.trajectory, "the trajectory", [&] { return build::Trajectory(o.path, o.trajectory, o.read); });
-  for (const std::string& note : trajectory.source().notes())
-    std::fprintf(stderr, "surftrace: note: %s: %s\n", o.trajectory.c_str(), note.c_str());
+  build::Trajectory trajectory = openTrajectory(o);
   const std::vector<std::size_t> frames = selectFrames(o.frames, trajectory.frameCount());
   const bool mss = request.surface == build::SurfaceKind::Mss;
   const std::vector<std::string> columns =

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "oracles/mpl_colormap.hpp"
 #include "oracles/python_oracle.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
@@ -29,6 +30,7 @@ namespace surftrace::tools::test {
 namespace {
 
 namespace fs = std::filesystem;
+using ::surftrace::test::matplotlibColors;
 
 const std::string kData = SURFTRACE_TEST_DATA;
 const std::string kCrambin = kData + "/structures/1crn.pdb";
@@ -47,23 +49,6 @@ std::vector<PdbAtom> pdbAtoms(const std::string& path) {
     if (line.rfind("ATOM", 0) == 0 || line.rfind("HETATM", 0) == 0)
       atoms.push_back({line.substr(12, 4), std::stoi(line.substr(22, 4)), std::stod(line.substr(60, 6))});
   return atoms;
-}
-
-std::vector<glm::dvec3> matplotlibColors(const std::string& map, const std::vector<double>& t, const fs::path& dir) {
-  const std::string file = (dir / (map + "_t.txt")).string();
-  {
-    std::ofstream out(file);
-    out.precision(17);
-    for (double x : t) out << x << "\n";
-  }
-  const auto run = ::surftrace::test::runOracleScript("mpl_colormap.py", {map, file}, dir);
-  EXPECT_TRUE(run.ok()) << run.describe();
-  std::vector<glm::dvec3> colors;
-  std::istringstream in(run.out);
-  glm::dvec3 c;
-  while (in >> c.r >> c.g >> c.b) colors.push_back(c);
-  EXPECT_EQ(colors.size(), t.size());
-  return colors;
 }
 
 Result render(const std::string& args) { return runTool("render " + kCrambin + " --quiet " + args); }

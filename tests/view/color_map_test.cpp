@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "oracles/python_oracle.hpp"
+#include "oracles/mpl_colormap.hpp"
 #include "temp_dir.hpp"
 #include "view/atom_colors.hpp"
 #include "view/atom_values.hpp"
@@ -25,20 +25,7 @@ namespace {
 
 // matplotlib's colours of `t` under `map`, one per number.
 std::vector<glm::dvec3> matplotlibColors(const std::string& map, const std::vector<double>& t) {
-  const auto dir = ::surftrace::test::testTempDir();
-  const std::string file = (dir / (map + "_t.txt")).string();
-  {
-    std::ofstream out(file);
-    out.precision(17);
-    for (double x : t) out << x << "\n";
-  }
-  const auto run = ::surftrace::test::runOracleScript("mpl_colormap.py", {map, file}, dir);
-  EXPECT_TRUE(run.ok()) << run.describe();
-  std::vector<glm::dvec3> colors;
-  std::istringstream in(run.out);
-  glm::dvec3 c;
-  while (in >> c.r >> c.g >> c.b) colors.push_back(c);
-  return colors;
+  return ::surftrace::test::matplotlibColors(map, t, ::surftrace::test::testTempDir());
 }
 
 TEST(ColorMap, EveryMapEqualsMatplotlibs) {
