@@ -453,7 +453,7 @@ struct RenderRequest {
 ImageEffects effectsOf(Keywords& k) {
   ImageEffects e;
   if (auto v = k.take("silhouettes")) e.silhouettes = flagOf(*v, "silhouettes");
-  if (auto v = k.take("silhouette_width")) e.lineWidth = wholeIn(*v, "silhouette_width", 1, 64);
+  if (auto v = k.take("silhouette_width")) e.lineWidth = realIn(*v, "silhouette_width", 0, 0.25, true);
   if (auto v = k.take("silhouette_color")) e.lineColor = glm::vec3(colorOf(*v, "silhouette_color"));
   if (auto v = k.take("silhouette_depth_jump")) e.silhouetteJump = realIn(*v, "silhouette_depth_jump", 0, HUGE_VAL);
   if (auto v = k.take("crease_angle")) e.creaseAngle = realIn(*v, "crease_angle", 0, 179);

@@ -71,9 +71,11 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
                "Draw silhouette lines: on the nearer side of every depth jump larger than --silhouette-depth-jump "
                "and of the outline against the background")
       ->group(group);
-  cmd.add_option("--silhouette-width", o.silhouetteWidth, "Silhouette and crease line width in pixels")
-      ->check(wholeIn(1, 64))
-      ->default_val(2)
+  cmd.add_option("--silhouette-width", o.silhouetteWidth,
+                 "Silhouette and crease line width as a fraction of the image height, in (0, 0.25] (0.002: 1 px at "
+                 "512 px, 4 px at 2048 px), so that every size of the same view looks alike; lines are anti-aliased")
+      ->check(numberIn(1e-6, 0.25))
+      ->default_val(0.002)
       ->group(group);
   cmd.add_option("--silhouette-color", o.silhouetteColor, "Silhouette and crease line colour r,g,b in [0,1]")
       ->default_val("0,0,0")

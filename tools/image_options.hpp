@@ -51,7 +51,7 @@ struct ImageOptions {
   double stickRadius = 0.15;  // --stick-radius, Å
   // Image-space effects (view/image_effects.hpp), applied after either engine.
   bool silhouettes = false;
-  int silhouetteWidth = 2;
+  double silhouetteWidth = 0.002;  // fraction of the image height
   std::string silhouetteColor = "0,0,0";
   double silhouetteJump = 2.0;
   double creaseAngle = 0.0;

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -36,38 +38,12 @@ void forPixels(std::size_t n, Fn&& fn) {
   });
 }
 
-// The view depth with misses at +inf: the farthest value in a window is then +inf whenever
-// the window holds a miss, so one max filter finds both kinds of silhouette.
+// The view depth with misses at +inf: a neighbour that is a miss then lies deeper than any
+// jump, so one comparison finds both kinds of silhouette.
 std::vector<float> depthWithMissesFar(const FrameBuffers& f) {
   std::vector<float> z(f.pixels());
   forPixels(z.size(), [&](std::size_t p) { z[p] = f.kind[p] != 0 ? f.viewZ[p] : kInf; });
   return z;
-}
-
-// Max over the (2r+1)² window clipped to the image, as two 1-D passes (max is exact, so the
-// separable filter equals the 2-D one bit for bit).
-std::vector<float> maxFilter(const std::vector<float>& in, int w, int h, int r) {
-  std::vector<float> rows(in.size()), out(in.size());
-  forRows(h, [&](int y) {
-    const float* src = &in[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    float* dst = &rows[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    // Offset by offset over the whole row (the loop the compiler vectorises), not pixel by pixel.
-    std::copy(src, src + w, dst);
-    for (int k = 1; k <= r && k < w; ++k)
-      for (int x = 0; x + k < w; ++x) {
-        dst[x] = std::max(dst[x], src[x + k]);
-        dst[x + k] = std::max(dst[x + k], src[x]);
-      }
-  });
-  forRows(h, [&](int y) {
-    float* dst = &out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-    std::fill(dst, dst + w, -kInf);
-    for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k) {
-      const float* src = &rows[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
-      for (int x = 0; x < w; ++x) dst[x] = std::max(dst[x], src[x]);
-    }
-  });
-  return out;
 }
 
 // One pass of the Gaussian along x or y, offset by offset over whole rows (vectorised); the
@@ -111,7 +87,8 @@ std::vector<float> weightInside(int n, const std::vector<float>& g) {
 }  // namespace
 
 void ImageEffects::validate() const {
-  if (lineWidth < 1) throw std::invalid_argument("silhouette width must be at least 1 pixel");
+  if (!(lineWidth > 0.0 && lineWidth <= 0.25))
+    throw std::invalid_argument("line width must be in (0, 0.25]: a fraction of the image height (0.002 is 2 px at 1000 px)");
   if (!(silhouetteJump >= 0.0) || !std::isfinite(silhouetteJump))
     throw std::invalid_argument("silhouette depth jump must be finite and >= 0 Å");
   if (!(creaseAngle >= 0.0 && creaseAngle < 180.0)) throw std::invalid_argument("crease angle must be in [0, 180) degrees");
@@ -128,7 +105,7 @@ std::string ImageEffects::json(const Camera& camera) const {
   nlohmann::json j = nlohmann::json::object();
   if (silhouettes) j["silhouettes"] = {{"depth_jump", silhouetteJump}};
   if (lines())
-    j["lines"] = {{"width_px", lineWidth}, {"color", {lineColor.x, lineColor.y, lineColor.z}}, {"crease_angle_degrees", creaseAngle}};
+    j["lines"] = {{"width_of_image_height", lineWidth}, {"color", {lineColor.x, lineColor.y, lineColor.z}}, {"crease_angle_degrees", creaseAngle}};
   if (depthDarkening) j["depth_darkening"] = {{"sigma_px", darkeningSigma}, {"strength", darkeningStrength}};
   if (depthCue) {
     nlohmann::json cue = {{"strength", depthCueStrength}};
@@ -144,37 +121,215 @@ std::string ImageEffects::json(const Camera& camera) const {
   return j.dump();
 }
 
-std::vector<unsigned char> silhouetteMask(const FrameBuffers& f, int width, double jump) {
-  const std::vector<float> z = depthWithMissesFar(f);
-  const std::vector<float> far = maxFilter(z, f.width, f.height, width);
-  std::vector<unsigned char> mask(f.pixels(), 0);
-  forPixels(mask.size(), [&](std::size_t p) {
-    mask[p] = f.kind[p] != 0 && static_cast<double>(far[p]) - static_cast<double>(z[p]) > jump;
-  });
-  return mask;
+namespace {
+
+// A pixel's centre in image coordinates (x right, y down).
+glm::dvec2 centreOf(int x, int y) { return {x + 0.5, y + 0.5}; }
+
+// 1 − |n × d| and |n × d| for unit n and d, without the cancellation of 1 − sqrt(1 − c²) near the
+// rim, where (n·d)² is tiny and 1 − g is all that matters.
+void rimMeasure(const glm::dvec3& n, const glm::dvec3& d, double& g, double& oneMinusG) {
+  const double c = glm::dot(n, d), s = std::max(0.0, 1.0 - c * c);
+  g = std::sqrt(s);
+  oneMinusG = c * c / (1.0 + g);
 }
 
-std::vector<unsigned char> creaseMask(const FrameBuffers& f, int width, double jump, double angleDegrees) {
-  std::vector<unsigned char> mask(f.pixels(), 0);
-  if (angleDegrees <= 0.0) return mask;
-  const float cosLimit = static_cast<float>(std::cos(angleDegrees * kPi / 180.0));
+// The overlap of a pixel's extent [d − ½, d + ½] across an edge with the band [0, w] inside it.
+float bandOverlap(double d, double w) {
+  return static_cast<float>(std::max(0.0, std::min(d + 0.5, w) - std::max(d - 0.5, 0.0)));
+}
+
+// One edge pixel's estimate of the jump: the point `at` on it and the unit image direction
+// `out` across it (from the near surface to what lies beyond).
+struct EdgeEstimate {
+  std::size_t pixel;
+  glm::dvec2 at, out;
+};
+
+}  // namespace
+
+std::vector<float> silhouetteCoverage(const FrameBuffers& f, const Camera& camera, double widthPx, double jump) {
+  const int w = f.width, h = f.height;
+  std::vector<float> cover(f.pixels(), 0.0f);
+  if (f.pixels() == 0 || !(widthPx > 0.0)) return cover;
+  const std::vector<float> z = depthWithMissesFar(f);
+  const Camera::Frame view = camera.frame();
+  auto normalAt = [&](std::size_t p) { return glm::dvec3(f.normal[3 * p], f.normal[3 * p + 1], f.normal[3 * p + 2]); };
+  auto rayOf = [&](std::size_t p) {
+    return view.ray(static_cast<double>(p % static_cast<std::size_t>(w)) + 0.5, static_cast<double>(p / static_cast<std::size_t>(w)) + 0.5);
+  };
+  auto rayAt = [&](int x, int y) { return view.ray(x + 0.5, y + 0.5).dir; };
+  // Pixel q's view depth less that of the tangent plane of pixel p's hit along q's ray (Å).
+  auto offPlane = [&](std::size_t p, std::size_t q) {
+    const Ray rp = rayOf(p), rq = rayOf(q);
+    const glm::dvec3 n = normalAt(p), at = rp.org + static_cast<double>(f.depth[p]) * rp.dir;
+    const double facing = glm::dot(n, rq.dir);
+    if (std::abs(facing) < 1e-9) return HUGE_VAL;
+    const double t = glm::dot(n, at - rq.org) / facing;
+    return static_cast<double>(f.viewZ[q]) - t * glm::dot(rq.dir, view.forward);
+  };
+  // q lies beyond p: a miss, or deeper by more than the jump where the two hits are not one
+  // surface. Near the rim of a smooth surface the depth changes by more than any jump from one
+  // pixel to the next, and it is still one surface: its normals differ little, and one of the
+  // two tangent planes, or their mean (the trapezoid rule, whose errors of a curved surface
+  // cancel), carries on to the other hit within the jump or ¾ of the depth change: towards a
+  // rim the slope grows as 1/√(distance), so no fixed tolerance fits every pixel size, and the
+  // inner hit's plane misses the outer one by at most ½ the change on a sphere (exactly ½ at
+  // the rim itself); two layers, however close their normals, lie off both planes by the whole
+  // change, on opposite sides.
+  auto beyond = [&](std::size_t p, std::size_t q) {
+    const double rise = static_cast<double>(z[q]) - static_cast<double>(z[p]);
+    if (!(rise > jump)) return false;
+    if (f.kind[q] == 0 || glm::dot(normalAt(p), normalAt(q)) < 0.5) return true;
+    const double ep = offPlane(p, q), eq = offPlane(q, p);
+    return std::min({std::abs(ep), std::abs(eq), 0.5 * std::abs(ep - eq)}) > std::max(jump, 0.75 * rise);
+  };
+
+  // The edge pixels and their estimates, row by row in parallel, then gathered in row order.
+  std::vector<std::vector<EdgeEstimate>> rows(static_cast<std::size_t>(h));
+  forRows(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = index(f, x, y);
+      if (f.kind[p] == 0) continue;
+      glm::dvec2 toBeyond(0.0), steps[8];
+      int count = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if ((dx == 0 && dy == 0) || qx < 0 || qy < 0 || qx >= w || qy >= h || !beyond(p, index(f, qx, qy))) continue;
+          steps[count++] = glm::dvec2(dx, dy);
+          toBeyond += glm::normalize(glm::dvec2(dx, dy));
+        }
+      if (count == 0) continue;
+      const glm::dvec2 c0 = centreOf(x, y);
+      // The reach of the pixels beyond along a direction: a straight jump lies before it.
+      auto reach = [&](const glm::dvec2& u) {
+        double r = 0.0;
+        for (int k = 0; k < count; ++k) r = std::max(r, glm::dot(steps[k], u));
+        return r;
+      };
+      // A rim curves away from its tangent: it may pass beyond a diagonal neighbour's centre
+      // along u, but not beyond the farthest neighbour beyond.
+      double farthest = 0.0;
+      for (int k = 0; k < count; ++k) farthest = std::max(farthest, glm::length(steps[k]));
+      EdgeEstimate e{p, c0, glm::length(toBeyond) > 1e-9 ? glm::normalize(toBeyond) : glm::normalize(steps[0])};
+      double offset = 0.5 * reach(e.out);
+      // The rim: the normal's image direction points across it, and g reaches 1 on it.
+      const glm::dvec3 n0 = normalAt(p);
+      const glm::dvec2 across(glm::dot(n0, view.right), -glm::dot(n0, view.up));
+      if (glm::length(across) > 0.5) {
+        const glm::dvec2 u = glm::normalize(across);
+        const double limit = reach(u) > 0.0 ? farthest : 0.0;
+        // The inner neighbour: the pixel one step against u.
+        const int ix = static_cast<int>(std::floor(c0.x - u.x)), iy = static_cast<int>(std::floor(c0.y - u.y));
+        if (limit > 0.0 && ix >= 0 && iy >= 0 && ix < w && iy < h && (ix != x || iy != y)) {
+          const std::size_t p1 = index(f, ix, iy);
+          if (f.kind[p1] != 0 && !beyond(p, p1) && !beyond(p1, p) && glm::dot(normalAt(p1), n0) > 0.5) {
+            double g0 = 0, rest0 = 0, g1 = 0, rest1 = 0;
+            rimMeasure(n0, rayAt(x, y), g0, rest0);
+            rimMeasure(normalAt(p1), rayAt(ix, iy), g1, rest1);
+            const double run = glm::dot(c0 - centreOf(ix, iy), u), slope = (rest1 - rest0) / run;
+            if (slope > 0.0 && rest0 <= slope * limit) e.out = u, offset = rest0 / slope;
+          }
+        }
+      }
+      e.at = c0 + offset * e.out;
+      rows[static_cast<std::size_t>(y)].push_back(e);
+    }
+  });
+
+  // Each edge draws its band into the pixels around it; a pixel takes the largest coverage.
+  // Pixels whose centre lies inside the band but beyond the jump (a miss, or deeper) belong to
+  // another part of the picture, where the straight edge's extension is wrong: they get none.
+  const int reachPx = static_cast<int>(std::ceil(widthPx + 1.5));
+  for (const std::vector<EdgeEstimate>& row : rows)
+    for (const EdgeEstimate& e : row) {
+      const int x0 = static_cast<int>(e.pixel % static_cast<std::size_t>(w)), y0 = static_cast<int>(e.pixel / static_cast<std::size_t>(w));
+      const glm::dvec2 along(-e.out.y, e.out.x);
+      // Half the length of edge one pixel stands for.
+      const double halfLength = 0.5 * (std::abs(along.x) + std::abs(along.y));
+      for (int qy = std::max(0, y0 - reachPx); qy <= std::min(h - 1, y0 + reachPx); ++qy)
+        for (int qx = std::max(0, x0 - reachPx); qx <= std::min(w - 1, x0 + reachPx); ++qx) {
+          const glm::dvec2 v = centreOf(qx, qy) - e.at;
+          if (std::abs(glm::dot(v, along)) > halfLength + 0.5) continue;
+          const double inside = -glm::dot(v, e.out);
+          const std::size_t q = index(f, qx, qy);
+          if (inside > 0.0 && (f.kind[q] == 0 || beyond(e.pixel, q))) continue;
+          cover[q] = std::max(cover[q], bandOverlap(inside, widthPx));
+        }
+    }
+  return cover;
+}
+
+std::vector<float> creaseCoverage(const FrameBuffers& f, double widthPx, double jump, double angleDegrees,
+                                  double minLengthPx) {
+  const std::size_t n = f.pixels();
+  std::vector<float> cover(n, 0.0f);
+  if (angleDegrees <= 0.0 || n == 0) return cover;
+  // The window's half-width: a crease between two pixels marks r pixels on either side, a band
+  // about widthPx wide like a silhouette's.
+  const int r = creaseWindowRadius(widthPx);
+  // The largest turn of the normal within the window, as the smallest cosine.
+  std::vector<float> minCos(n, 1.0f);
   forRows(f.height, [&](int y) {
     for (int x = 0; x < f.width; ++x) {
       const std::size_t p = index(f, x, y);
       if (f.kind[p] == 0) continue;
       const float* np = &f.normal[3 * p];
-      bool crease = false;
-      for (int qy = std::max(0, y - width); qy <= std::min(f.height - 1, y + width) && !crease; ++qy)
-        for (int qx = std::max(0, x - width); qx <= std::min(f.width - 1, x + width) && !crease; ++qx) {
+      float lowest = 1.0f;
+      for (int qy = std::max(0, y - r); qy <= std::min(f.height - 1, y + r); ++qy)
+        for (int qx = std::max(0, x - r); qx <= std::min(f.width - 1, x + r); ++qx) {
           const std::size_t q = index(f, qx, qy);
           if (f.kind[q] == 0 || std::abs(static_cast<double>(f.viewZ[q]) - static_cast<double>(f.viewZ[p])) > jump) continue;
           const float* nq = &f.normal[3 * q];
-          crease = np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2] < cosLimit;
+          lowest = std::min(lowest, np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]);
         }
-      mask[p] = crease;
+      minCos[p] = lowest;
     }
   });
-  return mask;
+  const double strong = angleDegrees, weak = kCreaseWeakRatio * angleDegrees;
+  const float strongCos = static_cast<float>(std::cos(strong * kPi / 180.0)),
+              weakCos = static_cast<float>(std::cos(weak * kPi / 180.0));
+  // Connected pieces of the weak pixels (8-neighbours), each kept when it holds a strong pixel
+  // and is long enough.
+  std::vector<unsigned char> seen(n, 0);
+  std::vector<std::size_t> piece, stack;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (seen[start] || !(minCos[start] < weakCos)) continue;
+    piece.clear();
+    stack.assign(1, start);
+    seen[start] = 1;
+    bool seeded = false;
+    int x0 = f.width, x1 = -1, y0 = f.height, y1 = -1;
+    while (!stack.empty()) {
+      const std::size_t p = stack.back();
+      stack.pop_back();
+      piece.push_back(p);
+      seeded = seeded || minCos[p] < strongCos;
+      const int x = static_cast<int>(p % static_cast<std::size_t>(f.width)), y = static_cast<int>(p / static_cast<std::size_t>(f.width));
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      for (int qy = std::max(0, y - 1); qy <= std::min(f.height - 1, y + 1); ++qy)
+        for (int qx = std::max(0, x - 1); qx <= std::min(f.width - 1, x + 1); ++qx) {
+          const std::size_t q = index(f, qx, qy);
+          if (!seen[q] && minCos[q] < weakCos) seen[q] = 1, stack.push_back(q);
+        }
+    }
+    const double length = std::hypot(x1 - x0 + 1, y1 - y0 + 1);
+    if (!seeded || length < minLengthPx) continue;
+    for (std::size_t p : piece) {
+      const double turn = std::acos(std::clamp(static_cast<double>(minCos[p]), -1.0, 1.0)) * 180.0 / kPi;
+      cover[p] = static_cast<float>(std::clamp((turn - weak) / (strong - weak), 0.0, 1.0));
+    }
+  }
+  return cover;
+}
+
+int creaseWindowRadius(double widthPx) { return std::max(1, static_cast<int>(std::lround(0.5 * widthPx))); }
+
+double lineWidthPixels(const ImageEffects& e, int height) { return e.lineWidth * height; }
+
+double creaseMinLengthPixels(const ImageEffects& e, int height) {
+  return kCreaseMinLength * std::max(1.0, lineWidthPixels(e, height));
 }
 
 std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma, double backgroundDepth) {
@@ -249,16 +404,20 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
     });
   }
   if (e.lines()) {
-    std::vector<unsigned char> mask = e.silhouettes ? silhouetteMask(f, e.lineWidth, e.silhouetteJump)
-                                                    : std::vector<unsigned char>(n, 0);
+    const double widthPx = lineWidthPixels(e, f.height);
+    std::vector<float> cover = e.silhouettes ? silhouetteCoverage(f, camera, widthPx, e.silhouetteJump)
+                                             : std::vector<float>(n, 0.0f);
     if (e.creaseAngle > 0.0) {
-      const std::vector<unsigned char> crease = creaseMask(f, e.lineWidth, e.silhouetteJump, e.creaseAngle);
-      for (std::size_t p = 0; p < n; ++p) mask[p] |= crease[p];
+      const std::vector<float> crease =
+          creaseCoverage(f, widthPx, e.silhouetteJump, e.creaseAngle, creaseMinLengthPixels(e, f.height));
+      for (std::size_t p = 0; p < n; ++p) cover[p] = std::max(cover[p], crease[p]);
     }
+    // The line lies over the pixel by its coverage (Porter and Duff's "over").
     forPixels(n, [&](std::size_t p) {
-      if (!mask[p]) return;
-      for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = e.lineColor[c];
-      f.rgba[4 * p + 3] = 1.0f;
+      const float c = cover[p];
+      if (c <= 0.0f) return;
+      for (int k = 0; k < 3; ++k) f.rgba[4 * p + k] = c * e.lineColor[k] + (1.0f - c) * f.rgba[4 * p + k];
+      f.rgba[4 * p + 3] = c + (1.0f - c) * f.rgba[4 * p + 3];
     });
   }
 }

@@ -13,22 +13,25 @@
 
 namespace surftrace::view {
 
-// Which effects to apply and their parameters. Every effect reads the pixel-centre buffers
-// (viewZ, normal, kind), so with samplesPerPixel > 1 it is decided by the centre sample and
-// applied to the pixel's averaged colour: lines are not anti-aliased, and a pixel whose centre
-// misses gets no effect even if other samples hit.
+// Which effects to apply and their parameters. Depth darkening and depth cueing read the
+// pixel-centre buffers (viewZ, normal, kind), so with samplesPerPixel > 1 they are decided by the
+// centre sample and applied to the pixel's averaged colour. The lines are anti-aliased from the
+// same buffers (silhouetteCoverage, creaseCoverage), so they need no extra samples and are the
+// same for every engine.
 struct ImageEffects {
-  // Silhouettes: a hit pixel p is on a silhouette when some pixel q with
-  // max(|qx − px|, |qy − py|) <= lineWidth (inside the image) is a miss or lies farther by more
-  // than silhouetteJump: viewZ(q) − viewZ(p) > silhouetteJump (Å). The line thus lies on the
-  // nearer surface, lineWidth pixels wide.
+  // Silhouettes: a band lineWidth wide on the nearer side of every depth jump (a hit pixel next
+  // to a miss, or to a pixel deeper by more than silhouetteJump Å of view depth), measured from
+  // the sub-pixel position of the jump (silhouetteCoverage) and drawn with its pixel coverage.
   bool silhouettes = false;
-  int lineWidth = 2;                   // px
+  // Line width as a fraction of the image height, so that a preview and a large figure of the
+  // same view look alike (0.002: 1 px at 512 px, 4.3 px at 2160 px).
+  double lineWidth = 0.002;
   glm::vec3 lineColor{0.0f};
   double silhouetteJump = 2.0;         // Å of view depth
-  // Crease lines: a hit pixel p whose normal turns by more than creaseAngle degrees towards some
-  // hit q in the same window on the same surface (|viewZ(q) − viewZ(p)| <= silhouetteJump).
-  // 0 = none. Drawn with the silhouettes' width and colour.
+  // Crease lines: where the normal turns by more than creaseAngle degrees within the line width
+  // on one surface (|viewZ(q) − viewZ(p)| <= silhouetteJump), kept only in connected pieces at
+  // least kCreaseMinLength line widths long (creaseCoverage). 0 = none. Drawn with the
+  // silhouettes' width and colour.
   double creaseAngle = 0.0;
   // Depth darkening (Luft, Colditz, Deussen 2006, "Image enhancement by unsharp masking the depth
   // buffer"): ΔD = G∗D − D with D the view depth in Å (the background just behind the
@@ -61,9 +64,34 @@ struct ImageEffects {
 void applyImageEffects(FrameBuffers& frame, const ImageEffects& effects, const Camera& camera,
                        const glm::vec3& background);
 
-// The pieces, for tests and benchmarks. One byte per pixel, 1 where a line is drawn.
-std::vector<unsigned char> silhouetteMask(const FrameBuffers& frame, int width, double jump);
-std::vector<unsigned char> creaseMask(const FrameBuffers& frame, int width, double jump, double angleDegrees);
+// The lines' pieces, for tests and benchmarks: per pixel, the share of the pixel a line covers,
+// in [0, 1]. `widthPx` is the line width in pixels (ImageEffects::lineWidth × height).
+//
+// Silhouettes: an edge pixel is a hit pixel with an 8-neighbour that is a miss or deeper by more
+// than `jump`, unless the tangent plane of one of the two hits passes within `jump` of the other
+// (one surface turning away near its rim, not a jump). Where the near surface turns away from the eye (the rim of a smooth surface:
+// g = |n × d| → 1, with d the pixel's ray), the jump's sub-pixel position is where g, extrapolated
+// linearly from the edge pixel and its inner neighbour, reaches 1, across the image direction
+// of the normal; g is linear in the image position on a sphere's rim, so this is exact there.
+// Elsewhere the jump lies half way to the neighbours beyond it. The line is the band of width
+// `widthPx` inside the jump; each pixel gets the overlap of its 1-px extent across the jump with
+// the band, so the line moves with the geometry by fractions of a pixel.
+std::vector<float> silhouetteCoverage(const FrameBuffers& frame, const Camera& camera, double widthPx, double jump);
+// Creases: the largest turn of the normal to a pixel q within the square window of radius
+// creaseWindowRadius(widthPx) on the same surface (|Δ viewZ| <= jump). With hysteresis (Canny 1986):
+// pixels turning by more than angleDegrees seed, pixels turning by more than
+// kCreaseWeakRatio × angleDegrees extend them, and a connected piece shorter than
+// `minLengthPx` (its bounding box's diagonal) is dropped, so that curved but smooth places do
+// not leave specks. A kept pixel's coverage ramps from 0 at the weak to 1 at the strong angle.
+inline constexpr double kCreaseWeakRatio = 0.75;
+inline constexpr double kCreaseMinLength = 4.0;  // line widths (at least 1 px each)
+std::vector<float> creaseCoverage(const FrameBuffers& frame, double widthPx, double jump, double angleDegrees,
+                                  double minLengthPx);
+// max(1, round(widthPx / 2)): a crease between two pixels marks a band about widthPx wide.
+int creaseWindowRadius(double widthPx);
+// The line width in pixels and the shortest crease piece kept, in pixels, for a frame `height` high.
+double lineWidthPixels(const ImageEffects& effects, int height);
+double creaseMinLengthPixels(const ImageEffects& effects, int height);
 // ΔD = G∗D − D per pixel, misses at `backgroundDepth`, as two 1-D passes.
 std::vector<float> depthUnsharpMask(const FrameBuffers& frame, double sigma, double backgroundDepth);
 // The depth of the background for depth darkening: the farthest hit's.

@@ -1,15 +1,22 @@
-"""Silhouettes oracle: the pixels `surftrace render --silhouettes --exr` drew in the line colour
-are exactly those at a depth jump, recomputed with numpy from the EXR's own buffers.
+"""Silhouettes oracle: the lines `surftrace render --silhouettes --exr` drew lie along the depth
+jumps of the EXR's own buffers, recomputed with numpy.
 
 Reads the EXR with a small reader of its own (OpenEXR scanline files, ZIP/ZIPS or no
 compression, 32-bit channels: what SurfTrace writes), sharing no code with SurfTrace.
 
-Definition (README, "Image-space effects"): a pixel p whose centre ray hits (patch.kind != 0)
-is on a silhouette when some pixel q with max(|qx - px|, |qy - py|) <= WIDTH inside the image
-is a miss, or lies deeper in view depth by more than JUMP Å: depth.z(q) - depth.z(p) > JUMP.
+Definition (README, "Image-space effects"): an edge pixel is a pixel p whose centre ray hits
+(patch.kind != 0) with one of its 8 neighbours a miss, or deeper in view depth by more than
+JUMP Å: depth.z(q) - depth.z(p) > JUMP. The line is a band WIDTH x height pixels wide inside the
+jump, drawn over the colour with its coverage c: colour = c * line + (1 - c) * plain.
 
-usage: exr_silhouettes.py IMAGE.exr WIDTH JUMP R,G,B
-prints "silhouette pixels N, line-coloured pixels M, mismatches K"; exit 0 when K == 0, 1 otherwise.
+The coverage of every pixel is recovered from the image with lines and the PLAIN one without
+(same options, no --silhouettes) through the line colour's channel farthest from the plain
+colour. Checked: every edge pixel is at least half covered (the band is at least a pixel wide
+and starts at the jump, which lies beyond the pixel's centre), and no pixel farther than the
+band's width and 1.5 px from every edge pixel is covered.
+
+usage: exr_silhouettes.py IMAGE.exr PLAIN.exr WIDTH JUMP R,G,B
+prints "edge pixels N, covered pixels M, mismatches K"; exit 0 when K == 0, 1 otherwise.
 """
 import struct
 import sys
@@ -77,33 +84,48 @@ def read_exr(path):
     return result
 
 
-def window_max(z, r):
-    """Max of z over the (2r+1)^2 window of every pixel, the window clipped to the image."""
-    h, w = z.shape
-    padded = np.full((h + 2 * r, w + 2 * r), -np.inf)
-    padded[r:r + h, r:r + w] = z
-    m = np.full((h, w), -np.inf)
-    for dy in range(2 * r + 1):
-        for dx in range(2 * r + 1):
-            m = np.maximum(m, padded[dy:dy + h, dx:dx + w])
-    return m
-
-
 def main():
-    path, width, jump = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
-    color = np.array([float(c) for c in sys.argv[4].split(",")], dtype=np.float32)
-    exr = read_exr(path)
+    path, plain_path, width, jump = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
+    color = np.array([float(c) for c in sys.argv[5].split(",")], dtype=np.float64)
+    exr, plain = read_exr(path), read_exr(plain_path)
+    h, w = exr["patch.kind"].shape
+    width_px = width * h
     hit = exr["patch.kind"] != 0
     z = np.where(hit, exr["depth.z"].astype(np.float64), np.inf)
-    with np.errstate(invalid="ignore"):  # inf - inf at misses: NaN, not > jump
-        silhouette = hit & (window_max(z, width) - z > jump)
-    rgb = np.stack([exr["R"], exr["G"], exr["B"]], axis=-1)
-    coloured = np.all(rgb == color, axis=-1)
-    mismatch = int(np.count_nonzero(silhouette != coloured))
-    print(f"silhouette pixels {int(silhouette.sum())}, line-coloured pixels {int(coloured.sum())}, mismatches {mismatch}")
-    if mismatch:
-        ys, xs = np.nonzero(silhouette != coloured)
-        print("first mismatches (x, y):", list(zip(xs[:10].tolist(), ys[:10].tolist())))
+    # The largest depth among the 8 neighbours (misses at +inf), the image's border not counted.
+    padded = np.full((h + 2, w + 2), -np.inf)
+    padded[1:-1, 1:-1] = z
+    deepest = np.full((h, w), -np.inf)
+    for dy in range(3):
+        for dx in range(3):
+            if dy != 1 or dx != 1:
+                deepest = np.maximum(deepest, padded[dy:dy + h, dx:dx + w])
+    with np.errstate(invalid="ignore"):  # inf - inf: NaN, not > jump
+        edge = hit & (deepest - z > jump)
+    lined = np.stack([exr[c].astype(np.float64) for c in "RGB"], axis=-1)
+    base = np.stack([plain[c].astype(np.float64) for c in "RGB"], axis=-1)
+    # colour = c line + (1 - c) plain, solved in the channel where line and plain differ most.
+    gap = color[None, None, :] - base
+    k = np.argmax(np.abs(gap), axis=-1)[..., None]
+    g = np.take_along_axis(gap, k, -1)[..., 0]
+    d = np.take_along_axis(lined - base, k, -1)[..., 0]
+    coverage = np.where(np.abs(g) > 0.05, d / np.where(np.abs(g) > 0.05, g, 1.0), 0.0)
+    covered = coverage > 1e-3
+    # Distance from every pixel to the nearest edge pixel (brute force over the edge pixels).
+    ys, xs = np.nonzero(edge)
+    gy, gx = np.mgrid[0:h, 0:w]
+    nearest = np.full((h, w), np.inf)
+    for y, x in zip(ys.tolist(), xs.tolist()):
+        nearest = np.minimum(nearest, np.hypot(gx - x, gy - y))
+    uncovered_edges = edge & (coverage < 0.5 - 1e-3)
+    stray = covered & (nearest > width_px + 1.5)
+    mismatch = int(np.count_nonzero(uncovered_edges) + np.count_nonzero(stray))
+    print(f"edge pixels {int(edge.sum())}, covered pixels {int(covered.sum())}, partly covered "
+          f"{int(np.count_nonzero(covered & (coverage < 0.95)))}, mismatches {mismatch}")
+    for name, bad in (("edge pixels under half covered", uncovered_edges), ("covered far from any edge", stray)):
+        if bad.any():
+            by, bx = np.nonzero(bad)
+            print(f"{name} (x, y):", list(zip(bx[:10].tolist(), by[:10].tolist())))
     return 0 if mismatch == 0 else 1
 
 
