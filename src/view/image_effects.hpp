@@ -84,7 +84,7 @@ std::vector<float> silhouetteCoverage(const FrameBuffers& frame, const Camera& c
 // `minLengthPx` (its bounding box's diagonal) is dropped, so that curved but smooth places do
 // not leave specks. A kept pixel's coverage ramps from 0 at the weak to 1 at the strong angle.
 inline constexpr double kCreaseWeakRatio = 0.75;
-inline constexpr double kCreaseMinLength = 4.0;  // line widths (at least 1 px each)
+inline constexpr double kCreaseMinLength = 8.0;  // line widths (at least 1 px each)
 std::vector<float> creaseCoverage(const FrameBuffers& frame, double widthPx, double jump, double angleDegrees,
                                   double minLengthPx);
 // max(1, round(widthPx / 2)): a crease between two pixels marks a band about widthPx wide.
