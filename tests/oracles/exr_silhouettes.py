@@ -11,9 +11,11 @@ jump, drawn over the colour with its coverage c: colour = c * line + (1 - c) * p
 
 The coverage of every pixel is recovered from the image with lines and the PLAIN one without
 (same options, no --silhouettes) through the line colour's channel farthest from the plain
-colour. Checked: every edge pixel is at least half covered (the band is at least a pixel wide
-and starts at the jump, which lies beyond the pixel's centre), and no pixel farther than the
-band's width and 1.5 px from every edge pixel is covered.
+colour. Checked: every edge pixel next to the background is at least half covered when the
+band is 1.92 px wide or more (the jump lies within √2 px of the pixel's centre), covered at all
+when narrower; and no pixel farther than the band's width and 1.5 px from every edge pixel is
+covered. A jump between two hits may be one surface turning away near its rim, which the
+renderer does not line: those edge pixels only bound where lines may be.
 
 usage: exr_silhouettes.py IMAGE.exr PLAIN.exr WIDTH JUMP R,G,B
 prints "edge pixels N, covered pixels M, mismatches K"; exit 0 when K == 0, 1 otherwise.
@@ -102,6 +104,7 @@ def main():
                 deepest = np.maximum(deepest, padded[dy:dy + h, dx:dx + w])
     with np.errstate(invalid="ignore"):  # inf - inf: NaN, not > jump
         edge = hit & (deepest - z > jump)
+    outline = hit & np.isinf(deepest)  # a neighbour is background
     lined = np.stack([exr[c].astype(np.float64) for c in "RGB"], axis=-1)
     base = np.stack([plain[c].astype(np.float64) for c in "RGB"], axis=-1)
     # colour = c line + (1 - c) plain, solved in the channel where line and plain differ most.
@@ -117,12 +120,14 @@ def main():
     nearest = np.full((h, w), np.inf)
     for y, x in zip(ys.tolist(), xs.tolist()):
         nearest = np.minimum(nearest, np.hypot(gx - x, gy - y))
-    uncovered_edges = edge & (coverage < 0.5 - 1e-3)
+    # Only the outline must be covered: a jump to a hit may be one surface turning away near
+    # its rim, which the renderer does not line (its tangent plane carries on).
+    uncovered_edges = outline & (coverage < (0.5 if width_px >= 1.92 else 0.0) + 1e-3)
     stray = covered & (nearest > width_px + 1.5)
     mismatch = int(np.count_nonzero(uncovered_edges) + np.count_nonzero(stray))
     print(f"edge pixels {int(edge.sum())}, covered pixels {int(covered.sum())}, partly covered "
           f"{int(np.count_nonzero(covered & (coverage < 0.95)))}, mismatches {mismatch}")
-    for name, bad in (("edge pixels under half covered", uncovered_edges), ("covered far from any edge", stray)):
+    for name, bad in (("outline pixels under half covered", uncovered_edges), ("covered far from any edge", stray)):
         if bad.any():
             by, bx = np.nonzero(bad)
             print(f"{name} (x, y):", list(zip(bx[:10].tolist(), by[:10].tolist())))
