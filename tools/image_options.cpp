@@ -96,8 +96,8 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
   // σ was once in pixels (0.1 to 256): every such value is refused with the option that takes
   // pixels now, rather than read as a fraction of the image.
   CLI::Option* sigma = cmd.add_option("--depth-darkening-sigma", o.darkeningSigma,
-                 "Depth darkening: the Gaussian's σ as a fraction of the image height, below 0.1 (the same look at "
-                 "any image size)")
+                 "Depth darkening: the Gaussian's σ as a fraction of the image height, below 0.1, so that any image "
+                 "size looks the same (0.015 is 7.7 px of a 512² image; for pixels, --depth-darkening-sigma-px)")
       ->check(CLI::Validator(
           [](std::string& text) {
             const std::string bad = detail::checkNumber(text, 0.0, HUGE_VAL, true, false);

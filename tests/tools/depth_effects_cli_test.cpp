@@ -147,13 +147,14 @@ TEST(DepthEffectsCli, TheHaloOfALargeMoleculeIsGreyAsASmallOnes) {
 // ΔD = S1 − B·S0 (S0: the Gaussian weight of the hits in its window, S1: their weighted depth,
 // both over the weight inside the image), so the background depth B it was darkened against
 // is (S1 − (colour − 1)·R/λ)/S0. Recovered from each frame's own buffers at every halo pixel
-// with S0 >= 0.1, B is the camera's far plane in both frames (within 0.01 Å; the frames'
-// farthest hits differ), with R its near-to-far range, as the metadata says.
+// with S0 >= 0.1, B is the camera's far plane in both frames (within 0.01 Å, measured 1.2e-4;
+// the frames' farthest hits differ: once B, they moved the halo by up to 0.065), with R its
+// near-to-far range, as the metadata says; depth cueing takes the same range.
 TEST(DepthEffectsCli, TrajectoryFramesDarkenAgainstTheCamerasFixedFarPlane) {
   const fs::path dir = ::surftrace::test::freshTempDir("depth_trajectory");
   const std::string psf = kData + "/trajectories/adk_dims/adk.psf.gz", dcd = kData + "/trajectories/adk_dims/adk_dims.dcd";
   const Result r = runTool("trajectory " + psf + " " + dcd + " --frames 47:49 --size 256x256 --quiet --depth-darkening "
-                           "--background 1,1,1 --exr " + (dir / "%03d.exr").string());
+                           "--depth-cue --background 1,1,1 --exr " + (dir / "%03d.exr").string());
   ASSERT_EQ(r.status, 0) << r.output;
   double farthestHit[2] = {0, 0};
   for (int k = 0; k < 2; ++k) {
@@ -164,6 +165,10 @@ TEST(DepthEffectsCli, TrajectoryFramesDarkenAgainstTheCamerasFixedFarPlane) {
     const double zNear = camera.at("near"), zFar = camera.at("far"), range = zFar - zNear;
     EXPECT_EQ(dark.value("background_depth", 0.0), zFar);
     EXPECT_EQ(dark.value("range", 0.0), range);
+    // Depth cueing fades hits only, over the same fixed range.
+    const auto cue = nlohmann::json::parse(meta.at("surftrace:effects")).at("depth_cue");
+    EXPECT_EQ(cue.at("start").get<double>(), zNear);
+    EXPECT_EQ(cue.at("end").get<double>(), zFar);
     const double lambda = dark.at("strength"), sigma = 0.015 * f.height;
     const int radius = static_cast<int>(std::ceil(3.0 * sigma));
     std::vector<double> g(static_cast<std::size_t>(radius) + 1);
