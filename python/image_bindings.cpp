@@ -458,9 +458,20 @@ ImageEffects effectsOf(Keywords& k) {
   if (auto v = k.take("silhouette_depth_jump")) e.silhouetteJump = realIn(*v, "silhouette_depth_jump", 0, HUGE_VAL);
   if (auto v = k.take("crease_angle")) e.creaseAngle = realIn(*v, "crease_angle", 0, 179);
   if (auto v = k.take("depth_darkening")) e.depthDarkening = flagOf(*v, "depth_darkening");
-  if (auto v = k.take("depth_darkening_sigma")) e.darkeningSigma = realIn(*v, "depth_darkening_sigma", 0.1, 256);
+  if (auto v = k.take("depth_darkening_sigma")) {
+    e.darkeningSigma = realIn(*v, "depth_darkening_sigma", 0, HUGE_VAL);
+    if (!(e.darkeningSigma > 0.0 && e.darkeningSigma < 0.1))
+      throw py::value_error("depth_darkening_sigma is a fraction of the image height in (0, 0.1), e.g. 0.015; for a "
+                            "sigma in pixels give depth_darkening_sigma_px");
+  }
+  if (auto v = k.take("depth_darkening_sigma_px"))
+    e.darkeningSigmaPx = realIn(*v, "depth_darkening_sigma_px", 0.1, 256);
   if (auto v = k.take("depth_darkening_strength"))
     e.darkeningStrength = realIn(*v, "depth_darkening_strength", 0, HUGE_VAL);
+  if (auto v = k.take("depth_darkening_range")) {
+    e.darkeningRange = realIn(*v, "depth_darkening_range", 0, HUGE_VAL);
+    if (!(*e.darkeningRange > 0.0)) throw py::value_error("depth_darkening_range must be > 0 Å");
+  }
   if (auto v = k.take("depth_cue")) e.depthCue = flagOf(*v, "depth_cue");
   if (auto v = k.take("depth_cue_strength")) e.depthCueStrength = realIn(*v, "depth_cue_strength", 0, 1);
   if (auto v = k.take("depth_cue_start")) e.depthCueStart = realIn(*v, "depth_cue_start", 0, HUGE_VAL);
@@ -828,7 +839,8 @@ size: (width, height), default (1024, 1024) or the camera's. engine: "embree" (e
 Options, as the CLI's: color ("patch", "element", "chain", "bfactor", "uniform"), uniform_color,
 background ((r, g, b) in [0, 1]), spp, shadows, ao, ao_distance, opacity, max_layers, ball_and_stick,
 ball_scale, stick_radius, silhouettes, silhouette_width, silhouette_color, silhouette_depth_jump,
-crease_angle, depth_darkening, depth_darkening_sigma, depth_darkening_strength, depth_cue,
+crease_angle, depth_darkening, depth_darkening_sigma (a fraction of the image height),
+depth_darkening_sigma_px, depth_darkening_strength, depth_darkening_range, depth_cue,
 depth_cue_strength, depth_cue_start, depth_cue_end, gl_torus, gl_primitive, gl_steps;
 masks (default True): record where another renderer may honestly disagree, for compare.)");
   m.def("compare", &compareImages, "test"_a, "reference"_a, "depth_convention"_a = py::none(), "origin"_a = py::none(),

@@ -93,16 +93,40 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
       ->group(group);
   cmd.add_flag("--depth-darkening", o.depthDarkening,
                "Darken what lies behind its surroundings: unsharp masking of the depth buffer (Luft, Colditz, "
-               "Deussen 2006), colour + strength·min(0, G∗D − D), D in Å")
+               "Deussen 2006), colour + strength·min(0, G∗D − D)/R, D in Å, R the scene's depth range")
       ->group(group);
-  cmd.add_option("--depth-darkening-sigma", o.darkeningSigma, "Depth darkening: the Gaussian's σ in pixels")
+  // σ was once in pixels (0.1 to 256): every such value is refused with the option that takes
+  // pixels now, rather than read as a fraction of the image.
+  CLI::Option* sigma = cmd.add_option("--depth-darkening-sigma", o.darkeningSigma,
+                 "Depth darkening: the Gaussian's σ as a fraction of the image height, below 0.1, so that any image "
+                 "size looks the same (0.015 is 7.7 px of a 512² image; for pixels, --depth-darkening-sigma-px)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            const std::string bad = detail::checkNumber(text, 0.0, HUGE_VAL, true, false);
+            if (!bad.empty()) return bad;
+            if (std::strtod(text.c_str(), nullptr) < 0.1) return std::string();
+            return "expected a fraction of the image height in (0, 0.1), e.g. 0.015, got '" + text +
+                   "'; for a σ in pixels give --depth-darkening-sigma-px " + text;
+          },
+          "FRACTION", "fraction of the image height"))
+      ->default_val(0.015)
+      ->group(group);
+  cmd.add_option("--depth-darkening-sigma-px", o.darkeningSigmaPx,
+                 "Depth darkening: the Gaussian's σ in pixels, in place of --depth-darkening-sigma")
       ->check(numberIn(0.1, 256))
-      ->default_val(8.0)
+      ->excludes(sigma)
       ->group(group);
   cmd.add_option("--depth-darkening-strength", o.darkeningStrength,
-                 "Depth darkening: λ, the colour removed per Å that a pixel lies behind its surroundings")
+                 "Depth darkening: the colour removed where a pixel lies behind its surroundings by the whole depth "
+                 "range R (the camera's near to far plane: tight around the scene, the same in every trajectory "
+                 "frame)")
       ->check(numberIn(0, HUGE_VAL))
-      ->default_val(0.03)
+      ->default_val(1.0)
+      ->group(group);
+  cmd.add_option("--depth-darkening-range", o.darkeningRange,
+                 "Depth darkening: R in Å, in place of the camera's depth range (e.g. the same R for several "
+                 "molecules; 1 gives --depth-darkening-strength in colour per Å)")
+      ->check(positive())
       ->group(group);
   cmd.add_flag("--depth-cue", o.depthCue,
                "Depth-dependent lighting: fade surfaces linearly towards the background with view depth, from "
@@ -224,7 +248,9 @@ view::ImageEffects resolveEffects(const ImageOptions& o) {
   e.creaseAngle = o.creaseAngle;
   e.depthDarkening = o.depthDarkening;
   e.darkeningSigma = o.darkeningSigma;
+  e.darkeningSigmaPx = o.darkeningSigmaPx;
   e.darkeningStrength = o.darkeningStrength;
+  e.darkeningRange = o.darkeningRange;
   e.depthCue = o.depthCue;
   e.depthCueStrength = o.depthCueStrength;
   e.depthCueStart = o.depthCueStart;

@@ -56,8 +56,10 @@ struct ImageOptions {
   double silhouetteJump = 2.0;
   double creaseAngle = 0.0;
   bool depthDarkening = false;
-  double darkeningSigma = 8.0;
-  double darkeningStrength = 0.03;
+  double darkeningSigma = 0.015;                // fraction of the image height
+  std::optional<double> darkeningSigmaPx;       // --depth-darkening-sigma-px
+  double darkeningStrength = 1.0;               // colour per depth range
+  std::optional<double> darkeningRange;         // --depth-darkening-range, Å
   bool depthCue = false;
   double depthCueStrength = 0.6;
   std::optional<double> depthCueStart, depthCueEnd;

@@ -17,6 +17,9 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kPi = 3.14159265358979323846;
+// σ as a fraction of the image height stays below 0.1 (3σ already spans 30 % of the image), so
+// that no σ once given in pixels (0.1 and up) is silently read as a fraction.
+constexpr double kMaxSigmaFraction = 0.1;
 
 std::size_t index(const FrameBuffers& f, int x, int y) {
   return static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x);
@@ -92,10 +95,15 @@ void ImageEffects::validate() const {
   if (!(silhouetteJump >= 0.0) || !std::isfinite(silhouetteJump))
     throw std::invalid_argument("silhouette depth jump must be finite and >= 0 Å");
   if (!(creaseAngle >= 0.0 && creaseAngle < 180.0)) throw std::invalid_argument("crease angle must be in [0, 180) degrees");
-  if (!(darkeningSigma > 0.0 && darkeningSigma <= 256.0))
-    throw std::invalid_argument("depth-darkening sigma must be in (0, 256] pixels");
+  if (!(darkeningSigma > 0.0 && darkeningSigma < kMaxSigmaFraction))
+    throw std::invalid_argument("depth-darkening sigma must be in (0, 0.1): a fraction of the image height (for pixels, "
+                                "give the sigma in pixels instead)");
+  if (darkeningSigmaPx && !(*darkeningSigmaPx > 0.0 && *darkeningSigmaPx <= 256.0))
+    throw std::invalid_argument("depth-darkening sigma in pixels must be in (0, 256]");
   if (!(darkeningStrength >= 0.0) || !std::isfinite(darkeningStrength))
     throw std::invalid_argument("depth-darkening strength must be finite and >= 0");
+  if (darkeningRange && !(*darkeningRange > 0.0 && std::isfinite(*darkeningRange)))
+    throw std::invalid_argument("depth-darkening range must be finite and > 0 Å");
   if (!(depthCueStrength >= 0.0 && depthCueStrength <= 1.0)) throw std::invalid_argument("depth-cue strength must be in [0, 1]");
   if (depthCueStart && depthCueEnd && !(*depthCueEnd > *depthCueStart))
     throw std::invalid_argument("depth-cue end must lie beyond its start");
@@ -106,7 +114,19 @@ std::string ImageEffects::json(const Camera& camera) const {
   if (silhouettes) j["silhouettes"] = {{"depth_jump", silhouetteJump}};
   if (lines())
     j["lines"] = {{"width_of_image_height", lineWidth}, {"color", {lineColor.x, lineColor.y, lineColor.z}}, {"crease_angle_degrees", creaseAngle}};
-  if (depthDarkening) j["depth_darkening"] = {{"sigma_px", darkeningSigma}, {"strength", darkeningStrength}};
+  if (depthDarkening) {
+    nlohmann::json dark = {{"sigma_px", darkeningSigmaPixels(camera.height)}, {"strength", darkeningStrength}};
+    if (!darkeningSigmaPx) dark["sigma_image_height"] = darkeningSigma;
+    if (camera.hasDepthRange()) {
+      dark["background_depth"] = camera.zFar;
+      if (!darkeningRange) dark["range"] = camera.zFar - camera.zNear;
+    } else {
+      dark["background_depth"] = "the farthest hit";
+      if (!darkeningRange) dark["range"] = "the frame's hits";
+    }
+    if (darkeningRange) dark["range"] = *darkeningRange;
+    j["depth_darkening"] = dark;
+  }
   if (depthCue) {
     nlohmann::json cue = {{"strength", depthCueStrength}};
     const double start = depthCueStart ? *depthCueStart : camera.zNear, end = depthCueEnd ? *depthCueEnd : camera.zFar;
@@ -364,20 +384,33 @@ std::vector<float> depthUnsharpMask(const FrameBuffers& f, double sigma, double 
   return delta;
 }
 
-double backgroundDepth(const FrameBuffers& f) {
-  double far = 0.0;
+double ImageEffects::darkeningSigmaPixels(int imageHeight) const {
+  return darkeningSigmaPx ? *darkeningSigmaPx : darkeningSigma * imageHeight;
+}
+
+void sceneDepthRange(const Camera& camera, const FrameBuffers& f, double& nearest, double& farthest) {
+  nearest = camera.zNear, farthest = camera.zFar;
+  if (camera.hasDepthRange()) return;
+  nearest = kInf, farthest = -kInf;
   for (std::size_t p = 0; p < f.pixels(); ++p)
-    if (f.kind[p] != 0) far = std::max(far, static_cast<double>(f.viewZ[p]));
-  return far;
+    if (f.kind[p] != 0)
+      nearest = std::min(nearest, static_cast<double>(f.viewZ[p])), farthest = std::max(farthest, static_cast<double>(f.viewZ[p]));
+}
+
+void darkeningDepths(const ImageEffects& e, const Camera& camera, const FrameBuffers& f, double& background, double& range) {
+  double nearest = 0, farthest = 0;
+  sceneDepthRange(camera, f, nearest, farthest);
+  // No hit and no camera range: nothing to darken, any finite depths do.
+  if (!(farthest >= nearest)) nearest = farthest = 0.0;
+  background = farthest;
+  range = e.darkeningRange ? *e.darkeningRange : farthest - nearest;
+  // One depth only (a flat frame without a camera range): ΔD is 0 wherever a hit is, 1 Å keeps
+  // the division finite.
+  if (!(range > 0.0)) range = 1.0;
 }
 
 void depthCueRange(const ImageEffects& e, const Camera& camera, const FrameBuffers& f, double& start, double& end) {
-  start = camera.zNear, end = camera.zFar;
-  if (!camera.hasDepthRange()) {
-    start = kInf, end = -kInf;
-    for (std::size_t p = 0; p < f.pixels(); ++p)
-      if (f.kind[p] != 0) start = std::min(start, static_cast<double>(f.viewZ[p])), end = std::max(end, static_cast<double>(f.viewZ[p]));
-  }
+  sceneDepthRange(camera, f, start, end);
   if (e.depthCueStart) start = *e.depthCueStart;
   if (e.depthCueEnd) end = *e.depthCueEnd;
 }
@@ -386,8 +419,10 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
   if (!e.any() || f.pixels() == 0) return;
   const std::size_t n = f.pixels();
   if (e.depthDarkening) {
-    const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigma, backgroundDepth(f));
-    const auto lambda = static_cast<float>(e.darkeningStrength);
+    double behind = 0, range = 1;
+    darkeningDepths(e, camera, f, behind, range);
+    const std::vector<float> delta = depthUnsharpMask(f, e.darkeningSigmaPixels(f.height), behind);
+    const auto lambda = static_cast<float>(e.darkeningStrength / range);
     forPixels(n, [&](std::size_t p) {
       if (delta[p] < 0.0f)
         for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = std::max(0.0f, f.rgba[4 * p + c] + lambda * delta[p]);

@@ -34,15 +34,25 @@ struct ImageEffects {
   // silhouettes' width and colour.
   double creaseAngle = 0.0;
   // Depth darkening (Luft, Colditz, Deussen 2006, "Image enhancement by unsharp masking the depth
-  // buffer"): ΔD = G∗D − D with D the view depth in Å (the background just behind the
-  // farthest hit: the camera's far plane would lie a molecule's radius behind the rim and
-  // turn the halo black) and G a Gaussian of darkeningSigma pixels, truncated at 3σ and
-  // normalised over the pixels inside the image; where ΔD < 0 (the pixel lies behind its
-  // surroundings) each colour channel gets λ·ΔD added. The background next to the molecule lies
-  // behind it too: it gets the paper's dark halo.
+  // buffer"): ΔD = G∗D − D with D the view depth in Å and G a Gaussian of σ pixels, truncated at
+  // 3σ and normalised over the pixels inside the image; where ΔD < 0 (the pixel lies behind its
+  // surroundings) each colour channel gets λ·ΔD/R added. Sized in the image's terms, so that a
+  // 512² preview and a 4K figure look alike and a small and a large molecule alike:
+  // - σ = darkeningSigma × the image height (auto-framing fills the height with the scene, so
+  //   the halo is the same share of any molecule), unless darkeningSigmaPx gives pixels;
+  // - R, the scene's depth range (Å), is the camera's zFar − zNear (tight around the scene,
+  //   fixed for a trajectory) unless darkeningRange gives it, else the frame's hits' range;
+  // - the background (misses) lies at the camera's far plane, else at the farthest hit.
+  // Neither R nor the background depends on the frame's hits when the camera has a depth range,
+  // so the halo of a trajectory does not flicker; the background next to the molecule lies
+  // behind it and gets the paper's soft halo.
   bool depthDarkening = false;
-  double darkeningSigma = 8.0;         // px
-  double darkeningStrength = 0.03;     // λ, colour per Å of ΔD
+  double darkeningSigma = 0.015;                // σ as a fraction of the image height
+  std::optional<double> darkeningSigmaPx;       // σ in pixels, in place of darkeningSigma
+  double darkeningStrength = 1.0;               // λ, colour removed per R of ΔD
+  std::optional<double> darkeningRange;         // R in Å, in place of the scene's depth range
+  // σ in pixels for an image `imageHeight` pixels high.
+  double darkeningSigmaPixels(int imageHeight) const;
   // Depth cueing, the depth-dependent lighting of molecular viewers (linear fog, as OpenGL's
   // GL_LINEAR): a hit's colour moves towards the background by
   // f = depthCueStrength · clamp((viewZ − start) / (end − start), 0, 1); start and end default
@@ -53,7 +63,8 @@ struct ImageEffects {
 
   bool lines() const { return silhouettes || creaseAngle > 0.0; }
   bool any() const { return lines() || depthDarkening || depthCue; }
-  // The settings as JSON (for the image's metadata), with the depth-cue range `camera` gives.
+  // The settings as JSON (for the image's metadata), with the depth-darkening σ in pixels and
+  // the depths and range, and the depth-cue range, that `camera` gives.
   std::string json(const Camera& camera) const;
   // std::invalid_argument naming the bad field.
   void validate() const;
@@ -94,8 +105,12 @@ double lineWidthPixels(const ImageEffects& effects, int height);
 double creaseMinLengthPixels(const ImageEffects& effects, int height);
 // ΔD = G∗D − D per pixel, misses at `backgroundDepth`, as two 1-D passes.
 std::vector<float> depthUnsharpMask(const FrameBuffers& frame, double sigma, double backgroundDepth);
-// The depth of the background for depth darkening: the farthest hit's.
-double backgroundDepth(const FrameBuffers& frame);
+// The scene's depth range (Å of view depth): the camera's zNear..zFar when it has one (the same
+// for every frame of a trajectory), else the frame's nearest and farthest hits.
+void sceneDepthRange(const Camera& camera, const FrameBuffers& frame, double& nearest, double& farthest);
+// Depth darkening's background depth and the range R its ΔD is divided by (ImageEffects).
+void darkeningDepths(const ImageEffects& effects, const Camera& camera, const FrameBuffers& frame,
+                     double& backgroundDepth, double& range);
 // The depth-cue range: the effect's own, else the camera's, else the frame's hits.
 void depthCueRange(const ImageEffects& effects, const Camera& camera, const FrameBuffers& frame, double& start,
                    double& end);

@@ -83,11 +83,12 @@ def test_gl_equals_the_cli_gl(surface, folder):
 
 def test_options_equal_the_cli_options(surface, folder):
     options = dict(color="element", background=(0.1, 0.2, 0.3), spp=4, shadows=True, silhouettes=True,
-                   crease_angle=40.0, depth_cue=True, view=(1, -0.5, 0.25))
+                   crease_angle=40.0, depth_cue=True, depth_darkening=True, depth_darkening_sigma=0.05,
+                   view=(1, -0.5, 0.25))
     image = surftrace.render(surface, size=(64, 48), **options)
     exr, _, _ = cli_render(folder, "options", "--size", "64x48", "--color", "element", "--background", "0.1,0.2,0.3",
                            "--spp", "4", "--shadows", "--silhouettes", "--crease-angle", "40", "--depth-cue",
-                           "--view", "1,-0.5,0.25")
+                           "--depth-darkening", "--depth-darkening-sigma", "0.05", "--view", "1,-0.5,0.25")
     assert buffers_equal(image, surftrace.Image.load(exr)) == []
 
 
@@ -285,6 +286,8 @@ def test_camera_errors(tmp_path):
     (dict(fov=180), ValueError, "fov"),
     (dict(crease_angle=200), ValueError, "crease_angle"),
     (dict(depth_cue_start=10, depth_cue_end=5), ValueError, "depth_cue_end"),
+    (dict(depth_darkening_sigma=8), ValueError, "depth_darkening_sigma_px"),
+    (dict(depth_darkening_range=0), ValueError, "depth_darkening_range"),
     (dict(shadow=True), TypeError, "shadow"),
     (dict(camera=surftrace.Camera(), view="left"), ValueError, "view"),
     (dict(camera=surftrace.Camera(width=64, height=64), size=(32, 32)), ValueError, "size"),

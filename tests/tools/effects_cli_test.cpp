@@ -107,7 +107,7 @@ TEST(EffectsCli, GlAgreesWithEmbreeForEachEffect) {
   const std::vector<std::pair<std::string, std::string>> techniques = {
       {"silhouettes", "--silhouettes"},
       {"creases", "--surface vdw --crease-angle 50 --silhouette-width 0.0105"},
-      {"darkening", "--depth-darkening --depth-darkening-sigma 4 --depth-darkening-strength 0.1"},
+      {"darkening", "--depth-darkening --depth-darkening-sigma 0.04 --depth-darkening-strength 3"},
       {"cue", "--depth-cue"},
       {"all", "--silhouettes --crease-angle 60 --depth-darkening --depth-cue"}};
   const fs::path plainGl = dir / "plain_gl.exr", plainVdwGl = dir / "plain_vdw_gl.exr";
@@ -170,8 +170,8 @@ TEST(EffectsCli, EffectsAreRecordedAndOffMeansTheImageAsItWas) {
   const fs::path plain = dir / "plain.exr", tuned = dir / "tuned.exr", on = dir / "on.exr";
   render("", plain);
   // Every parameter changed, no effect switched on.
-  render("--silhouette-width 0.04 --silhouette-color 1,0,0 --silhouette-depth-jump 0.5 --depth-darkening-sigma 2 "
-         "--depth-darkening-strength 1 --depth-cue-strength 0.9 --depth-cue-start 1 --depth-cue-end 2",
+  render("--silhouette-width 0.04 --silhouette-color 1,0,0 --silhouette-depth-jump 0.5 --depth-darkening-sigma 0.02 "
+         "--depth-darkening-strength 2 --depth-cue-strength 0.9 --depth-cue-start 1 --depth-cue-end 2",
          tuned);
   render("--silhouettes --depth-darkening --depth-cue --crease-angle 45", on);
   view::ImageMetadata plainMeta, tunedMeta, onMeta;
@@ -186,7 +186,7 @@ TEST(EffectsCli, EffectsAreRecordedAndOffMeansTheImageAsItWas) {
   EXPECT_EQ(tunedMeta.count("surftrace:effects"), 0u);
   ASSERT_EQ(onMeta.count("surftrace:effects"), 1u);
   const std::string& json = onMeta.at("surftrace:effects");
-  for (const char* key : {"\"silhouettes\"", "\"depth_darkening\"", "\"sigma_px\":8.0", "\"depth_cue\"", "\"start\"",
+  for (const char* key : {"\"silhouettes\"", "\"depth_darkening\"", "\"sigma_image_height\":0.015", "\"depth_cue\"", "\"start\"",
                           "\"crease_angle_degrees\":45.0"})
     EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
 }

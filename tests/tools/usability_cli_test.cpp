@@ -141,8 +141,8 @@ TEST(Usability, MistypedOptionsAndCommandsGetASuggestion) {
       {"area " + kCrambin + " --prboe 1.4", "unknown option --prboe; did you mean --probe?"},
       {"trajectory " + kPsf + " " + kDcd + " --frame 0:4 -o " + png, "unknown option --frame; did you mean --frames?"},
       {"render " + kCrambin + " --depth-dark -o " + png,
-       "unknown option --depth-dark; did you mean --depth-darkening, --depth-darkening-sigma or "
-       "--depth-darkening-strength?"},
+       "unknown option --depth-dark; did you mean --depth-darkening, --depth-darkening-sigma, "
+       "--depth-darkening-sigma-px, --depth-darkening-strength or --depth-darkening-range?"},
       {"rendr " + kCrambin + " -o " + png, "unknown command rendr; did you mean render?"},
       {"aera " + kCrambin, "unknown command aera; did you mean area?"},
   };

@@ -400,29 +400,115 @@ TEST(ImageEffects, DepthUnsharpMaskMatchesTheTwoDimensionalConvolution) {
   }
 }
 
+// The nearest and farthest hits of a frame, by a plain loop.
+void hitRange(const FrameBuffers& f, double& nearest, double& farthest) {
+  nearest = HUGE_VAL, farthest = -HUGE_VAL;
+  for (std::size_t p = 0; p < f.pixels(); ++p)
+    if (f.kind[p] != 0) nearest = std::min(nearest, double{f.viewZ[p]}), farthest = std::max(farthest, double{f.viewZ[p]});
+}
+
+// colour + λ·ΔD/R where ΔD < 0, ΔD by the 2-D definition with misses at `far`.
+void expectDarkening(const FrameBuffers& before, const FrameBuffers& after, double sigma, double far, double lambda,
+                     double range) {
+  std::size_t darkened = 0;
+  for (int y = 0; y < before.height; ++y)
+    for (int x = 0; x < before.width; ++x) {
+      const std::size_t p = at(before, x, y);
+      const double want = bruteDelta(before, x, y, sigma, far);
+      for (int c = 0; c < 4; ++c) {
+        const double expected =
+            c < 3 && want < 0 ? std::max(0.0, before.rgba[4 * p + c] + lambda * want / range) : before.rgba[4 * p + c];
+        ASSERT_NEAR(after.rgba[4 * p + c], expected, 1e-5) << x << "," << y << " channel " << c << " ΔD " << want;
+        if (want >= 1e-4) {
+          ASSERT_EQ(after.rgba[4 * p + c], before.rgba[4 * p + c]) << "brightened or darkened at ΔD > 0";
+        }
+      }
+      darkened += after.rgba[4 * p] < before.rgba[4 * p];
+    }
+  EXPECT_GT(darkened, 20u);
+}
+
+// Without a camera depth range: misses at the farthest hit, ΔD over the hits' depth range.
 TEST(ImageEffects, DepthDarkeningDarkensOnlyWhereTheMaskIsNegative) {
   FrameBuffers f = twoBalls();
   const FrameBuffers before = f;
   ImageEffects e;
   e.depthDarkening = true;
-  e.darkeningSigma = 3.0;
+  e.darkeningSigmaPx = 3.0;
+  e.darkeningStrength = 2.0;
+  applyImageEffects(f, e, Camera{}, glm::vec3(1.0f));
+  double nearest = 0, farthest = 0;
+  hitRange(before, nearest, farthest);
+  expectDarkening(before, f, 3.0, farthest, 2.0, farthest - nearest);
+  // An explicit range R in Å in place of the hits'.
+  f = before;
+  e.darkeningRange = 1.0;
   e.darkeningStrength = 0.05;
   applyImageEffects(f, e, Camera{}, glm::vec3(1.0f));
-  std::size_t darkened = 0;
+  expectDarkening(before, f, 3.0, farthest, 0.05, 1.0);
+}
+
+// With a camera depth range (a trajectory's, fixed for every frame): misses at its far plane,
+// ΔD over zFar − zNear, and σ a fraction of the image height; a ball that comes or goes far
+// from a pixel leaves that pixel's darkening as it was (it moved the farthest hit before).
+TEST(ImageEffects, DepthDarkeningTakesTheCamerasDepthRangeNotTheFramesHits) {
+  Camera camera;
+  camera.width = 64, camera.height = 48;
+  camera.zNear = 60.0, camera.zFar = 140.0;
+  FrameBuffers f = twoBalls();
+  const FrameBuffers before = f;
+  ImageEffects e;
+  e.depthDarkening = true;
+  e.darkeningSigma = 0.0625;  // 3 px of 48
+  applyImageEffects(f, e, camera, glm::vec3(1.0f));
+  expectDarkening(before, f, 3.0, 140.0, 1.0, 80.0);
+  // The same balls and one more, deep, in the corner (the farthest hit moves from 100 to 130 Å).
+  FrameBuffers more = ballsFrame(64, 48, {{24, 24, 100, 14}, {40, 22, 80, 11}, {60, 44, 133, 3}});
+  applyImageEffects(more, e, camera, glm::vec3(1.0f));
+  std::size_t compared = 0;
   for (int y = 0; y < f.height; ++y)
     for (int x = 0; x < f.width; ++x) {
+      // The ball and the Gaussian's square window of half-width 3σ.
+      if (std::max(std::abs(x + 0.5 - 60), std::abs(y + 0.5 - 44)) < 3 + 9 + 1) continue;
       const std::size_t p = at(f, x, y);
-      const double want = bruteDelta(before, x, y, 3.0, backgroundDepth(before));
-      for (int c = 0; c < 4; ++c) {
-        const double expected = c < 3 && want < 0 ? std::max(0.0, before.rgba[4 * p + c] + 0.05 * want) : before.rgba[4 * p + c];
-        ASSERT_NEAR(f.rgba[4 * p + c], expected, 1e-5) << x << "," << y << " channel " << c << " ΔD " << want;
-        if (want >= 1e-4) {
-          ASSERT_EQ(f.rgba[4 * p + c], before.rgba[4 * p + c]) << "brightened or darkened at ΔD > 0";
-        }
-      }
-      darkened += f.rgba[4 * p] < before.rgba[4 * p];
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(more.rgba[4 * p + c], f.rgba[4 * p + c]) << x << "," << y;
+      compared += f.kind[p] == 0 && f.rgba[4 * p] < 1.0f;
     }
-  EXPECT_GT(darkened, 20u);
+  EXPECT_GT(compared, 100u) << "halo pixels compared";
+}
+
+// The same scene drawn at 1× and 4× the pixels (one pixel = 1 Å at 1×, 1/4 Å at 4×): with σ a
+// fraction of the image height and ΔD over the depth range, the 4× image box-averaged to 1×
+// is the 1× image but for sampling: mean |Δcolour| below 0.004 (measured 0.0014; with σ in
+// pixels and λ per Å as they once were, 2.4 px and 0.03/Å, 0.035).
+TEST(ImageEffects, DepthDarkeningLooksTheSameAtAnyImageSize) {
+  auto render = [](int scale) {
+    const double s = scale;
+    FrameBuffers f = ballsFrame(64 * scale, 48 * scale, {{24 * s, 24 * s, 100 * s, 14 * s}, {40 * s, 22 * s, 80 * s, 11 * s},
+                                                         {10 * s, 38 * s, 95 * s, 6 * s}});
+    Camera camera;
+    camera.width = f.width, camera.height = f.height;
+    camera.zNear = 60.0 * s, camera.zFar = 120.0 * s;
+    ImageEffects e;
+    e.depthDarkening = true;
+    e.darkeningSigma = 0.05;  // 2.4 px at 1×, 9.6 px at 4×
+    applyImageEffects(f, e, camera, glm::vec3(1.0f));
+    return f;
+  };
+  const FrameBuffers small = render(1), large = render(4);
+  double sum = 0, darkest = 1;
+  for (int y = 0; y < small.height; ++y)
+    for (int x = 0; x < small.width; ++x) {
+      double mean = 0;
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) mean += large.rgba[4 * at(large, 4 * x + i, 4 * y + j)] / 16.0;
+      sum += std::abs(mean - small.rgba[4 * at(small, x, y)]);
+      darkest = std::min(darkest, double{small.rgba[4 * at(small, x, y)]});
+    }
+  const double meanDifference = sum / static_cast<double>(small.pixels());
+  std::printf("mean |colour(1x) - box(colour(4x))| = %.5f, darkest %.3f\n", meanDifference, darkest);
+  EXPECT_LT(meanDifference, 0.004);
+  EXPECT_LT(darkest, 0.6) << "the darkening must show";
 }
 
 TEST(ImageEffects, DepthDarkeningLeavesAFlatBufferAlone) {
@@ -437,7 +523,7 @@ TEST(ImageEffects, DepthDarkeningLeavesAFlatBufferAlone) {
   e.depthDarkening = true;
   e.darkeningStrength = 10.0;
   applyImageEffects(f, e, Camera{}, glm::vec3(1.0f));
-  const std::vector<float> delta = depthUnsharpMask(before, e.darkeningSigma, 50.0);
+  const std::vector<float> delta = depthUnsharpMask(before, e.darkeningSigmaPixels(f.height), 50.0);
   for (float d : delta) ASSERT_EQ(d, 0.0f);
   EXPECT_EQ(f.rgba, before.rgba);
 }
@@ -489,6 +575,15 @@ TEST(ImageEffects, ValidateNamesTheBadParameter) {
   EXPECT_THROW(e.validate(), std::invalid_argument);
   e = {};
   e.darkeningSigma = 0;
+  EXPECT_THROW(e.validate(), std::invalid_argument);
+  e = {};
+  e.darkeningSigma = 8;  // pixels, as σ once was: refused, not read as 8 image heights
+  EXPECT_THROW(e.validate(), std::invalid_argument);
+  e = {};
+  e.darkeningSigmaPx = 0;
+  EXPECT_THROW(e.validate(), std::invalid_argument);
+  e = {};
+  e.darkeningRange = 0;
   EXPECT_THROW(e.validate(), std::invalid_argument);
   e = {};
   e.depthCueStart = 5.0;
