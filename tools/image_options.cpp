@@ -325,10 +325,10 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(wholeIn(1, 1024))
       ->default_val(1);
   cmd.add_option("--lighting", o.lighting,
-                 "headlight: Blinn-Phong from the eye (pockets read as bumps); simple: a key light 35° above left of "
+                 "headlight: Blinn-Phong from the eye (pockets read as bumps); simple: a key light 45° above left of "
                  "the eye, a fill light below right and ambient light; soft: simple with soft shadows from the key "
-                 "light (an 8° disc, 16 rays) and ambient occlusion (32 rays within --ao-distance; --ao N sets N), "
-                 "Embree only; full: soft with 64 shadow and 128 occlusion rays, Embree only")
+                 "light (an 8° disc, 32 rays) and ambient occlusion (32 rays within --ao-distance; --ao N sets N), "
+                 "Embree only; full: soft with 128 shadow and 128 occlusion rays, Embree only")
       ->check(CLI::IsMember({"headlight", "simple", "soft", "full"}))
       ->default_val("headlight");
   cmd.add_flag("--shadows", o.shadows,

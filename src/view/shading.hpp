@@ -12,10 +12,10 @@ ColorMode parseColorMode(const std::string& name);  // throws std::invalid_argum
 const char* colorModeName(ColorMode mode);
 
 // `--lighting`: Headlight (the default) is Blinn–Phong with a white light at the eye, so a
-// concave pocket is brightest at its deepest point. The others light from a key light above
-// left of the eye, a weaker fill light below right and an ambient term (the key-fill model):
+// concave pocket is brightest at its deepest point. The others light from a key light 45°
+// above left of the eye, a weaker fill light below right and an ambient term (the key-fill model):
 // Simple has nothing else (both engines); Soft adds soft shadows from an area key light and
-// ambient occlusion (Embree), Full the same with four times the rays.
+// ambient occlusion (Embree), Full the same with more rays.
 enum class LightingPreset { Headlight, Simple, Soft, Full };
 LightingPreset parseLightingPreset(const std::string& name);  // throws std::invalid_argument
 const char* lightingPresetName(LightingPreset preset);
@@ -48,9 +48,9 @@ struct Lighting {
 Lighting lightingFor(LightingPreset preset);
 
 // The unit directions towards the key and fill lights in the camera's frame: (right, true up,
-// towards the eye) components. The key is 35° off the view axis, above left; the fill 46° off
+// towards the eye) components. The key is 45° off the view axis, above left; the fill 46° off
 // it, right and a little below.
-inline constexpr glm::vec3 kKeyLightCamera{-0.5f, 0.5f, 1.0f};   // normalised where used
+inline constexpr glm::vec3 kKeyLightCamera{-0.5f, 0.5f, 0.70710678f};  // normalised where used
 inline constexpr glm::vec3 kFillLightCamera{1.0f, -0.2f, 1.0f};
 
 // The world directions of the two lights for a camera frame (right, up, forward unit vectors).
