@@ -267,6 +267,21 @@ TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
     EXPECT_TRUE(bad.empty()) << v.name << ": " << a.summary();
   }
   const Scene s = loadScene(kViews[0].file);
+  {
+    // Transparent (GL peels the layers, each shaded by the same key-fill formula).
+    view::RenderOptions o = viewOptions(s, kViews[0]);
+    o.lighting = view::lightingFor(view::LightingPreset::Simple);
+    o.opacity = 0.5;
+    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
+    view::RenderOptions exact = o;
+    exact.referenceMasks = true;
+    const view::FrameBuffers ref = trace::render(scene, exact, {});
+    const view::FrameBuffers f = renderGl(context, s.patches, o, {}, GlOptions{});
+    const view::FrameComparison a = view::compareFrames(f, ref, &o.camera);
+    std::printf("%s, lighting simple, opacity 0.5: %s\n", kViews[0].name, a.summary().c_str());
+    const std::vector<std::string> bad = view::CompareThresholds::preset("transparency").violations(a);
+    EXPECT_TRUE(bad.empty()) << a.summary();
+  }
   for (const view::LightingPreset preset : {view::LightingPreset::Soft, view::LightingPreset::Full}) {
     view::RenderOptions o = viewOptions(s, kViews[0]);
     o.lighting = view::lightingFor(preset);
