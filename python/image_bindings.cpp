@@ -576,6 +576,7 @@ ImageRecord recordOf(const RenderRequest& q, const PySurface& surface, const Eng
   r.color = q.colorName;
   r.uniformColor = q.uniformColor;
   r.background = q.background;
+  r.lighting = q.render.lighting;
   r.shadows = q.render.shadows;
   r.aoSamples = q.render.aoSamples;
   r.aoDistance = q.render.aoDistance;
