@@ -539,6 +539,8 @@ RenderRequest requestOf(const PySurface& surface, const std::optional<Camera>& c
   if (auto v = k.take("background")) q.background = colorOf(*v, "background");
   ro.background = glm::vec3(q.background);
   if (auto v = k.take("spp")) ro.samplesPerPixel = wholeIn(*v, "spp", 1, 1024);
+  if (auto v = k.take("lighting"))
+    ro.lighting = view::lightingFor(view::parseLightingPreset(choiceOf(*v, "lighting", {"headlight", "simple", "soft", "full"})));
   if (auto v = k.take("shadows")) ro.shadows = flagOf(*v, "shadows");
   if (auto v = k.take("ao")) ro.aoSamples = wholeIn(*v, "ao", 0, 4096);
   if (auto v = k.take("ao_distance")) ro.aoDistance = realIn(*v, "ao_distance", 0, HUGE_VAL, true);
@@ -585,6 +587,7 @@ ImageRecord recordOf(const RenderRequest& q, const PySurface& surface, const Eng
   r.color = q.colorName;
   r.uniformColor = q.uniformColor;
   r.background = q.background;
+  r.lighting = q.render.lighting;
   r.shadows = q.render.shadows;
   r.aoSamples = q.render.aoSamples;
   r.aoDistance = q.render.aoDistance;
@@ -837,7 +840,7 @@ as the CLI does, looking along `view` ("front", "back", "left", "right", "top", 
 as "x,y,z") with `fov` degrees (default 30) or `ortho`, then eye/look_at/up override the framing.
 size: (width, height), default (1024, 1024) or the camera's. engine: "embree" (exact) or "gl".
 Options, as the CLI's: color ("patch", "element", "chain", "bfactor", "uniform"), uniform_color,
-background ((r, g, b) in [0, 1]), spp, shadows, ao, ao_distance, opacity, max_layers, ball_and_stick,
+background ((r, g, b) in [0, 1]), spp, lighting ("headlight", "simple", "soft", "full"), shadows, ao, ao_distance, opacity, max_layers, ball_and_stick,
 ball_scale, stick_radius, silhouettes, silhouette_width, silhouette_color, silhouette_depth_jump,
 crease_angle, depth_darkening, depth_darkening_sigma (a fraction of the image height),
 depth_darkening_sigma_px, depth_darkening_strength, depth_darkening_range, depth_cue,

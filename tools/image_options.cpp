@@ -352,8 +352,19 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
                  "to 9 take 3×3 = 9); the buffers (depth, normal, ids) keep the pixel centre's")
       ->check(wholeIn(1, 1024))
       ->default_val(1);
-  cmd.add_flag("--shadows", o.shadows, "Ray-traced shadows from a key light above-left of the eye");
-  cmd.add_option("--ao", o.ao, "Ambient-occlusion rays per pixel (0 = off)")->check(wholeIn(0, 4096))->default_val(0);
+  cmd.add_option("--lighting", o.lighting,
+                 "headlight: Blinn-Phong from the eye (pockets read as bumps); simple: a key light 45° above left of "
+                 "the eye, a fill light below right and ambient light; soft: simple with soft shadows from the key "
+                 "light (an 8° disc, 32 rays) and ambient occlusion (32 rays within --ao-distance; --ao N sets N), "
+                 "Embree only; full: soft with 128 shadow and 128 occlusion rays, Embree only")
+      ->check(CLI::IsMember({"headlight", "simple", "soft", "full"}))
+      ->default_val("headlight");
+  cmd.add_flag("--shadows", o.shadows,
+               "Ray-traced shadows from a key light above-left of the eye (headlight: ×0.6 where it is blocked; "
+               "--lighting simple: the key light's terms dropped there)");
+  cmd.add_option("--ao", o.ao, "Ambient-occlusion rays per pixel (0 = off, or the --lighting preset's)")
+      ->check(wholeIn(0, 4096))
+      ->default_val(0);
   cmd.add_option("--ao-distance", o.aoDistance, "Ambient-occlusion ray length in Å")
       ->check(positive())
       ->default_val(8.0);
@@ -397,6 +408,7 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   setup.uniformColor = parseColor("--uniform-color", o.uniformColor);
   resolveColorOptions(o, setup);
   ro.samplesPerPixel = o.spp;
+  ro.lighting = view::lightingFor(view::parseLightingPreset(o.lighting));
   ro.shadows = o.shadows;
   ro.aoSamples = o.ao;
   ro.aoDistance = o.aoDistance;

@@ -39,6 +39,7 @@ struct ImageOptions {
   bool legend = false;                   // --legend: the colour bar drawn into the image
   std::string legendFile;                // --legend-file FILE: the colour bar as its own image
   int spp = 1;
+  std::string lighting = "headlight";
   bool shadows = false;
   int ao = 0;
   double aoDistance = 8.0;

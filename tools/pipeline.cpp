@@ -74,6 +74,7 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   record.color = image.color;
   record.uniformColor = parseVector("--uniform-color", image.uniformColor);
   record.background = glm::dvec3(parseBackground(image.background));
+  record.lighting = view::lightingFor(view::parseLightingPreset(image.lighting));
   record.shadows = image.shadows;
   record.aoSamples = image.ao;
   record.aoDistance = image.aoDistance;

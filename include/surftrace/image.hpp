@@ -33,6 +33,8 @@ using view::FrameBuffers;
 using view::ImageEffects;
 using view::ImageMetadata;
 using view::Lighting;
+using view::LightingPreset;
+using view::lightingFor;  // a --lighting preset (headlight, simple, soft, full) -> its numbers
 using view::RenderOptions;
 using view::applyImageEffects;  // silhouettes, creases, depth darkening and cueing, on any engine's buffers
 using view::atomColors;         // (molecule, scheme, uniform colour) -> one colour per atom

@@ -55,15 +55,22 @@ ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
   if (!r.colorSelect.empty()) meta["surftrace:color_select"] = nlohmann::json(r.colorSelect).dump();
   if (r.legendInImage) meta["surftrace:color_legend"] = "image";
   if (!r.legendFile.empty()) meta["surftrace:color_legend_file"] = r.legendFile;
-  meta["surftrace:lighting"] = nlohmann::json{{"model", "Blinn-Phong headlight"},
-                                              {"ambient", r.lighting.ambient},
-                                              {"diffuse", r.lighting.diffuse},
-                                              {"specular", r.lighting.specular},
-                                              {"shininess", r.lighting.shininess},
-                                              {"shadows", r.shadows},
-                                              {"ao_samples", r.aoSamples},
-                                              {"ao_distance", r.aoDistance}}
-                                   .dump();
+  nlohmann::json lighting{{"model", "Blinn-Phong headlight"},
+                          {"ambient", r.lighting.ambient},
+                          {"diffuse", r.lighting.diffuse},
+                          {"specular", r.lighting.specular},
+                          {"shininess", r.lighting.shininess},
+                          {"shadows", r.shadows},
+                          {"ao_samples", r.aoSamples},
+                          {"ao_distance", r.aoDistance}};
+  if (r.lighting.keyFill()) {
+    lighting["model"] = std::string("key-fill ") + view::lightingPresetName(r.lighting.preset);
+    lighting["fill"] = r.lighting.fill;
+    lighting["shadow_rays"] = r.lighting.shadowRays;
+    lighting["key_radius_degrees"] = r.lighting.keyRadius * 180.0 / 3.14159265358979323846;
+    lighting["occlusion_rays"] = r.lighting.occlusionRays;
+  }
+  meta["surftrace:lighting"] = lighting.dump();
   meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);
   meta["surftrace:command"] = r.commandLine;
   if (r.opacity < 1.0) {

@@ -119,7 +119,11 @@ GpuFrame frameBlock(const view::RenderOptions& o, const GlOptions& gl, std::size
     f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
     f.kinds[row].first = glm::uvec4(ids.first(kind), 0u, 0u, 0u);
   }
-  f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColorCount), 0u, 0u);
+  f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColorCount),
+                         o.lighting.keyFill() ? 1u : 0u, 0u);
+  const view::LightDirections lights = view::lightDirections(cam.right(), cam.trueUp(), cam.forward());
+  f.keyLight = vec4Of(lights.key, 0.0);
+  f.fillLight = vec4Of(lights.fill, o.lighting.fill);
   f.torusTrace = glm::uvec4(gl.torus == TorusMethod::Quartic ? 0u : 1u, static_cast<unsigned>(gl.maxSteps),
                             gl.probeBallJumps ? 0u : 1u, 0u);
   f.traceParams = glm::vec4(static_cast<float>(gl.traceEpsilon), gl.primitive == Primitive::Cylinder ? 1.0f : 0.0f,
@@ -496,6 +500,10 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
     throw std::invalid_argument(
         "gl engine: renders one sample per pixel without shadows or ambient occlusion; "
         "drop --spp/--shadows/--ao or use --engine embree");
+  if (o.lighting.shadowRays != 0 || o.lighting.occlusionRays != 0)
+    throw std::invalid_argument(std::string("gl engine: lighting '") + view::lightingPresetName(o.lighting.preset) +
+                                "' needs shadow and ambient-occlusion rays, which only the Embree engine casts: use "
+                                "--lighting simple or headlight with --engine gl, or --engine embree");
   if (!(o.opacity > 0.0 && o.opacity <= 1.0))
     throw std::invalid_argument("gl engine: opacity " + std::to_string(o.opacity) + " must be in (0, 1]");
   if (o.maxLayers < 1 || o.maxLayers > kMaxPeelLayers)

@@ -52,7 +52,7 @@ static_assert(sizeof(GpuSkin) == 64 && offsetof(GpuSkin, axisConstant) == 16 && 
               offsetof(GpuSkin, cell) == 48);
 static_assert(sizeof(GpuPeel) == 32 && offsetof(GpuPeel, merge) == 16);
 static_assert(sizeof(GpuKind) == 32 && offsetof(GpuKind, first) == 16);
-static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 3 * 16);
+static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 5 * 16);
 static_assert(offsetof(GpuFrame, kinds) == 112 && offsetof(GpuFrame, shading) == 112 + kKindCount * 32 &&
               offsetof(GpuFrame, torusTrace) == 128 + kKindCount * 32 &&
               offsetof(GpuFrame, traceParams) == 144 + kKindCount * 32);

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
@@ -39,12 +40,31 @@ struct PixelRng {
   }
 };
 
+// Point i of n of a rank-1 (Fibonacci) lattice in the unit square, shifted by `rotation`
+// modulo 1 (a Cranley–Patterson rotation): stratified in u, low-discrepancy in (u, v).
+glm::dvec2 latticePoint(int i, int n, const glm::dvec2& rotation) {
+  constexpr double kGoldenFraction = 0.6180339887498948482;
+  const double u = (i + 0.5) / n + rotation.x, v = i * kGoldenFraction + rotation.y;
+  return {u - std::floor(u), v - std::floor(v)};
+}
+
+// A unit vector perpendicular to unit n, and the third of the right-handed frame.
+void tangentFrame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
+  t = std::abs(n.x) < 0.9 ? glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0)))
+                          : glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0)));
+  b = glm::cross(n, t);
+}
+
 class Shader {
  public:
   Shader(const PatchScene& scene, const RenderOptions& o, std::span<const glm::vec3> atomColors)
       : scene_(scene), o_(o), atomColors_(atomColors), offset_(1e-6 * sceneScale(scene)) {
     const Camera& c = o.camera;
     keyLight_ = glm::normalize(-c.forward() + 0.5 * c.trueUp() - 0.5 * c.right());
+    lights_ = view::lightDirections(c.right(), c.trueUp(), c.forward());
+    tangentFrame(lights_.key, keyT_, keyB_);
+    keyRays_ = o.lighting.shadowRays > 0 ? o.lighting.shadowRays : (o.shadows ? 1 : 0);
+    occlusionRays_ = o.aoSamples > 0 ? o.aoSamples : o.lighting.occlusionRays;
   }
 
   glm::vec3 color(const Ray& ray, const SceneHit& h, std::uint32_t atom, std::uint64_t pixel) const {
@@ -52,9 +72,18 @@ class Shader {
                            : atom < atomColors_.size()  ? atomColors_[atom]
                                                         : glm::vec3(1.0f, 0.0f, 1.0f);
     const glm::dvec3 toEye = -glm::normalize(ray.dir);
-    glm::vec3 c = view::shade(base, h.hit.normal, toEye, o_.lighting);
     const glm::dvec3 x = ray.org + h.hit.t * ray.dir;
     const glm::dvec3 start = x + offset_ * h.hit.normal;
+    if (o_.lighting.keyFill()) {
+      // The key light's visibility matters only where the key light shines (n·k > 0).
+      const float keyVisible = keyRays_ > 0 && glm::dot(h.hit.normal, lights_.key) > 0.0
+                                   ? static_cast<float>(keyVisibility(start, h.hit.normal, pixel))
+                                   : 1.0f;
+      const float ambientVisible =
+          occlusionRays_ > 0 ? static_cast<float>(openFraction(start, h.hit.normal, pixel, occlusionRays_)) : 1.0f;
+      return view::shade(base, h.hit.normal, toEye, o_.lighting, lights_, keyVisible, ambientVisible);
+    }
+    glm::vec3 c = view::shade(base, h.hit.normal, toEye, o_.lighting);
     if (o_.shadows && scene_.occluded(Ray{start, keyLight_}, 0.0, std::numeric_limits<double>::infinity()))
       c *= 0.6f;
     if (o_.aoSamples > 0) c *= static_cast<float>(ambientVisibility(start, h.hit.normal, pixel));
@@ -66,11 +95,11 @@ class Shader {
     const Bounds3d b = scene.patches().bounds();
     return b.empty() ? 1.0 : std::max(1.0, glm::length(b.upper - b.lower));
   }
-  // Fraction of cosine-weighted hemisphere rays that escape within aoDistance.
+  // The headlight model's ambient occlusion: 0.3 + 0.7 × the fraction of cosine-weighted
+  // hemisphere rays (independent random per pixel) that escape within aoDistance.
   double ambientVisibility(const glm::dvec3& x, const glm::dvec3& n, std::uint64_t pixel) const {
-    const glm::dvec3 t = std::abs(n.x) < 0.9 ? glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0)))
-                                             : glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0)));
-    const glm::dvec3 b = glm::cross(n, t);
+    glm::dvec3 t, b;
+    tangentFrame(n, t, b);
     PixelRng rng(pixel);
     int open = 0;
     for (int s = 0; s < o_.aoSamples; ++s) {
@@ -81,12 +110,49 @@ class Shader {
     }
     return 0.3 + 0.7 * static_cast<double>(open) / o_.aoSamples;
   }
+  // The key-fill model's ambient visibility: the fraction of `rays` cosine-weighted hemisphere
+  // rays that escape within aoDistance, their directions a rank-1 lattice (stratified in cos²θ)
+  // rotated by a fixed amount per pixel (and sample, and layer): the same pattern every frame.
+  double openFraction(const glm::dvec3& x, const glm::dvec3& n, std::uint64_t pixel, int rays) const {
+    glm::dvec3 t, b;
+    tangentFrame(n, t, b);
+    PixelRng rng(pixel ^ 0xA0761D6478BD642Full);
+    const glm::dvec2 rotation(rng.next(), rng.next());
+    int open = 0;
+    for (int s = 0; s < rays; ++s) {
+      const glm::dvec2 q = latticePoint(s, rays, rotation);
+      const double r = std::sqrt(q.x), phi = 2.0 * kPi * q.y;
+      const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - q.x)) * n;
+      if (!scene_.occluded(Ray{x, d}, 0.0, o_.aoDistance)) ++open;
+    }
+    return static_cast<double>(open) / rays;
+  }
+  // The fraction of the key light that reaches x: one ray to its centre, or (soft shadows)
+  // keyRays_ rays to a lattice on the disc of angular radius keyRadius, rotated per pixel as
+  // above. A ray below the surface's tangent plane counts as blocked (by the surface itself).
+  double keyVisibility(const glm::dvec3& x, const glm::dvec3& n, std::uint64_t pixel) const {
+    const double inf = std::numeric_limits<double>::infinity();
+    if (o_.lighting.shadowRays == 0) return scene_.occluded(Ray{x, lights_.key}, 0.0, inf) ? 0.0 : 1.0;
+    PixelRng rng(pixel ^ 0xE7037ED1A0B428DBull);
+    const glm::dvec2 rotation(rng.next(), rng.next());
+    int open = 0;
+    for (int s = 0; s < keyRays_; ++s) {
+      const glm::dvec2 q = latticePoint(s, keyRays_, rotation);
+      const double r = std::tan(o_.lighting.keyRadius) * std::sqrt(q.x), phi = 2.0 * kPi * q.y;
+      const glm::dvec3 d = glm::normalize(lights_.key + r * std::cos(phi) * keyT_ + r * std::sin(phi) * keyB_);
+      if (glm::dot(d, n) > 0.0 && !scene_.occluded(Ray{x, d}, 0.0, inf)) ++open;
+    }
+    return static_cast<double>(open) / keyRays_;
+  }
 
   const PatchScene& scene_;
   const RenderOptions& o_;
   std::span<const glm::vec3> atomColors_;
   double offset_;
   glm::dvec3 keyLight_;
+  view::LightDirections lights_;
+  glm::dvec3 keyT_, keyB_;
+  int keyRays_ = 0, occlusionRays_ = 0;
 };
 
 // Runs packet(px, py) for the top-left pixel of every 4×4 packet, tile-parallel, with the
@@ -227,6 +293,9 @@ FrameBuffers render(const PatchScene& scene, const RenderOptions& o, std::span<c
   if (o.samplesPerPixel < 1 || o.samplesPerPixel > 1024)
     throw std::invalid_argument("samples per pixel " + std::to_string(o.samplesPerPixel) + " must be in [1, 1024]");
   if (o.aoSamples < 0 || o.aoSamples > 4096) throw std::invalid_argument("ambient-occlusion samples must be in [0, 4096]");
+  if (o.lighting.shadowRays < 0 || o.lighting.shadowRays > 4096 || o.lighting.occlusionRays < 0 ||
+      o.lighting.occlusionRays > 4096)
+    throw std::invalid_argument("lighting: shadow and occlusion rays must be in [0, 4096]");
   if (!(o.opacity > 0.0 && o.opacity <= 1.0))
     throw std::invalid_argument("opacity " + std::to_string(o.opacity) + " must be in (0, 1]");
   if (o.maxLayers < 1 || o.maxLayers > kMaxLayers)

@@ -48,6 +48,10 @@ void checkEngineCanDraw(const EngineOptions& engine, const RenderOptions& option
   if (engine.kind == EngineKind::Gl && (options.samplesPerPixel > 1 || options.shadows || options.aoSamples > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao or use --engine embree");
+  if (engine.kind == EngineKind::Gl && (options.lighting.shadowRays > 0 || options.lighting.occlusionRays > 0))
+    throw std::invalid_argument(std::string("--engine gl has no soft shadows or ambient occlusion, which --lighting ") +
+                                lightingPresetName(options.lighting.preset) +
+                                " needs: use --lighting simple with --engine gl, or --engine embree");
 }
 
 }  // namespace surftrace::view

@@ -76,7 +76,7 @@ std::vector<Setting> settings() {
     nlohmann::json j = nlohmann::json::parse(*v, nullptr, false);
     if (j.is_discarded()) return *v;
     // The ray length of ambient occlusion changes nothing without its rays.
-    if (j.value("ao_samples", 0) == 0) j.erase("ao_distance");
+    if (j.value("ao_samples", 0) == 0 && j.value("occlusion_rays", 0) == 0) j.erase("ao_distance");
     return j.dump();
   };
   auto uniform = [](const ImageMetadata& m) { return recorded(m, "surftrace:color").value_or("") == "uniform"; };

@@ -1,4 +1,4 @@
-// Colour schemes and the Blinn–Phong headlight model shared by the Embree and GL paths.
+// Colour schemes and the lighting models shared by the Embree and GL paths.
 #pragma once
 
 #include <string>
@@ -11,15 +11,58 @@ enum class ColorMode { Patch, Element, Chain, BFactor, Uniform, Residue, Hydroph
 ColorMode parseColorMode(const std::string& name);  // throws std::invalid_argument
 const char* colorModeName(ColorMode mode);
 
-// Blinn–Phong with a white headlight at the eye (so the half vector is the light
-// direction): c = base·(ambient + diffuse·max(0, n·l)) + specular·max(0, n·l)^shininess.
-// The GL fragment shaders use these same numbers.
+// `--lighting`: Headlight (the default) is Blinn–Phong with a white light at the eye, so a
+// concave pocket is brightest at its deepest point. The others light from a key light 45°
+// above left of the eye, a weaker fill light below right and an ambient term (the key-fill model):
+// Simple has nothing else (both engines); Soft adds soft shadows from an area key light and
+// ambient occlusion (Embree), Full the same with more rays.
+enum class LightingPreset { Headlight, Simple, Soft, Full };
+LightingPreset parseLightingPreset(const std::string& name);  // throws std::invalid_argument
+const char* lightingPresetName(LightingPreset preset);
+
+// Headlight: c = base·(ambient + diffuse·max(0, n·e)) + specular·max(0, n·e)^shininess, e towards the eye.
+// Key-fill (preset != Headlight): with k and f the unit directions towards the key and fill lights and
+// h = normalize(k + e),
+//   c = base·(ambient·A + diffuse·max(0, n·k)·S + fill·max(0, n·f)·A) + specular·S·[n·k > 0]·max(0, n·h)^shininess
+// where S is the fraction of the key light that reaches the point (1 without shadows) and A
+// the ambient visibility (1 without ambient occlusion). Both clamped to 1 per channel.
+// The GL fragment shaders use these same numbers (GpuFrame::lighting, keyLight, fillLight).
 struct Lighting {
   float ambient = 0.25f;
-  float diffuse = 0.75f;
+  float diffuse = 0.75f;  // the key light's diffuse weight in the key-fill model
   float specular = 0.25f;
   float shininess = 32.0f;
+  LightingPreset preset = LightingPreset::Headlight;
+  float fill = 0.0f;  // key-fill model only
+  // Soft shadows (key-fill model): rays towards a disc of angular radius keyRadius (radians)
+  // around the key direction; 0 rays: none (RenderOptions::shadows then casts one, to the centre).
+  int shadowRays = 0;
+  double keyRadius = 0.0;
+  // Ambient-occlusion rays when RenderOptions::aoSamples is 0 (0: none).
+  int occlusionRays = 0;
+
+  bool keyFill() const { return preset != LightingPreset::Headlight; }
 };
+
+// The numbers of a preset (Headlight: Lighting{}).
+Lighting lightingFor(LightingPreset preset);
+
+// The unit directions towards the key and fill lights in the camera's frame: (right, true up,
+// towards the eye) components. The key is 45° off the view axis, above left; the fill 46° off
+// it, right and a little below.
+inline constexpr glm::vec3 kKeyLightCamera{-0.5f, 0.5f, 0.70710678f};  // normalised where used
+inline constexpr glm::vec3 kFillLightCamera{1.0f, -0.2f, 1.0f};
+
+// The world directions of the two lights for a camera frame (right, up, forward unit vectors).
+struct LightDirections {
+  glm::dvec3 key, fill;
+};
+LightDirections lightDirections(const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward);
+
+// Headlight shading (the key-fill terms are ignored).
 glm::vec3 shade(const glm::vec3& base, const glm::dvec3& normal, const glm::dvec3& towardsEye, const Lighting& light);
+// Either model: keyVisibility is S and ambientVisibility A above (the headlight model ignores both).
+glm::vec3 shade(const glm::vec3& base, const glm::dvec3& normal, const glm::dvec3& towardsEye, const Lighting& light,
+                const LightDirections& lights, float keyVisibility = 1.0f, float ambientVisibility = 1.0f);
 
 }  // namespace surftrace::view

@@ -108,7 +108,9 @@ TEST(GlLayout, FrameBlockMatchesStd140) {
                             {"frame.kinds[1].color", kinds + static_cast<GLint>(sizeof(GpuKind))},
                             {"frame.shading", offsetof(GpuFrame, shading)},
                             {"frame.torusTrace", offsetof(GpuFrame, torusTrace)},
-                            {"frame.traceParams", offsetof(GpuFrame, traceParams)}};
+                            {"frame.traceParams", offsetof(GpuFrame, traceParams)},
+                            {"frame.keyLight", offsetof(GpuFrame, keyLight)},
+                            {"frame.fillLight", offsetof(GpuFrame, fillLight)}};
   for (const Member& m : members) EXPECT_EQ(resourceProperty(program, GL_UNIFORM, m.name, GL_OFFSET), m.offset) << m.name;
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_DATA_SIZE), static_cast<GLint>(sizeof(GpuFrame)));
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_BINDING), static_cast<GLint>(kFrameBinding));

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -242,6 +243,54 @@ TEST(GlBallAndStick, ModelUnderTheOpaqueSesMeetsTheGlVsEmbreePreset) {
     const view::FrameComparison a = compareModelWithEmbree(v, true);
     const std::vector<std::string> bad = view::CompareThresholds::preset("gl-vs-embree").violations(a);
     EXPECT_TRUE(bad.empty()) << v.name << ": " << a.summary();
+  }
+}
+
+// The key-fill model of --lighting simple: GL's shader against Embree's view::shade, to the
+// gl-vs-embree preset (colour p99 <= 1e-3), in every view; the presets with shadow and
+// occlusion rays are refused with a message that names the Embree engine.
+TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
+  const GlContext context;
+  for (const View& v : kViews) {
+    const Scene s = loadScene(v.file);
+    view::RenderOptions o = viewOptions(s, v);
+    o.lighting = view::lightingFor(view::LightingPreset::Simple);
+    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
+    view::RenderOptions exact = o;
+    exact.referenceMasks = true;
+    const view::FrameBuffers ref = trace::render(scene, exact, {});
+    const view::FrameBuffers f = renderGl(context, s.patches, o, {}, GlOptions{});
+    const view::FrameComparison a = view::compareFrames(f, ref, &o.camera);
+    std::printf("%s, lighting simple: %s\n", v.name, a.summary().c_str());
+    EXPECT_GT(a.colorSamples, a.pixels / 10);
+    const std::vector<std::string> bad = view::CompareThresholds::preset("gl-vs-embree").violations(a);
+    EXPECT_TRUE(bad.empty()) << v.name << ": " << a.summary();
+  }
+  const Scene s = loadScene(kViews[0].file);
+  {
+    // Transparent (GL peels the layers, each shaded by the same key-fill formula).
+    view::RenderOptions o = viewOptions(s, kViews[0]);
+    o.lighting = view::lightingFor(view::LightingPreset::Simple);
+    o.opacity = 0.5;
+    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
+    view::RenderOptions exact = o;
+    exact.referenceMasks = true;
+    const view::FrameBuffers ref = trace::render(scene, exact, {});
+    const view::FrameBuffers f = renderGl(context, s.patches, o, {}, GlOptions{});
+    const view::FrameComparison a = view::compareFrames(f, ref, &o.camera);
+    std::printf("%s, lighting simple, opacity 0.5: %s\n", kViews[0].name, a.summary().c_str());
+    const std::vector<std::string> bad = view::CompareThresholds::preset("transparency").violations(a);
+    EXPECT_TRUE(bad.empty()) << a.summary();
+  }
+  for (const view::LightingPreset preset : {view::LightingPreset::Soft, view::LightingPreset::Full}) {
+    view::RenderOptions o = viewOptions(s, kViews[0]);
+    o.lighting = view::lightingFor(preset);
+    try {
+      renderGl(context, s.patches, o, {}, GlOptions{});
+      ADD_FAILURE() << "GL drew --lighting " << view::lightingPresetName(preset);
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("Embree engine"), std::string::npos) << e.what();
+    }
   }
 }
 

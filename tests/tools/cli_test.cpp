@@ -326,6 +326,30 @@ TEST(Cli, OpacityIsRecordedAndGlPeelsIt) {
   EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 1.5 --exr " + clear).status, 0);
 }
 
+// --lighting: recorded in the metadata (model, rays); the GL engine draws `simple` and refuses
+// `soft` (shadow and occlusion rays) before any work, naming the Embree engine; an unknown
+// preset is refused with the list.
+TEST(Cli, LightingPresetsAreRecordedAndGlRefusesSoft) {
+  const auto dir = testTempDir();
+  const std::string soft = (dir / "s.exr").string(), simple = (dir / "g.exr").string();
+  const Result r = run("render " + data("structures/1crn.pdb") + " --size 24x24 --quiet --lighting soft --exr " + soft);
+  ASSERT_EQ(r.status, 0) << r.output;
+  surftrace::view::ImageMetadata meta;
+  surftrace::view::readExr(soft, &meta);
+  EXPECT_NE(meta.at("surftrace:lighting").find("\"model\":\"key-fill soft\""), std::string::npos) << meta.at("surftrace:lighting");
+  EXPECT_NE(meta.at("surftrace:lighting").find("\"shadow_rays\":32"), std::string::npos) << meta.at("surftrace:lighting");
+  const Result gl = run("render " + data("structures/1crn.pdb") + " --size 24x24 --quiet --engine gl --lighting simple --exr " + simple);
+  ASSERT_EQ(gl.status, 0) << gl.output;
+  const Result refused = run("render " + data("structures/1crn.pdb") + " --size 24x24 --engine gl --lighting soft --exr " + simple);
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.output.find("--engine gl has no soft shadows or ambient occlusion, which --lighting soft needs"),
+            std::string::npos)
+      << refused.output;
+  const Result unknown = run("render " + data("structures/1crn.pdb") + " --lighting studio --exr " + simple);
+  EXPECT_NE(unknown.status, 0);
+  EXPECT_NE(unknown.output.find("headlight"), std::string::npos) << unknown.output;
+}
+
 // The skin at any shrink factor fills the picture as s = 0.5 does, and no frame clips it:
 // framing takes the tighter of the patches' balls (loose as r/√s for small s) and the hull
 // of the atoms grown by the largest radius (issue 23: 0.2 % of the pixels at s = 0.01 before).

@@ -25,8 +25,17 @@ void cameraRay(out vec3 org, out vec3 dir) {
   }
 }
 
-// view::shade: Blinn–Phong with the headlight at the eye (half vector = light direction).
+// view::shade. Key-fill model (shading.z = 1): key and fill lights and an ambient term, no
+// shadows or occlusion (S = A = 1). Headlight: Blinn–Phong with the light at the eye (half
+// vector = light direction).
 vec3 shade(vec3 base, vec3 n, vec3 towardsEye) {
+  if (frame.shading.z != 0u) {
+    vec3 k = frame.keyLight.xyz;
+    float nk = dot(n, k);
+    float spec = nk > 0.0 ? frame.lighting.z * pow(max(0.0, dot(n, normalize(k + towardsEye))), frame.lighting.w) : 0.0;
+    float diffuse = frame.lighting.x + frame.lighting.y * max(0.0, nk) + frame.fillLight.w * max(0.0, dot(n, frame.fillLight.xyz));
+    return min(base * diffuse + vec3(spec), vec3(1.0));
+  }
   float nl = max(0.0, dot(n, towardsEye));
   float spec = frame.lighting.z * pow(nl, frame.lighting.w);
   return min(base * (frame.lighting.x + frame.lighting.y * nl) + vec3(spec), vec3(1.0));

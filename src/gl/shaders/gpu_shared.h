@@ -85,9 +85,12 @@ struct GpuFrame {
   vec4 lighting;       // ambient, diffuse, specular, shininess
   vec4 background;     // rgb, unused
   GpuKind kinds[kKindCount];
-  uvec4 shading;       // colour by kind (0) or by atom (1), atom colours, unused, unused
+  uvec4 shading;       // colour by kind (0) or by atom (1), atom colours, model (0 headlight, 1 key-fill), unused
   uvec4 torusTrace;    // torus method (0 quartic, 1 sphere tracing), max steps, plain march (1), unused
   vec4 traceParams;    // sphere-tracing stop distance (Å), primitive (0 box, 1 cylinder), count fragments (1), unused
+  // The key-fill model (view::Lighting, shading.z = 1): unit directions towards the lights.
+  vec4 keyLight;       // key direction, unused
+  vec4 fillLight;      // fill direction, fill weight
 };
 
 // One depth-peeling pass. All zero: the opaque draw, every hit in t > 0 counts.
