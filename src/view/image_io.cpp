@@ -159,15 +159,13 @@ unsigned char linearByte(float v) {
   return std::isnan(v) ? 0 : static_cast<unsigned char>(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f)));
 }
 
-// Whether the format OpenImageIO chooses for `path` stores floats, not 8-bit codes.
-bool writesFloatColour(const std::string& path) {
+// OpenImageIO's name for the format it writes `path` in: "png" for "-" and /dev/null, as
+// encode() does; "" when it has none (encode() says why).
+std::string outputFormat(const std::string& path) {
   const auto out = oiio::ImageOutput::create(path);
-  if (!out) {
-    static_cast<void>(oiio::geterror());  // "-", /dev/null: PNG; a bad name: encode() says so
-    return false;
-  }
-  const std::string format = out->format_name();
-  return format == "openexr" || format == "hdr";
+  static_cast<void>(oiio::geterror());  // clears OpenImageIO's record of a failed lookup
+  if (!out) return build::isWrittenInPlace(path) ? "png" : "";
+  return out->format_name();
 }
 
 void writeEncoded(const std::string& path, const EncodedImage& bytes) {
@@ -209,7 +207,8 @@ EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const Ima
   const int channels = f.transparentBackground ? 4 : 3;
   // A float format named by -o (OpenEXR, Radiance HDR) keeps the linear colour: the sRGB curve
   // is for 8-bit pixels, where it spends the codes where the eye tells levels apart.
-  const bool linear = writesFloatColour(path);
+  const std::string format = outputFormat(path);
+  const bool linear = format == "openexr" || format == "hdr";
   oiio::ImageSpec spec(f.width, f.height, channels, linear ? oiio::TypeDesc::FLOAT : oiio::TypeDesc::UINT8);
   spec.attribute("png:compressionLevel", compressionLevel);
   if (f.transparentBackground) {
@@ -218,8 +217,10 @@ EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const Ima
   }
   addMetadata(spec, metadata);
   // OpenImageIO's PNG writer turns "sRGB" into the file's sRGB chunk (with gAMA and cHRM), which
-  // viewers and browsers honour; the text attribute says the same for people and scripts.
-  spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+  // viewers and browsers honour; the text attribute says the same for people and scripts. Not
+  // for TIFF: OpenImageIO 2.4 writes it as an EXIF directory, and into memory that directory
+  // spoils the file ("TIFF directory is missing required ImageLength field").
+  if (format != "tiff") spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
   spec.attribute("surftrace:encoding", linear ? kLinearEncoding : kSrgbEncoding);
   std::vector<float> straight(static_cast<std::size_t>(channels) * f.pixels());
   for (std::size_t p = 0; p < f.pixels(); ++p) {

@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "oracles/srgb.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
@@ -299,13 +300,8 @@ TEST(ImageIo, ExrRoundTripIsExact) {
   std::filesystem::remove(path);
 }
 
-// The 8-bit code of a linear colour value: the sRGB transfer function (IEC 61966-2-1:1999,
-// section 5.2) written out here, clamped to [0, 1] and rounded.
-unsigned char srgbCode(float linear) {
-  const double v = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-  return static_cast<unsigned char>(std::lround(255.0 * encoded));
-}
+// The 8-bit code of a linear colour value (the oracle's sRGB formula).
+unsigned char srgbCode(float linear) { return static_cast<unsigned char>(surftrace::test::srgbCode(linear)); }
 
 TEST(ImageIo, PngHoldsTheSrgbEncodingOfTheClampedColour) {
   const auto path = (surftrace::test::testTempDir() / "surftrace_colour.png").string();
