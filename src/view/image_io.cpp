@@ -140,19 +140,32 @@ double linearFromSrgb(double encoded) {
   return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
 }
 
-// round(255 · sRGB(clamp(v, 0, 1))), exactly and without a pow per channel: code k is
-// reached where the encoded value passes (k − ½)/255, so the code is the count of the 255
-// linear thresholds linearFromSrgb((k + ½)/255) that v reaches (a 4K frame has 25 million
-// channels). NaN, which no clamp orders, is black.
+// round(255 · sRGB(clamp(v, 0, 1))), exactly and without a pow per channel (a 4K frame has 25
+// million): code k is reached where the encoded value passes (k − ½)/255, so the code is the
+// count of the 255 linear thresholds linearFromSrgb((k + ½)/255) that v reaches. A table of that
+// count at every 1/4096 gives the start; no bucket of 1/4096 holds more than two thresholds
+// (their narrowest gap, near 0, is 1/(255 · 12.92)). NaN, which no clamp orders, is black.
 unsigned char srgbByte(float v) {
-  static const std::array<double, 255> thresholds = [] {
-    std::array<double, 255> t{};
-    for (std::size_t k = 0; k < t.size(); ++k) t[k] = linearFromSrgb((static_cast<double>(k) + 0.5) / 255.0);
+  constexpr int kBuckets = 4096;
+  struct Tables {
+    std::array<double, 255> thresholds{};
+    std::array<unsigned char, kBuckets + 1> start{};
+  };
+  static const Tables tables = [] {
+    Tables t;
+    for (std::size_t k = 0; k < t.thresholds.size(); ++k)
+      t.thresholds[k] = linearFromSrgb((static_cast<double>(k) + 0.5) / 255.0);
+    for (std::size_t i = 0; i < t.start.size(); ++i)
+      t.start[i] = static_cast<unsigned char>(
+          std::upper_bound(t.thresholds.begin(), t.thresholds.end(), static_cast<double>(i) / kBuckets) - t.thresholds.begin());
     return t;
   }();
-  if (std::isnan(v)) return 0;
-  return static_cast<unsigned char>(std::upper_bound(thresholds.begin(), thresholds.end(), static_cast<double>(v)) -
-                                    thresholds.begin());
+  if (std::isnan(v) || v <= 0.0f) return 0;
+  if (v >= 1.0f) return 255;
+  const double x = v;
+  unsigned code = tables.start[static_cast<std::size_t>(x * kBuckets)];
+  while (code < tables.thresholds.size() && tables.thresholds[code] <= x) ++code;
+  return static_cast<unsigned char>(code);
 }
 
 unsigned char linearByte(float v) {

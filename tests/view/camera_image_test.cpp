@@ -305,7 +305,7 @@ unsigned char srgbCode(float linear) { return static_cast<unsigned char>(surftra
 
 TEST(ImageIo, PngHoldsTheSrgbEncodingOfTheClampedColour) {
   const auto path = (surftrace::test::testTempDir() / "surftrace_colour.png").string();
-  FrameBuffers f = randomFrame(64, 48);
+  FrameBuffers f = randomFrame(256, 128);
   // Every tenth of [0, 1], out-of-range values, the linear segment's end (0.0031308) and a
   // fine sweep of [0, 1] that meets every one of the 256 codes.
   const float special[] = {-0.5f, 0.0f, 0.001f, 0.0031308f, 0.004f, 0.1f, 0.2f, 0.5f, 0.9f, 1.0f, 1.5f};
