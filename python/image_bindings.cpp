@@ -379,7 +379,7 @@ void bindImage(py::module_& m) {
   py::class_<PyImage>(m, "Image", R"(A rendered frame: colour and the buffers of each pixel's centre ray, as numpy arrays
 that share the image's memory (read only; .copy() one to change it). Rows run from the top of the
 image down (row 0 is the top row, as in the PNG; glReadPixels' rows run the other way), columns left
-to right: rgb (h, w, 3) float32 display values in [0, 1], alpha (h, w) coverage, depth_t (h, w) ray
+to right: rgb (h, w, 3) float32 linear colour (the EXR's; a PNG holds its sRGB encoding), alpha (h, w) coverage, depth_t (h, w) ray
 distance in Å and depth_z view depth in Å (+inf: background), normal (h, w, 3) world-space unit
 normals (0 on background), patch_kind, patch_id, atom_id, flags (h, w) uint32 (ids 2**32-1 on
 background), seam_distance (h, w) Å to the edge of the hit's patch (None when not recorded).)")

@@ -316,7 +316,8 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_flag("--ortho", o.ortho, "Orthographic projection (framed to fit the molecule)");
   cmd.add_option("--color", o.color,
                  "Colouring: patch (SES: convex green, toroidal yellow, concave red; MSS: convex green, edge "
-                 "hyperboloids red, face ones yellow, concave blue), element (Jmol), chain, residue (RasMol amino), "
+                 "hyperboloids red, face ones yellow, concave blue), element (Jmol), chain (24 distinct colours in order "
+                 "of appearance; chains 25-48 take them darker, 49-72 lighter, and so on in turn), residue (RasMol amino), "
                  "hydrophobicity (Kyte-Doolittle), rainbow (N to C terminus along each chain), bfactor, value (--values), "
                  "uniform")
       ->check(CLI::IsMember({"patch", "element", "chain", "residue", "hydrophobicity", "rainbow", "bfactor", "value",
@@ -371,7 +372,8 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--opacity", o.opacity,
                  "Surface opacity in [0, 1]: below 1 every layer the ray crosses (up to --max-layers, nearest first) "
                  "is blended front to back over the background (engine embree exactly; engine gl by depth peeling); "
-                 "0 draws no surface, only the --ball-and-stick model")
+                 "0 draws no surface, only the --ball-and-stick model. The inner surfaces of buried cavities show "
+                 "through a transparent surface unless --drop-cavities leaves them out")
       ->check(CLI::Validator([](std::string& text) { return detail::checkNumber(text, 0.0, 1.0, false, false); },
                              "NUMBER in [0, 1]", "opacity"))
       ->default_val(1.0);

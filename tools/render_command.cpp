@@ -251,7 +251,8 @@ void addRenderCommand(CLI::App& app, const std::string& commandLine) {
                        ->default_val(0);
   cmd->add_option("-o,--output", o->output,
                   "PNG (or any OpenImageIO format) colour image to write; - for a PNG on the standard output (the "
-                  "summary then goes to the standard error)");
+                  "summary then goes to the standard error). 8-bit formats hold the sRGB encoding of the linear "
+                  "colour (alpha linear); .exr holds the linear colour");
   cmd->add_option("--exr", o->exr,
                   "Multi-channel EXR to write (colour, depth, normal, ids, flags; with Embree also each hit's "
                   "distance to the edge of its patch and the pixels an edge of the surface crosses, for `compare`); "

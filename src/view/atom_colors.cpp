@@ -31,10 +31,23 @@ glm::vec3 elementColor(const std::string& element) {
   return it == table.end() ? glm::vec3(1.0f, 0.08f, 0.58f) : it->second;
 }
 
-constexpr glm::vec3 kChainPalette[] = {
+// 24 colours for chains, in order of appearance: matplotlib's tab10 (Tableau 10), then the
+// colours that Glasbey's construction adds after it (Glasbey, Heijden, Toh and Gray, "Colour
+// displays for categorical images", Color Res. Appl. 32:304-309, 2007), as colorcet publishes
+// them (holoviz/colorcet, assets/Glasbey/glasbey_category10_n256.csv, entries 13-32), leaving
+// out those darker than CIELAB L* 35 (entries 10-12, 14, 16, 22, 27, 29, 31), which shading
+// would turn black. Pairwise CIELAB distance at least 23 (tests/view/chain_colors_test.cpp).
+constexpr glm::vec3 kChainPalette[kChainPaletteSize] = {
+    // tab10 to two decimals, as the palette has always had it (reference images keep their colours)
     {0.12f, 0.47f, 0.71f}, {1.00f, 0.50f, 0.05f}, {0.17f, 0.63f, 0.17f}, {0.84f, 0.15f, 0.16f},
     {0.58f, 0.40f, 0.74f}, {0.55f, 0.34f, 0.29f}, {0.89f, 0.47f, 0.76f}, {0.50f, 0.50f, 0.50f},
-    {0.74f, 0.74f, 0.13f}, {0.09f, 0.75f, 0.81f}};
+    {0.74f, 0.74f, 0.13f}, {0.09f, 0.75f, 0.81f},
+    // Glasbey's
+    {0.058824f, 1.000000f, 0.662745f}, {0.737255f, 0.737255f, 1.000000f},
+    {0.847059f, 0.686275f, 0.635294f}, {0.419608f, 0.396078f, 0.000000f}, {0.000000f, 0.454902f, 0.345098f},
+    {0.380392f, 0.149020f, 1.000000f}, {1.000000f, 1.000000f, 0.603922f}, {0.549020f, 0.721569f, 0.580392f},
+    {0.803922f, 0.000000f, 0.505882f}, {0.580392f, 0.988235f, 1.000000f}, {0.568627f, 1.000000f, 0.000000f},
+    {0.337255f, 0.325490f, 0.443137f}, {0.678431f, 0.537255f, 0.266667f}, {1.000000f, 0.752941f, 0.952941f}};
 
 // The standard amino acid a residue name stands for: force fields' protonation states and the
 // common modified residues (selenomethionine) under their parent's name.
@@ -192,7 +205,7 @@ AtomColoring colorAtoms(const build::Molecule& m, const ColorScheme& s) {
       std::map<std::string, std::size_t> order;
       for (std::size_t i = 0; i < m.size(); ++i) {
         const auto it = order.emplace(m.atoms[i].chain, order.size()).first;
-        colors[i] = kChainPalette[it->second % std::size(kChainPalette)];
+        colors[i] = chainColor(it->second);
       }
       break;
     }
@@ -251,6 +264,15 @@ AtomColoring colorAtoms(const build::Molecule& m, const ColorScheme& s) {
     out.overridden.push_back(picked.size());
   }
   return out;
+}
+
+glm::vec3 chainColor(std::size_t order) {
+  const glm::vec3 c = kChainPalette[order % kChainPaletteSize];
+  switch (order / kChainPaletteSize % 3) {
+    case 1: return kChainDarker * c;
+    case 2: return c + kChainLighter * (glm::vec3(1.0f) - c);
+    default: return c;
+  }
 }
 
 std::vector<glm::vec3> atomColors(const build::Molecule& m, ColorMode mode, const glm::vec3& uniform) {

@@ -48,7 +48,7 @@ const char* defaultColorMap(ColorMode mode);
 bool usesColorMap(ColorMode mode);
 
 // The schemes (README, `render`):
-// - element: Jmol's CPK colours; chain: a fixed palette in order of appearance; uniform;
+// - element: Jmol's CPK colours; chain: chainColor in order of appearance; uniform;
 // - residue: RasMol's `amino` colours by residue name (acidic red, basic blue, ...);
 // - hydrophobicity: the Kyte–Doolittle hydropathy index of the atom's amino acid (Kyte and
 //   Doolittle, J. Mol. Biol. 157:105–132, 1982) through the map; other residues are missing;
@@ -63,6 +63,13 @@ AtomColoring colorAtoms(const build::Molecule& molecule, const ColorScheme& sche
 
 // colorAtoms with the scheme's defaults: `mode`, `uniform`, no map, range or overrides.
 std::vector<glm::vec3> atomColors(const build::Molecule& molecule, ColorMode mode, const glm::vec3& uniform);
+
+// The colour of the chain that appears `order`-th (from 0) in the file: the first 24 chains get
+// 24 distinct colours (tab10, then Glasbey's), the next 24 the same darkened to kChainDarker, the
+// next 24 lightened kChainLighter of the way to white, and so on in turn (README, `render`).
+inline constexpr std::size_t kChainPaletteSize = 24;
+inline constexpr float kChainDarker = 0.6f, kChainLighter = 0.45f;
+glm::vec3 chainColor(std::size_t order);
 
 // The Kyte–Doolittle index of a residue name (HIS's protonation states, MSE and the like
 // included), or nothing for a residue that is not an amino acid.

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -133,6 +134,53 @@ std::string readFailure(const std::string& path, oiio::ImageInput& in) {
   return path + ": " + why;
 }
 
+// The inverse of the standard sRGB transfer function (IEC 61966-2-1:1999, section 5.2), whose
+// forward form, linear to encoded, is 12.92·v up to 0.0031308 and 1.055·v^(1/2.4) − 0.055 above.
+double linearFromSrgb(double encoded) {
+  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+// round(255 · sRGB(clamp(v, 0, 1))), exactly and without a pow per channel (a 4K frame has 25
+// million): code k is reached where the encoded value passes (k − ½)/255, so the code is the
+// count of the 255 linear thresholds linearFromSrgb((k + ½)/255) that v reaches. A table of that
+// count at every 1/4096 gives the start; no bucket of 1/4096 holds more than two thresholds
+// (their narrowest gap, near 0, is 1/(255 · 12.92)). NaN, which no clamp orders, is black.
+unsigned char srgbByte(float v) {
+  constexpr int kBuckets = 4096;
+  struct Tables {
+    std::array<double, 255> thresholds{};
+    std::array<unsigned char, kBuckets + 1> start{};
+  };
+  static const Tables tables = [] {
+    Tables t;
+    for (std::size_t k = 0; k < t.thresholds.size(); ++k)
+      t.thresholds[k] = linearFromSrgb((static_cast<double>(k) + 0.5) / 255.0);
+    for (std::size_t i = 0; i < t.start.size(); ++i)
+      t.start[i] = static_cast<unsigned char>(
+          std::upper_bound(t.thresholds.begin(), t.thresholds.end(), static_cast<double>(i) / kBuckets) - t.thresholds.begin());
+    return t;
+  }();
+  if (std::isnan(v) || v <= 0.0f) return 0;
+  if (v >= 1.0f) return 255;
+  const double x = v;
+  unsigned code = tables.start[static_cast<std::size_t>(x * kBuckets)];
+  while (code < tables.thresholds.size() && tables.thresholds[code] <= x) ++code;
+  return static_cast<unsigned char>(code);
+}
+
+unsigned char linearByte(float v) {
+  return std::isnan(v) ? 0 : static_cast<unsigned char>(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f)));
+}
+
+// OpenImageIO's name for the format it writes `path` in: "png" for "-" and /dev/null, as
+// encode() does; "" when it has none (encode() says why).
+std::string outputFormat(const std::string& path) {
+  const auto out = oiio::ImageOutput::create(path);
+  static_cast<void>(oiio::geterror());  // clears OpenImageIO's record of a failed lookup
+  if (!out) return build::isWrittenInPlace(path) ? "png" : "";
+  return out->format_name();
+}
+
 void writeEncoded(const std::string& path, const EncodedImage& bytes) {
   build::writeFileAtomically(path, std::as_bytes(std::span<const unsigned char>(bytes)));
 }
@@ -170,21 +218,35 @@ EncodedImage encodePng(const std::string& path, const FrameBuffers& f, const Ima
   // RGB over an opaque background; RGBA over a transparent one, with the colour made straight
   // (unassociated, as PNG stores it) here rather than by OpenImageIO from 8-bit values.
   const int channels = f.transparentBackground ? 4 : 3;
-  oiio::ImageSpec spec(f.width, f.height, channels, oiio::TypeDesc::UINT8);
+  // A float format named by -o (OpenEXR, Radiance HDR) keeps the linear colour: the sRGB curve
+  // is for 8-bit pixels, where it spends the codes where the eye tells levels apart.
+  const std::string format = outputFormat(path);
+  const bool linear = format == "openexr" || format == "hdr";
+  oiio::ImageSpec spec(f.width, f.height, channels, linear ? oiio::TypeDesc::FLOAT : oiio::TypeDesc::UINT8);
   spec.attribute("png:compressionLevel", compressionLevel);
   if (f.transparentBackground) {
     spec.alpha_channel = 3;
     spec.attribute("oiio:UnassociatedAlpha", 1);
   }
   addMetadata(spec, metadata);
-  const auto byte = [](float v) { return static_cast<unsigned char>(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f))); };
-  std::vector<unsigned char> pixels(static_cast<std::size_t>(channels) * f.pixels());
+  // OpenImageIO's PNG writer turns "sRGB" into the file's sRGB chunk (with gAMA and cHRM), which
+  // viewers and browsers honour; the text attribute says the same for people and scripts. Not
+  // for TIFF: OpenImageIO 2.4 writes it as an EXIF directory, and into memory that directory
+  // spoils the file ("TIFF directory is missing required ImageLength field").
+  if (format != "tiff") spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+  spec.attribute("surftrace:encoding", linear ? kLinearEncoding : kSrgbEncoding);
+  std::vector<float> straight(static_cast<std::size_t>(channels) * f.pixels());
   for (std::size_t p = 0; p < f.pixels(); ++p) {
     const float alpha = f.rgba[4 * p + 3];
-    const float straight = f.transparentBackground && alpha > 0.0f ? 1.0f / alpha : 1.0f;
-    for (int c = 0; c < 3; ++c) pixels[static_cast<std::size_t>(channels) * p + static_cast<std::size_t>(c)] = byte(f.rgba[4 * p + c] * straight);
-    if (f.transparentBackground) pixels[static_cast<std::size_t>(channels) * p + 3] = byte(alpha);
+    const float scale = f.transparentBackground && alpha > 0.0f ? 1.0f / alpha : 1.0f;
+    for (int c = 0; c < 3; ++c) straight[static_cast<std::size_t>(channels) * p + static_cast<std::size_t>(c)] = f.rgba[4 * p + c] * scale;
+    if (f.transparentBackground) straight[static_cast<std::size_t>(channels) * p + 3] = alpha;
   }
+  if (linear) return encode(path, spec, oiio::TypeDesc::FLOAT, straight.data(), "png");
+  // Colour through the sRGB curve; alpha, a coverage and not a colour, stays linear.
+  std::vector<unsigned char> pixels(straight.size());
+  for (std::size_t i = 0; i < straight.size(); ++i)
+    pixels[i] = f.transparentBackground && i % 4 == 3 ? linearByte(straight[i]) : srgbByte(straight[i]);
   return encode(path, spec, oiio::TypeDesc::UINT8, pixels.data(), "png");
 }
 

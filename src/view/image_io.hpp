@@ -21,10 +21,18 @@ using EncodedImage = std::vector<unsigned char>;
 // (README, Benchmarks).
 inline constexpr int kDefaultPngLevel = 6;
 
+// What "surftrace:encoding" says of an image's colour: 8-bit images (PNG, JPEG, TIFF, ...) hold
+// the sRGB encoding of the linear colour the renderer computed, which EXRs hold as it is.
+inline constexpr const char* kSrgbEncoding = "sRGB (IEC 61966-2-1) of the linear colour; alpha linear";
+inline constexpr const char* kLinearEncoding = "linear";
+
 // 8-bit RGB PNG of the colour buffer (already composited over the background), encoded in
 // memory; RGBA, straight alpha, when the frame's background is transparent
-// (FrameBuffers::transparentBackground). `path` only chooses the format and names the file in
-// errors.
+// (FrameBuffers::transparentBackground). The colour goes through the standard sRGB transfer
+// function (IEC 61966-2-1), rounded to the nearest code; alpha stays linear. The file says so:
+// oiio:ColorSpace "sRGB" (a PNG's sRGB chunk) and surftrace:encoding kSrgbEncoding. `path` only
+// chooses the format and names the file in errors; a float format (OpenEXR, HDR) gets the
+// linear colour as floats.
 EncodedImage encodePng(const std::string& path, const FrameBuffers& frame, const ImageMetadata& metadata,
                        int compressionLevel = kDefaultPngLevel);
 // encodePng, written whole to `path`.

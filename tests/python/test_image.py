@@ -53,10 +53,20 @@ def test_png_equals_the_cli_png(embree, folder):
         assert np.array_equal(ours, cli), path
 
 
-def test_rgb_is_the_png_rounded(embree):
-    """rgb holds the display values the PNG quantises (row 0 the PNG's top row)."""
-    png = np.asarray(PILImage.open(embree["png"])).astype(np.float64) / 255.0
-    assert np.abs(embree["image"].rgb - png).max() <= 0.5 / 255 + 1e-6
+def srgb_codes(linear):
+    """The sRGB transfer function (IEC 61966-2-1) written out: linear [0, 1] to 8-bit codes."""
+    v = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
+    return np.rint(255.0 * np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055))
+
+
+def test_rgb_is_linear_and_the_png_its_srgb_encoding(embree):
+    """rgb holds the linear colour; the PNG (row 0 its top row) holds its sRGB codes and says so."""
+    image = PILImage.open(embree["png"])
+    assert "srgb" in image.info, "the PNG has no sRGB chunk"
+    png = np.asarray(image).astype(np.float64)
+    assert np.abs(srgb_codes(embree["image"].rgb) - png).max() <= 1
+    mid = (embree["image"].rgb > 0.1) & (embree["image"].rgb < 0.6)
+    assert (png[mid] - np.rint(255 * embree["image"].rgb[mid]) >= 40).sum() > 100, "not told apart from linear codes"
 
 
 def test_saved_exr_holds_every_buffer(embree, folder):

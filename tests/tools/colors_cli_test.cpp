@@ -19,6 +19,7 @@
 
 #include "oracles/mpl_colormap.hpp"
 #include "oracles/python_oracle.hpp"
+#include "oracles/srgb.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
@@ -345,7 +346,8 @@ TEST(ColorsCli, LegendIsTheMapsBarWithItsRangeInTheCornerOrItsOwnFile) {
     const std::size_t inFile = static_cast<std::size_t>(row) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(l.barX + i);
     const std::size_t inImage = static_cast<std::size_t>(y0 + row) * 200 + static_cast<std::size_t>(x0 + l.barX + i);
     for (int c = 0; c < 3; ++c) {
-      EXPECT_NEAR(f.at(inFile, c), want[static_cast<std::size_t>(i)][c], 0.5 / 255 + 1e-6) << "column " << i;
+      EXPECT_NEAR(f.at(inFile, c) * 255.0, ::surftrace::test::srgbCode(want[static_cast<std::size_t>(i)][c]), 1.0)
+          << "column " << i << ": the file's 8-bit code is the sRGB encoding of the map's colour";
       EXPECT_NEAR(b.f.rgba[4 * inImage + static_cast<std::size_t>(c)], want[static_cast<std::size_t>(i)][c], 1e-6) << "column " << i;
     }
   }

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "oracles/srgb.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/image_compare.hpp"
@@ -103,9 +104,9 @@ std::vector<std::tuple<int, int, int>> pngColours(const std::string& path, int& 
   return out;
 }
 
+// The PNG's code of a difference colour: sRGB-encoded, as every 8-bit image is.
 std::tuple<int, int, int> byte(const float (&c)[3]) {
-  return {static_cast<int>(std::lround(255 * c[0])), static_cast<int>(std::lround(255 * c[1])),
-          static_cast<int>(std::lround(255 * c[2]))};
+  return {::surftrace::test::srgbCode(c[0]), ::surftrace::test::srgbCode(c[1]), ::surftrace::test::srgbCode(c[2])};
 }
 
 TEST(CompareDiff, GlWithinTheLimitsLooksQuiet) {

@@ -20,6 +20,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "frame_buffers_equal.hpp"
+#include "oracles/srgb.hpp"
 #include "run_tool.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
@@ -92,8 +93,8 @@ TEST(TrajectoryCli, EveryFrameOfAdkEqualsAnIndependentRender) {
 }
 
 // The frames' PNGs (zlib level 1, encoded and written in parallel) hold each frame's own
-// colours: those of the EXR written for the same frame, clamped and rounded to 8 bits as every
-// PNG is (the EXRs are checked against independent renders above).
+// colours: those of the EXR written for the same frame, clamped, sRGB-encoded and rounded to
+// 8 bits as every PNG is (the EXRs are checked against independent renders above).
 TEST(TrajectoryCli, FastPngFramesHoldTheirFramesColours) {
   const fs::path dir = freshDirectory("png_level");
   const Result run = runTool("trajectory " + kPsf + " " + kDcd + " --frames 0:98:16 --size 48x40 --quiet -o " +
@@ -114,8 +115,7 @@ TEST(TrajectoryCli, FastPngFramesHoldTheirFramesColours) {
     std::size_t wrong = 0;
     for (std::size_t p = 0; p < frame.pixels(); ++p)
       for (int c = 0; c < 3; ++c)
-        wrong += px[3 * p + c] !=
-                 static_cast<unsigned char>(std::lround(255.0f * std::clamp(frame.rgba[4 * p + c], 0.0f, 1.0f)));
+        wrong += px[3 * p + c] != ::surftrace::test::srgbCode(frame.rgba[4 * p + c]);
     EXPECT_EQ(wrong, 0u) << "frame " << k;
     ++checked;
   }

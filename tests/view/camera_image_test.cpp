@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "oracles/srgb.hpp"
 #include "temp_dir.hpp"
 #include "view/camera.hpp"
 #include "view/image_io.hpp"
@@ -298,25 +300,67 @@ TEST(ImageIo, ExrRoundTripIsExact) {
   std::filesystem::remove(path);
 }
 
-TEST(ImageIo, PngHoldsTheClampedColour) {
+// The 8-bit code of a linear colour value (the oracle's sRGB formula).
+unsigned char srgbCode(float linear) { return static_cast<unsigned char>(surftrace::test::srgbCode(linear)); }
+
+TEST(ImageIo, PngHoldsTheSrgbEncodingOfTheClampedColour) {
   const auto path = (surftrace::test::testTempDir() / "surftrace_colour.png").string();
-  FrameBuffers f = randomFrame(5, 3);
+  FrameBuffers f = randomFrame(256, 128);
+  // Every tenth of [0, 1], out-of-range values, the linear segment's end (0.0031308) and a
+  // fine sweep of [0, 1] that meets every one of the 256 codes.
+  const float special[] = {-0.5f, 0.0f, 0.001f, 0.0031308f, 0.004f, 0.1f, 0.2f, 0.5f, 0.9f, 1.0f, 1.5f};
   for (std::size_t p = 0; p < f.pixels(); ++p)
-    for (int c = 0; c < 4; ++c) f.rgba[4 * p + c] = static_cast<float>((p * 4 + c) % 11) / 10.0f;
+    for (int c = 0; c < 4; ++c)
+      f.rgba[4 * p + c] = p < std::size(special) ? special[p]
+                                                  : static_cast<float>((p - std::size(special)) * 3 + c) /
+                                                        static_cast<float>(3 * (f.pixels() - std::size(special)));
   writePng(path, f, {});
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in);
   ASSERT_EQ(in->spec().nchannels, 3);
+  EXPECT_EQ(in->spec().get_string_attribute("oiio:ColorSpace"), "sRGB");
+  EXPECT_EQ(in->spec().get_string_attribute("surftrace:encoding"), kSrgbEncoding);
   std::vector<unsigned char> px(3 * f.pixels());
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
+  std::set<int> codes;
   for (std::size_t p = 0; p < f.pixels(); ++p)
-    for (int c = 0; c < 3; ++c)
-      EXPECT_EQ(px[3 * p + c], static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, f.rgba[4 * p + c]))));
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(px[3 * p + c], srgbCode(f.rgba[4 * p + c])) << "pixel " << p << " value " << f.rgba[4 * p + c];
+      codes.insert(px[3 * p + c]);
+    }
+  EXPECT_EQ(codes.size(), 256u);
+  EXPECT_EQ(px[3 * 7], 188) << "linear 0.5 is sRGB code 188 (0.7354 · 255)";
+  std::filesystem::remove(path);
+}
+
+// A transparent background: the straight colour through the sRGB curve, alpha linear.
+TEST(ImageIo, PngAlphaStaysLinear) {
+  const auto path = (surftrace::test::testTempDir() / "surftrace_alpha.png").string();
+  FrameBuffers f = randomFrame(16, 16);
+  f.transparentBackground = true;
+  for (std::size_t p = 0; p < f.pixels(); ++p) {
+    const float alpha = static_cast<float>(p) / static_cast<float>(f.pixels() - 1);
+    for (int c = 0; c < 3; ++c) f.rgba[4 * p + c] = alpha * 0.25f * static_cast<float>(c + 1);  // premultiplied
+    f.rgba[4 * p + 3] = alpha;
+  }
+  writePng(path, f, {});
+  OIIO::ImageSpec asStored;  // the file's straight colour, which OpenImageIO would premultiply
+  asStored.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &asStored);
+  ASSERT_TRUE(in);
+  ASSERT_EQ(in->spec().nchannels, 4);
+  std::vector<unsigned char> px(4 * f.pixels());
+  ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, px.data()));
+  for (std::size_t p = 1; p < f.pixels(); ++p) {
+    const float alpha = f.rgba[4 * p + 3];
+    EXPECT_EQ(px[4 * p + 3], static_cast<unsigned char>(std::lround(255.0f * alpha))) << p;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(px[4 * p + c], srgbCode(f.rgba[4 * p + c] / alpha), 1) << p;
+  }
   std::filesystem::remove(path);
 }
 
 // zlib's level changes the bytes and the time, never the pixels: a frame written at level 1
-// (trajectory frames) and at the default level reads back the same, clamped colour for colour.
+// (trajectory frames) and at the default level reads back the same, sRGB-encoded colour for colour.
 TEST(ImageIo, PngLevelChangesTheBytesNotThePixels) {
   FrameBuffers f = randomFrame(64, 48);
   for (std::size_t p = 0; p < f.pixels(); ++p)
@@ -335,7 +379,7 @@ TEST(ImageIo, PngLevelChangesTheBytesNotThePixels) {
     ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, px.data()));
     for (std::size_t p = 0; p < f.pixels(); ++p)
       for (int c = 0; c < 3; ++c)
-        ASSERT_EQ(px[3 * p + c], static_cast<unsigned char>(std::lround(255.0f * std::min(1.0f, f.rgba[4 * p + c]))))
+        ASSERT_EQ(px[3 * p + c], srgbCode(f.rgba[4 * p + c]))
             << "level " << level << " pixel " << p;
     decoded.push_back(std::move(px));
     std::filesystem::remove(path);
