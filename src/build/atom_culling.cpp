@@ -75,14 +75,19 @@ class CellLists {
     };
     return {axis(p.x), axis(p.y), axis(p.z)};
   }
+  // The cells of one 4x4x4 block take 64 consecutive slots: the block is hashed, the cell's
+  // place in it kept. The 8 cells a query looks at then lie in one or two blocks, a cache line
+  // or two of the table, where a hash of each cell put them in 8 random lines: with a million
+  // atoms (a 16 MB table) those misses made culling 3 times as costly per atom as for 1AON.
   std::size_t slotOf(const CellKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull ^
-                      static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full ^
-                      static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull;
+    std::uint64_t h = static_cast<std::uint64_t>(k.x >> 2) * 0x9E3779B97F4A7C15ull ^
+                      static_cast<std::uint64_t>(k.y >> 2) * 0xC2B2AE3D27D4EB4Full ^
+                      static_cast<std::uint64_t>(k.z >> 2) * 0x165667B19E3779F9ull;
     h ^= h >> 29;
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 32;
-    return static_cast<std::size_t>(h) & (table_.size() - 1);
+    const auto within = static_cast<std::uint64_t>((k.x & 3) | (k.y & 3) << 2 | (k.z & 3) << 4);
+    return static_cast<std::size_t>(h << 6 | within) & (table_.size() - 1);
   }
   std::uint32_t find(const CellKey& k) const {
     for (std::size_t s = slotOf(k);; s = (s + 1) & (table_.size() - 1)) {

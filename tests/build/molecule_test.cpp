@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -854,6 +855,122 @@ TEST(Molecule, ExactDuplicatesAreLeftOutWithANote) {
   // PDB: the same atom record twice (same name, residue, element and centre).
   const std::string atom = "ATOM      1  CA  ALA A   1      11.639   6.071  -5.147  1.00  0.00           C\n";
   EXPECT_EQ(readMoleculeBytes(atom + atom + atom + "END\n", "thrice.pdb").size(), 1u);
+}
+
+// The decimal text of m / 1000 (m an integer): "-12.345", "0.007". Its double is m / 1000.0,
+// the division being correctly rounded as the reading of the decimal is.
+std::string thousandths(long long m) {
+  const long long a = m < 0 ? -m : m;
+  char text[32];
+  std::snprintf(text, sizeof text, "%s%lld.%03lld", m < 0 ? "-" : "", a / 1000, a % 1000);
+  return text;
+}
+
+// A large generated XYZR file, read back coordinate by coordinate against its generator: the
+// numbers spelt every way a writer spells them (a leading '+', exponents in either case with
+// and without a sign, no digit before or after the point, tabs, several spaces, CRLF lines).
+TEST(Molecule, LargeGeneratedXyzrReadsEveryNumberExactly) {
+  constexpr int kAtoms = 200000;
+  // Distinct coordinates (7919 is prime to 2000001), so no atom is a duplicate of another.
+  const auto millis = [](int i, int axis) {
+    return (static_cast<long long>(i) * 7919 + 104729LL * axis) % 2000001 - 1000000;
+  };
+  const auto spell = [](long long m, int style) -> std::string {
+    switch (style) {
+      case 0: return thousandths(m);
+      case 1: return (m >= 0 ? "+" : "") + thousandths(m);         // "+12.345"
+      case 2: return std::to_string(m) + "e-3";                    // "12345e-3"
+      case 3: return std::to_string(m) + "E-03";                   // "12345E-03"
+      case 4: return thousandths(m) + "e+0";                       // "12.345e+0"
+      case 5: return std::to_string(m * 10) + "E-4";               // "123450E-4"
+      default: {                                                   // ".345", "-.345", "12."
+        if (m % 1000 == 0) return std::to_string(m / 1000) + ".";
+        const std::string t = thousandths(m);
+        return t.rfind("0.", 0) == 0 ? t.substr(1) : t.rfind("-0.", 0) == 0 ? "-" + t.substr(2) : t;
+      }
+    }
+  };
+  const char* separators[] = {" ", "\t", "   ", " \t "};
+  std::string text = "# x y z r, generated\n";
+  for (int i = 0; i < kAtoms; ++i) {
+    if (i % 97 == 0) text += "  ";
+    for (int axis = 0; axis < 3; ++axis)
+      text += spell(millis(i, axis), (i + axis) % 7) + separators[(i + axis) % 4];
+    text += (i % 5 == 0 ? "+1." : "1.") + std::to_string(10 + i % 90);  // 1.10 ... 1.99
+    text += i % 3 == 0 ? "\r\n" : "\n";
+  }
+  const Molecule m = readMoleculeBytes(text, "generated.xyzr");
+  ASSERT_EQ(m.size(), static_cast<std::size_t>(kAtoms));
+  int wrong = 0;
+  for (int i = 0; i < kAtoms; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    for (int axis = 0; axis < 3; ++axis)
+      if (m.centers[k][axis] != static_cast<double>(millis(i, axis)) / 1000.0 && ++wrong < 10)
+        ADD_FAILURE() << "atom " << i << " axis " << axis << ": " << m.centers[k][axis];
+    if (m.radii[k] != static_cast<double>(110 + i % 90) / 100.0 && ++wrong < 10)
+      ADD_FAILURE() << "atom " << i << " radius " << m.radii[k];
+    if (m.atoms[k].line != i + 2 && ++wrong < 10) ADD_FAILURE() << "atom " << i << " line " << m.atoms[k].line;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+// Text std::from_chars reads otherwise than strtod: each is refused with its line and value
+// ("+-1.5" was read as -1.5), not-a-number and infinity as not finite.
+TEST(MoleculeBadInput, XyzrNumbersStrtodReadsOtherwise) {
+  const auto error = [](const std::string& line) {
+    try {
+      readMoleculeBytes("1 2 3 1.5\n" + line + "\n", "edge.xyzr");
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 2) << e.what();
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << line << " was read";
+    return std::string();
+  };
+  EXPECT_THAT(error("+-1.5 2 3 1.5"), HasSubstr("expected a number for x (field 1), got '+-1.5'"));
+  EXPECT_THAT(error("1 ++2 3 1.5"), HasSubstr("expected a number for y (field 2), got '++2'"));
+  EXPECT_THAT(error("1 2 3 +-1.5"), HasSubstr("expected a number for the radius (field 4), got '+-1.5'"));
+  EXPECT_THAT(error("0x1p3 2 3 1.5"), HasSubstr("got '0x1p3'"));  // strtod: 8
+  EXPECT_THAT(error("1 2 3e 1.5"), HasSubstr("got '3e'"));        // strtod: 3, the 'e' left over
+  EXPECT_THAT(error("1 2 1,5 1.5"), HasSubstr("got '1,5'"));
+  EXPECT_THAT(error("1e400 2 3 1.5"), HasSubstr("got '1e400'"));  // strtod: HUGE_VAL
+  EXPECT_THAT(error("nan 2 3 1.5"), HasSubstr("x is not finite: 'nan'"));
+  EXPECT_THAT(error("1 -NaN 3 1.5"), HasSubstr("y is not finite: '-NaN'"));
+  EXPECT_THAT(error("1 2 +inf 1.5"), HasSubstr("z is not finite: '+inf'"));
+  EXPECT_THAT(error("1 2 3 infinity"), HasSubstr("the radius is not finite: 'infinity'"));
+}
+
+// A large generated GRO file (wrapping atom and residue numbers as GROMACS writes them), read
+// back against its generator: every coordinate is 10 times the nm the columns hold.
+TEST(Molecule, LargeGeneratedGroReadsEveryCoordinateExactly) {
+  constexpr int kAtoms = 120000;
+  const auto millis = [](int i, int axis) {
+    return (static_cast<long long>(i) * 7919 + 104729LL * axis) % 1999999 - 999999;  // |x| < 1000 nm
+  };
+  const char* names[] = {"N", "CA", "C", "O", "CB"};
+  std::string text = "generated\n" + std::to_string(kAtoms) + "\n";
+  char line[96];
+  for (int i = 0; i < kAtoms; ++i) {
+    std::snprintf(line, sizeof line, "%5d%-5s%5s%5d%8s%8s%8s\n", (i / 5 + 1) % 100000, "ALA",
+                  names[i % 5], (i + 1) % 100000, thousandths(millis(i, 0)).c_str(),
+                  thousandths(millis(i, 1)).c_str(), thousandths(millis(i, 2)).c_str());
+    text += line;
+  }
+  text += "   10.00000   10.00000   10.00000\n";
+  const Molecule m = readMoleculeBytes(text, "generated.gro");
+  ASSERT_EQ(m.size(), static_cast<std::size_t>(kAtoms));
+  int wrong = 0;
+  for (int i = 0; i < kAtoms; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    for (int axis = 0; axis < 3; ++axis)
+      if (m.centers[k][axis] != 10.0 * (static_cast<double>(millis(i, axis)) / 1000.0) && ++wrong < 10)
+        ADD_FAILURE() << "atom " << i << " axis " << axis << ": " << m.centers[k][axis];
+    if (m.atoms[k].residueNumber != i / 5 + 1 && ++wrong < 10)
+      ADD_FAILURE() << "atom " << i << " residue " << m.atoms[k].residueNumber;
+    if (m.atoms[k].element != std::string(1, names[i % 5][0]) && ++wrong < 10)
+      ADD_FAILURE() << "atom " << i << " element " << m.atoms[k].element;
+  }
+  EXPECT_EQ(wrong, 0);
 }
 
 TEST(MoleculeBadInput, XyzProblems) {

@@ -3,6 +3,7 @@
 // numbers, residue numbers, quoting for messages.
 #pragma once
 
+#include <array>
 #include <charconv>
 #include <cstddef>
 #include <filesystem>
@@ -53,14 +54,32 @@ inline std::vector<std::string_view> splitFields(std::string_view line) {
   return fields;
 }
 
-// A whole field as a number: "+1.5", ".721" and "0.9E-01" are numbers, "1.2.3" and "" are not.
+// The first N whitespace-separated fields of a line into `fields`, without allocating (the
+// XYZR reader calls it for every atom); returns how many fields the line has, N or more.
+template <std::size_t N>
+std::size_t splitFields(std::string_view line, std::array<std::string_view, N>& fields) {
+  std::size_t count = 0;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    while (pos < line.size() && isSpace(line[pos])) ++pos;
+    const std::size_t start = pos;
+    while (pos < line.size() && !isSpace(line[pos])) ++pos;
+    if (pos == start) break;
+    if (count < N) fields[count] = line.substr(start, pos - start);
+    ++count;
+  }
+  return count;
+}
+
+// A whole field as a number: "+1.5", ".721" and "0.9E-01" are numbers, "1.2.3", "+-1" and ""
+// are not. (std::from_chars reads no '+', so one is skipped here, but not before a '-'.)
 template <typename T>
 std::optional<T> parseWhole(std::string_view text) {
   text = trim(text);
   T value{};
   const char* first = text.data();
   const char* last = text.data() + text.size();
-  if (first != last && *first == '+') ++first;
+  if (first != last && *first == '+' && ++first != last && *first == '-') return std::nullopt;
   const auto [ptr, ec] = std::from_chars(first, last, value);
   if (first == last || ec != std::errc() || ptr != last) return std::nullopt;
   return value;
