@@ -392,7 +392,7 @@ TEST(Mesher, SplitPointIsTheFirstCrossingPastAThinGap) {
   const double a = 25.0 * kPi / 180.0, tilt = 30.0 * kPi / 180.0;
   const glm::dvec3 p(std::cos(a), std::sin(a), 0.0), q(std::cos(a), -std::sin(a), 0.0);
   const glm::dvec3 n(std::cos(tilt), std::sin(tilt), 0.0);
-  const glm::dvec3 s = splitPoint(f, p, q, n, n, 0.5);
+  const glm::dvec3 s = splitPoint(f, p, q, n, n);
   // The oracle: the line m + t n meets the unit sphere at t = −m·n + √((m·n)² − |m|² + 1).
   const glm::dvec3 m = 0.5 * (p + q);
   const double mn = glm::dot(m, n), t = -mn + std::sqrt(mn * mn - glm::dot(m, m) + 1.0);

@@ -35,6 +35,10 @@ constexpr int kRootIterations = 100;
 // Sphere-tracing steps along a split line before falling back to the nearest point: a line
 // that meets the surface at 10° still arrives within 1e-3 edge lengths in about 60.
 constexpr int kTraceSteps = 100;
+// A split point is taken no farther than this many edge lengths from the edge's midpoint along
+// the line (the midpoint is within half an edge of the surface; a crossing much farther belongs
+// to another part of it, and the triangles made with it would be larger than the ones split).
+constexpr double kSplitReach = 1.0;
 // Refinement gives up when the mesh has grown this many times over the marching-tetrahedra mesh
 // (about 100x is what ε = h²/1000 asks of a smooth surface): past it, splits no longer converge.
 constexpr std::size_t kMaxGrowth = 200;
@@ -209,7 +213,7 @@ glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::
 // stepped over all of them to a crossing 2 Å away, and the triangles made there were too large
 // to certify (the "worst bound inf" of a triangle that needs over kMaxSamplesPerEdge samples).
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
-                      const glm::dvec3& nq, double reachOut) {
+                      const glm::dvec3& nq) {
   const glm::dvec3 m = 0.5 * (p + q);
   const double fm = field.signedDistance(m);
   const glm::dvec3 sum = np + nq;
@@ -218,7 +222,7 @@ glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const g
   if (glm::length(sum) > 0.2) {
     // Towards the surface: inwards from outside, outwards from inside.
     const glm::dvec3 dir = (fm > 0.0 ? -1.0 : 1.0) * glm::normalize(sum);
-    const double limit = std::max(4.0 * length, reachOut);
+    const double limit = kSplitReach * length;
     // Steps no shorter than this (a bracket this short is left to edgeRoot), nor longer than
     // the reach, beyond which |f| need not be the distance.
     const double minStep = 1e-3 * length, maxStep = field.reach();
@@ -608,7 +612,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     tbb::parallel_for(std::size_t{0}, added, [&](std::size_t n) {
       const auto p = static_cast<std::uint32_t>(marked[n] >> 32), q = static_cast<std::uint32_t>(marked[n]);
       storeVertex(mesh, first + n,
-                  field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q], h)));
+                  field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q])));
     });
     const auto midpointOf = [&](std::uint32_t p, std::uint32_t q) -> std::int64_t {
       const auto it = std::lower_bound(marked.begin(), marked.end(), edgeKey(p, q));

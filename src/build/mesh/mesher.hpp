@@ -66,12 +66,15 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
 // midpoint. Projecting the midpoint to its nearest surface point instead stalls at grooves: an
 // edge bridging a narrow one (a vdW crease, a skin neck) has a midpoint nearest to a rim, so its
 // halves bridge the groove as before, forever; along the normal the new vertex goes down into
-// it. Falls back to the nearest surface point of the midpoint when the line meets no surface
-// within max(4 edge lengths, reachOut) (a normal sum near zero: a sharp fold) or is too nearly
-// tangent to reach it in a bounded number of steps. The result is on the surface where the
+// it. Falls back to the nearest surface point of the midpoint (within half an edge, since the
+// ends are on the surface) when the line meets no surface within one edge length of the
+// midpoint (a normal sum near zero: a sharp fold; or a line that misses this part of the
+// surface: a crossing farther away makes triangles larger than the one split, and on 1AON's
+// SES some 5 Å away, too large to certify) or is too nearly tangent to reach it in a bounded
+// number of steps. The result is on the surface where the
 // field's roots are (to ~1e-13 in value); the mesher projects it with closest().
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
-                      const glm::dvec3& nq, double reachOut);
+                      const glm::dvec3& nq);
 
 // One closed piece of a mesh (a connected component over shared vertices).
 struct MeshComponent {
