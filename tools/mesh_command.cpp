@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -120,16 +121,33 @@ void runMesh(const MeshOptions& o) {
                r.certifiedError, o.maxError, params.gridSpacing, r.rounds);
   if (r.badTriangles)
     std::fprintf(out, "warning         %zu triangles face against the surface's normals\n", r.badTriangles);
-  // The exact area and volume where the patches give them (SES, skin); only for the whole
-  // surface, which the mesh is when no component was left out.
-  const bool whole = o.component == "all";
+  // The exact area and volume where the patches give them (SES, skin): of the whole surface,
+  // or with --component of the surface components kept (the mesh's pieces name them).
+  std::optional<SurfaceAreas> exact;
   try {
-    const SurfaceAreas exact = surfaceAreas(patches, m.centers);
-    std::fprintf(out, "area            %.4f Å² (exact %.4f Å², %+.4f%%)\n", area, exact.total,
-                 whole ? 100.0 * (area - exact.total) / exact.total : 0.0);
-    std::fprintf(out, "volume          %.4f Å³ (exact %.4f Å³, %+.4f%%)\n", volume, exact.volume,
-                 whole ? 100.0 * (volume - exact.volume) / exact.volume : 0.0);
+    exact = surfaceAreas(patches, m.centers);
   } catch (const std::invalid_argument&) {
+  }
+  double exactArea = exact ? exact->total : 0.0, exactVolume = exact ? exact->volume : 0.0;
+  if (exact && o.component != "all") {
+    exactArea = exactVolume = 0.0;
+    std::vector<bool> counted(exact->components.size(), false);
+    for (const auto& c : components) {
+      if (c.surfaceComponent >= counted.size()) exact.reset();  // a piece the areas do not list
+      if (!exact) break;
+      if (counted[c.surfaceComponent]) continue;
+      counted[c.surfaceComponent] = true;
+      exactArea += exact->components[c.surfaceComponent].area;
+      exactVolume += exact->components[c.surfaceComponent].volume;
+    }
+  }
+  if (exact && exactArea > 0.0) {
+    const char* of = o.component == "all" ? "" : " of the kept components";
+    std::fprintf(out, "area            %.4f Å² (exact%s %.4f Å², %+.4f%%)\n", area, of, exactArea,
+                 100.0 * (area - exactArea) / exactArea);
+    std::fprintf(out, "volume          %.4f Å³ (exact%s %.4f Å³, %+.4f%%)\n", volume, of, exactVolume,
+                 100.0 * (volume - exactVolume) / std::abs(exactVolume));
+  } else {
     std::fprintf(out, "area            %.4f Å²\nvolume          %.4f Å³\n", area, volume);
   }
   const std::size_t shown = std::min<std::size_t>(components.size(), 20);

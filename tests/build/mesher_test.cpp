@@ -382,6 +382,23 @@ TEST(Mesher, RejectsAGridCoarserThanTheReach) {
   EXPECT_THROW(meshOf(f, {glm::dvec3(1, 0, 0)}, 0.0, 0.5), std::invalid_argument);
 }
 
+// A split line that leaves the body through a thin gap and runs on into a second body: the
+// split point is the first crossing, on the near sphere. Two unit balls 0.03 apart along x; the
+// edge's ends are on the first at ±25° with normals tilted to 30°, so the line from the
+// midpoint (0.906, 0, 0) meets the first sphere 0.107 along, the second 0.03 beyond, and leaves
+// the second ~2.9 along (where steps that double from |f(midpoint)| = 0.094 land).
+TEST(Mesher, SplitPointIsTheFirstCrossingPastAThinGap) {
+  const UnionField f({{{0, 0, 0}, 1.0}, {{2.03, 0, 0}, 1.0}}, false);
+  const double a = 25.0 * kPi / 180.0, tilt = 30.0 * kPi / 180.0;
+  const glm::dvec3 p(std::cos(a), std::sin(a), 0.0), q(std::cos(a), -std::sin(a), 0.0);
+  const glm::dvec3 n(std::cos(tilt), std::sin(tilt), 0.0);
+  const glm::dvec3 s = splitPoint(f, p, q, n, n);
+  // The oracle: the line m + t n meets the unit sphere at t = −m·n + √((m·n)² − |m|² + 1).
+  const glm::dvec3 m = 0.5 * (p + q);
+  const double mn = glm::dot(m, n), t = -mn + std::sqrt(mn * mn - glm::dot(m, m) + 1.0);
+  EXPECT_LT(glm::length(s - (m + t * n)), 1e-9) << "split point " << s.x << " " << s.y << " " << s.z;
+}
+
 // A field whose sign changes without a zero (a sphere's distance, but -1 anywhere inside) is
 // refused with the place named, rather than meshed with vertices off the surface.
 class SignJumpField : public SphereField {

@@ -13,6 +13,7 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -178,6 +179,36 @@ TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + pdb +
                                 " --surface ses --views 26 --size 256x256 --max-error 0.1");
   EXPECT_EQ(compared.status, 0) << compared.output;
+}
+
+// With --component the printed exact area and volume are those of the kept components (here the
+// outer surface), from `area`'s per-component values, and the percentages compare with them.
+TEST(MeshCli, ComponentFilterComparesWithTheKeptComponents) {
+  const fs::path dir = surftrace::test::freshTempDir("mesh_cli_component");
+  const std::string pdb = data("structures/1crn.pdb");
+  const auto made = runTool("mesh " + pdb + " --max-error 0.1 --component outer -o " + (dir / "m.ply").string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const auto areas = runTool("area " + pdb + " --format json");
+  ASSERT_EQ(areas.status, 0) << areas.output;
+  double outerArea = 0.0, outerVolume = 0.0;
+  const auto json = nlohmann::json::parse(areas.output.substr(areas.output.find('{')));
+  for (const auto& c : json["ses"]["components"])
+    if (!c["cavity"].get<bool>()) outerArea += c["area"].get<double>(), outerVolume += c["volume"].get<double>();
+  for (const auto& [name, unit, expected] :
+       {std::tuple{"area", "Å²", outerArea}, std::tuple{"volume", "Å³", outerVolume}}) {
+    const std::size_t at = made.output.find(std::string(name) + "    ");
+    ASSERT_NE(at, std::string::npos) << made.output;
+    std::istringstream line(made.output.substr(at + std::strlen(name), made.output.find('\n', at) - at));
+    double mesh = 0.0, exact = 0.0, percent = 0.0;
+    std::string word;
+    line >> mesh >> word;  // the mesh's value, its unit
+    while (line >> word && word != "components") {
+    }
+    line >> exact >> word >> percent;
+    EXPECT_NEAR(exact, expected, 1e-4 * expected) << name << ": " << made.output;
+    EXPECT_NEAR(percent, 100.0 * (mesh - exact) / exact, 1e-4) << name << ": " << made.output;
+    EXPECT_GT(std::abs(percent), 1e-3) << name << " (a mesh within 0.1 Å is not exact to the digit)";
+  }
 }
 
 TEST(MeshCli, OtherSurfacesAreRefusedBeforeAnyWork) {

@@ -32,6 +32,13 @@ constexpr int kMaxSamplesPerEdge = 32;
 constexpr double kSamplingShare = 0.7;
 // Root finding on a grid edge: iterations of the safeguarded secant (Illinois) method.
 constexpr int kRootIterations = 100;
+// Sphere-tracing steps along a split line before falling back to the nearest point: a line
+// that meets the surface at 10° still arrives within 1e-3 edge lengths in about 60.
+constexpr int kTraceSteps = 100;
+// A split point is taken no farther than this many edge lengths from the edge's midpoint along
+// the line (the midpoint is within half an edge of the surface; a crossing much farther belongs
+// to another part of it, and the triangles made with it would be larger than the ones split).
+constexpr double kSplitReach = 1.0;
 // Refinement gives up when the mesh has grown this many times over the marching-tetrahedra mesh
 // (about 100x is what ε = h²/1000 asks of a smooth surface): past it, splits no longer converge.
 constexpr std::size_t kMaxGrowth = 200;
@@ -196,15 +203,17 @@ glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::
   return 0.5 * (a + b);
 }
 
-// Where an edge (p, q) of the mesh is split: the surface point on the line through its
-// midpoint along the mean of the two vertex normals, the one nearest the midpoint on that line
-// (a bracket grown by doubling, then edgeRoot). Projecting the midpoint to its nearest surface
-// point instead stalls at grooves: an edge bridging a narrow one (a vdW crease, a skin neck)
-// has a midpoint nearest to a rim, so its halves bridge the groove as before, forever; along
-// the normal the new vertex goes down into it. Falls back to the nearest point when the line
-// meets no surface within max(4 edge lengths, reachOut) (a normal sum near zero: a sharp fold).
+}  // namespace
+
+// splitPoint (mesher.hpp). The line is walked by sphere tracing (steps of |f|, which within the
+// reach is the distance to the surface, so no step passes a crossing), then the last step's
+// bracket goes to edgeRoot. Steps that grow by doubling instead pass over thin fins: on 1AON's
+// SES an edge across the ridge of two nearly touching concave caps has a normal sum along the
+// ridge, whose line leaves and re-enters the body within 0.01 Å several times; the doubling
+// stepped over all of them to a crossing 2 Å away, and the triangles made there were too large
+// to certify (the "worst bound inf" of a triangle that needs over kMaxSamplesPerEdge samples).
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
-                      const glm::dvec3& nq, double reachOut) {
+                      const glm::dvec3& nq) {
   const glm::dvec3 m = 0.5 * (p + q);
   const double fm = field.signedDistance(m);
   const glm::dvec3 sum = np + nq;
@@ -213,15 +222,23 @@ glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const g
   if (glm::length(sum) > 0.2) {
     // Towards the surface: inwards from outside, outwards from inside.
     const glm::dvec3 dir = (fm > 0.0 ? -1.0 : 1.0) * glm::normalize(sum);
-    const double limit = std::max(4.0 * length, reachOut);
-    for (double t = std::max(std::abs(fm), 1e-3 * length); t <= limit; t *= 2.0) {
-      const glm::dvec3 x = m + t * dir;
-      const double fx = field.signedDistance(x);
-      if (inside(fx) != inside(fm)) return inside(fm) ? edgeRoot(field, m, fm, x, fx) : edgeRoot(field, x, fx, m, fm);
+    const double limit = kSplitReach * length;
+    // Steps no shorter than this (a bracket this short is left to edgeRoot), nor longer than
+    // the reach, beyond which |f| need not be the distance.
+    const double minStep = 1e-3 * length, maxStep = field.reach();
+    double t = 0.0, ft = fm;
+    for (int step = 0; step < kTraceSteps && t <= limit; ++step) {
+      const double next = t + std::max(std::min(std::abs(ft), maxStep), minStep);
+      const glm::dvec3 x = m + t * dir, y = m + next * dir;
+      const double fy = field.signedDistance(y);
+      if (inside(fy) != inside(fm)) return inside(fm) ? edgeRoot(field, x, ft, y, fy) : edgeRoot(field, y, fy, x, ft);
+      t = next, ft = fy;
     }
   }
   return field.closest(m).point;
 }
+
+namespace {
 
 std::string coordinates(const glm::dvec3& p) {
   char text[96];
@@ -595,7 +612,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     tbb::parallel_for(std::size_t{0}, added, [&](std::size_t n) {
       const auto p = static_cast<std::uint32_t>(marked[n] >> 32), q = static_cast<std::uint32_t>(marked[n]);
       storeVertex(mesh, first + n,
-                  field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q], h)));
+                  field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q])));
     });
     const auto midpointOf = [&](std::uint32_t p, std::uint32_t q) -> std::int64_t {
       const auto it = std::lower_bound(marked.begin(), marked.end(), edgeKey(p, q));

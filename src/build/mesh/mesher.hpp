@@ -61,6 +61,21 @@ std::vector<glm::dvec3> surfaceSeeds(const PatchList& patches);
 double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, const glm::dvec3& b,
                           const glm::dvec3& c, double samplingRadius, double giveUpAbove = 1e300);
 
+// Where the refinement splits the mesh edge (p, q) whose vertices have the normals np, nq: the
+// surface point on the line through the edge's midpoint along np + nq that is nearest to the
+// midpoint. Projecting the midpoint to its nearest surface point instead stalls at grooves: an
+// edge bridging a narrow one (a vdW crease, a skin neck) has a midpoint nearest to a rim, so its
+// halves bridge the groove as before, forever; along the normal the new vertex goes down into
+// it. Falls back to the nearest surface point of the midpoint (within half an edge, since the
+// ends are on the surface) when the line meets no surface within one edge length of the
+// midpoint (a normal sum near zero: a sharp fold; or a line that misses this part of the
+// surface: a crossing farther away makes triangles larger than the one split, and on 1AON's
+// SES some 5 Å away, too large to certify) or is too nearly tangent to reach it in a bounded
+// number of steps. The result is on the surface where the
+// field's roots are (to ~1e-13 in value); the mesher projects it with closest().
+glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
+                      const glm::dvec3& nq);
+
 // One closed piece of a mesh (a connected component over shared vertices).
 struct MeshComponent {
   std::size_t vertices = 0, edges = 0, triangles = 0;
