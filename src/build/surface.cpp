@@ -8,6 +8,7 @@
 
 #include "build/atom_spheres.hpp"
 #include "build/mss/mss_builder.hpp"
+#include "build/mss/skin_geometry.hpp"
 #include "build/moved_atoms.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/surface_components.hpp"
@@ -193,6 +194,13 @@ PatchList buildSurface(const Molecule& m, const SurfaceRequest& r, std::vector<s
     case SurfaceKind::Sas: list = atomSpheres(centers, radii, r.probeRadius, SurfaceKind::Sas); break;
   }
   restoreAtomIndices(list, cull.kept, cull.inputCount);
+  // The skin's atoms are the input's too, left-out ones included, as the file stores them
+  // (stp_file.hpp): the same weights, bit for bit, for the kept ones.
+  if (!list.skinAtoms.center.empty() && !cull.keepsAll()) {
+    list.skinAtoms.center = m.centers;
+    list.skinAtoms.weight.resize(m.size());
+    for (std::size_t i = 0; i < m.size(); ++i) list.skinAtoms.weight[i] = mss::skinWeight(m.radii[i], r.shrinkFactor);
+  }
   if (r.surface == SurfaceKind::Ses && r.dropCavities) list = outerComponent(list);
   list.params.radiiSet = m.radiiSet;
   list.params.inputCrc32 = m.inputCrc32;

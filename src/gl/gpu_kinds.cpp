@@ -132,6 +132,12 @@ GpuPatches packPatches(const build::PatchList& list, const glm::dvec3& origin) {
     }
   }
 
+  const build::SkinAtoms& atoms = list.skinAtoms;
+  g.skinAtoms.reserve(atoms.size() + 1);
+  g.skinAtoms.emplace_back(std::bit_cast<float>(static_cast<std::uint32_t>(atoms.size())), 0.0f, 0.0f, 0.0f);
+  for (std::size_t i = 0; i < atoms.size(); ++i)
+    g.skinAtoms.push_back(shifted(atoms.center[i], origin, list.params.shrinkFactor * atoms.weight[i]));
+
   if (lo.x <= hi.x) {
     g.boundsCenter = 0.5 * (lo + hi);
     g.boundsRadius = 0.5 * glm::length(hi - lo);

@@ -105,6 +105,10 @@ struct GpuPatches {
   glm::dvec3 origin{0.0};
   GpuKindPatchesOf<GpuKinds>::type kinds;
   std::vector<glm::vec4> clipPlanes;  // n, w + n·origin: the SES clipping planes, then the MSS cell planes
+  // The skin's atoms (build::SkinAtoms) as skin.glsl reads them at kSkinAtomBinding: first
+  // (n as float bits, 0, 0, 0), then per atom its vdW ball (centre − origin, r² = s·w); n = 0
+  // when the list has none.
+  std::vector<glm::vec4> skinAtoms;
   // Bounding sphere of every patch (double, unshifted): sets the depth range.
   glm::dvec3 boundsCenter{0.0};
   double boundsRadius = 0.0;

@@ -33,7 +33,38 @@ MssPatch mssPatch(const build::PatchList& patches, std::size_t k) {
   p.boundRadius = q.boundRadius[k];
   p.extent = build::mssExtent(patches, k);
   p.cellPlanes = {patches.cellPlanes.data() + q.cellBegin[k], q.cellCount[k]};
+  p.atomCenters = patches.skinAtoms.center;
+  p.atomWeights = patches.skinAtoms.weight;
+  p.shrink = patches.params.shrinkFactor;
   return p;
+}
+
+// Which power distance names the owner. The skin body is the union of the shrunk balls b_λ^s,
+// and the shrunk ball of atom i alone is (c_i, s·w_i) = (c_i, r_i²), its vdW ball (ORACLES
+// C.1): these are the atomic balls of the skin, so the owner minimises π_i(x) = |x − c_i|² − r_i².
+// In the mixed cell μ_X a point is x = (1 − s) y + s v with y in the simplex δ_X and v in the
+// power cell ν_X, where every atom of X has the same power distance |v − c_i|² − w_i to its
+// grown ball (C.4). Hence for i, j in X
+//   π_i(x) − π_j(x) = (1 − s)(|y − c_i|² − |y − c_j|²),
+// so the owner is the atom of X nearest to y: a convex cell (X = {i}) is wholly atom i's, and an
+// edge cell splits at its middle slice, the plane (1 − s)·(bisector of c_i c_j) + s·ν_X. The
+// grown weights w_i = r_i²/s would split the edge line at the power bisector of the grown balls,
+// which leaves the edge cell (lands on an atom's own sphere) whenever the orthocentre z_X lies
+// outside the edge, common for a hydrogen beside a heavy atom at small s.
+std::uint32_t skinOwner(const MssPatch& p, const glm::uvec4& atoms, const glm::dvec3& x) {
+  std::uint32_t best = atoms.x;
+  double least = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4 && atoms[k] != ~0u; ++k) {
+    const std::uint32_t a = atoms[k];
+    if (a >= p.atomCenters.size() || a >= p.atomWeights.size()) return atoms.x;  // no atoms to look at
+    const glm::dvec3 d = x - p.atomCenters[a];
+    const double power = glm::dot(d, d) - p.shrink * p.atomWeights[a];
+    if (power < least) {
+      least = power;
+      best = a;
+    }
+  }
+  return best;
 }
 
 Bounds3d bounds(const MssPatch& p) {

@@ -22,6 +22,11 @@ struct MssPatch {
   double boundRadius = 1.0;
   build::MssExtent extent{-1.0, 1.0, 1.0};  // the cylinder about the axis that holds the patch
   std::span<const build::Plane> cellPlanes;
+  // The skin's atoms (build::SkinAtoms, indexed by atom id), viewed like cellPlanes; empty when
+  // the list has none. skinOwner() reads them.
+  std::span<const glm::dvec3> atomCenters;
+  std::span<const double> atomWeights;
+  double shrink = 0.5;
 };
 
 MssPatch mssPatch(const build::PatchList& patches, std::size_t index);
@@ -53,8 +58,16 @@ bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
 // each cell plane (both lower bounds of the distance to the patch's edge).
 double boundaryDistance(const MssPatch& p, const glm::dvec3& x);
 
-// The atom a hit belongs to: the simplex's lowest atom (its convex sphere's own atom). The
-// atom of largest convex weight at x would need the atoms' centres, which the list does not hold.
-inline std::uint32_t atomOf(const MssPatch&, const glm::uvec4& atoms, const glm::dvec3&) { return atoms.x; }
+// The atom whose ball owns the skin point x of the patch: of the simplex's atoms (`atoms`, unused
+// slots ~0u), the one of least power distance |x − c_i|² − s·w_i = |x − c_i|² − r_i² to its
+// vdW ball, the lower index on a tie; the simplex's lowest atom when the patch has no atoms
+// to look at (p.atomCenters empty). Why these balls (mss_patch.cpp): they are the skin's own
+// atomic balls, and between two atoms of X the boundary they draw is the middle of the mixed
+// cell, never inside an atom's own sphere.
+std::uint32_t skinOwner(const MssPatch& p, const glm::uvec4& atoms, const glm::dvec3& x);
+// The atom a hit belongs to (colour, atom.id): its owner.
+inline std::uint32_t atomOf(const MssPatch& p, const glm::uvec4& atoms, const glm::dvec3& x) {
+  return skinOwner(p, atoms, x);
+}
 
 }  // namespace surftrace::trace

@@ -21,10 +21,11 @@
 
 namespace surftrace::trace {
 
-// Plane arrays a scene owns (copied from the patch list): patches hold spans into them.
+// Arrays a scene owns (copied from the patch list): patches hold spans into them.
 struct ScenePlanes {
   std::vector<build::Plane> clip;  // concave triangles' self-intersection planes
   std::vector<build::Plane> cell;  // the skin's mixed-cell planes
+  build::SkinAtoms skinAtoms;      // the skin's atoms (which one owns a skin point)
 };
 
 // A row: `kind` (the image channel's code), `Patch` (the intersector's record: its file
@@ -77,6 +78,8 @@ template <build::MssKind K> struct SkinKind {
     const std::size_t k = build::mssKindRange(list.mss, K).first + i;
     MssPatch p = mssPatch(list, k);
     p.cellPlanes = std::span<const build::Plane>(planes.cell).subspan(list.mss.cellBegin[k], list.mss.cellCount[k]);
+    p.atomCenters = planes.skinAtoms.center;
+    p.atomWeights = planes.skinAtoms.weight;
     return p;
   }
   static Atoms atoms(const build::PatchList& list, std::size_t i) {

@@ -200,6 +200,7 @@ ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span
   for (std::size_t i = 0; i < centers.size(); ++i) s.atoms.push_back(glm::dvec4(centers[i], radii[i]));
   s.planes.clip = list.clipPlanes;
   s.planes.cell = list.cellPlanes;
+  s.planes.skinAtoms = list.skinAtoms;
   std::apply(
       [&](auto&... k) {
         auto load = [&](auto& kp) {

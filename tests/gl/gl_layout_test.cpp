@@ -1,5 +1,7 @@
 // The GPU records: C++ struct offsets against what the linked GLSL programs report, and the packing.
+#include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -67,6 +69,10 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
             static_cast<GLint>(sizeof(GpuSkin)));
   EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinAtoms[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::uvec4)));
+  // The skin's atoms (GpuPatches::skinAtoms): the count's 16 bytes, then one vec4 per atom.
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinBalls[0]", GL_OFFSET), 16);
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinBalls[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::vec4)));
 
   const GLuint sphere = renderer.program(view::PatchKind::Convex);
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "spheres[0]", GL_ARRAY_STRIDE),
@@ -86,6 +92,7 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
                 {torus, "Tori", kRecordBinding},           {torus, "TorusAtoms", kAtomBinding},
                 {concave, "Concaves", kRecordBinding},     {concave, "ConcaveAtoms", kAtomBinding},
                 {skin, "Skins", kRecordBinding},           {skin, "SkinAtoms", kAtomBinding},
+                {skin, "SkinBalls", kSkinAtomBinding},
                 {sphere, "AtomColors", kAtomColorBinding}, {torus, "FragmentCounts", kFragmentCountBinding}};
   for (const auto& b : blocks)
     EXPECT_EQ(resourceProperty(b.program, GL_SHADER_STORAGE_BLOCK, b.block, GL_BUFFER_BINDING), b.binding) << b.block;
@@ -171,6 +178,20 @@ TEST(GlLayout, PackingShiftsInDoubleBeforeRounding) {
   EXPECT_EQ(edges.atoms[0], glm::uvec4(4, 9, ~0u, ~0u));
   ASSERT_EQ(withSkin.clipPlanes.size(), 2u);
   EXPECT_FLOAT_EQ(withSkin.clipPlanes[1].w, -4.0f);
+  // No skin atoms: the count 0 alone. With them: the count, then each vdW ball, shifted in
+  // double, r² = s·w.
+  ASSERT_EQ(withSkin.skinAtoms.size(), 1u);
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(withSkin.skinAtoms[0].x), 0u);
+  list.params.shrinkFactor = 0.25;
+  for (int i = 0; i < 10; ++i) {
+    list.skinAtoms.center.push_back(origin + glm::dvec3(0.0, 0.0, 1.0000123 * i));
+    list.skinAtoms.weight.push_back(4.0 * i);
+  }
+  const GpuPatches withAtoms = packPatches(list, origin);
+  ASSERT_EQ(withAtoms.skinAtoms.size(), 11u);
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(withAtoms.skinAtoms[0].x), 10u);
+  EXPECT_FLOAT_EQ(withAtoms.skinAtoms[1 + 9].z, 9.0001107f);
+  EXPECT_FLOAT_EQ(withAtoms.skinAtoms[1 + 9].w, 9.0f);
 }
 
 }  // namespace

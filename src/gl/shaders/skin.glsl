@@ -6,6 +6,12 @@
 // (SURFTRACE_FRAGMENT_STAGE).
 layout(std430, binding = kRecordBinding) readonly buffer Skins { GpuSkin skins[]; };
 layout(std430, binding = kAtomBinding) readonly buffer SkinAtoms { uvec4 skinAtoms[]; };  // the simplex
+// The skin's atoms (gl::GpuPatches::skinAtoms): their count (0: the list has none), then per
+// atom its vdW ball, centre (origin-shifted) and r².
+layout(std430, binding = kSkinAtomBinding) readonly buffer SkinBalls {
+  uvec4 skinBallCount;
+  vec4 skinBalls[];
+};
 
 #ifdef SURFTRACE_GEOMETRY_STAGE
 layout(triangle_strip, max_vertices = 12) out;
@@ -31,6 +37,25 @@ void main() {
 
 #ifdef SURFTRACE_FRAGMENT_STAGE
 layout(binding = kClipPlaneUnit) uniform samplerBuffer clipPlanes;  // n, w: keep n·x + w <= 0
+
+// The atom whose ball owns the skin point x (origin-shifted), as trace/mss_patch.cpp skinOwner:
+// of the simplex's atoms the least |x − c_i|² − r_i², the lower index on a tie; the lowest atom
+// when the list has no atoms.
+uint skinOwner(uvec4 atoms, vec3 x) {
+  uint best = atoms.x;
+  float least = uintBitsToFloat(0x7f800000u);  // +inf
+  for (int k = 0; k < 4 && atoms[k] != 0xffffffffu; ++k) {
+    if (atoms[k] >= skinBallCount.x) return atoms.x;
+    vec4 ball = skinBalls[atoms[k]];
+    vec3 d = x - ball.xyz;
+    float power = dot(d, d) - ball.w;
+    if (power < least) {
+      least = power;
+      best = atoms[k];
+    }
+  }
+  return best;
+}
 
 void main() {
   GpuSkin P = skins[patchIndex];
@@ -85,7 +110,7 @@ void main() {
     if (!kept) continue;
     vec3 g = radial * x + (axial * dot(x, a)) * a;
     vec3 n = dot(g, g) > 0.0 ? normalize(g) : -dir;  // a cone's apex: any normal
-    writeHit(dir, t, n, kind, globalId(kind, patchIndex), skinAtoms[patchIndex].x);
+    writeHit(dir, t, n, kind, globalId(kind, patchIndex), skinOwner(skinAtoms[patchIndex], x + c));
     return;
   }
   discard;
