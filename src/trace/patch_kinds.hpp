@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -25,7 +26,9 @@ namespace surftrace::trace {
 struct ScenePlanes {
   std::vector<build::Plane> clip;  // concave triangles' self-intersection planes
   std::vector<build::Plane> cell;  // the skin's mixed-cell planes
-  build::SkinAtoms skinAtoms;      // the skin's atoms (which one owns a skin point)
+  // The skin's atoms (which one owns a skin point); behind a pointer, so that patches keep
+  // pointing at it when the scene moves.
+  std::unique_ptr<const SkinAtomBalls> skinAtoms;
 };
 
 // A row: `kind` (the image channel's code), `Patch` (the intersector's record: its file
@@ -78,8 +81,7 @@ template <build::MssKind K> struct SkinKind {
     const std::size_t k = build::mssKindRange(list.mss, K).first + i;
     MssPatch p = mssPatch(list, k);
     p.cellPlanes = std::span<const build::Plane>(planes.cell).subspan(list.mss.cellBegin[k], list.mss.cellCount[k]);
-    p.atomCenters = planes.skinAtoms.center;
-    p.atomWeights = planes.skinAtoms.weight;
+    p.atomBalls = planes.skinAtoms.get();
     return p;
   }
   static Atoms atoms(const build::PatchList& list, std::size_t i) {

@@ -206,6 +206,7 @@ TEST(MssPatch, OwnerIsTheAtomWhoseBallHoldsThePoint) {
   const std::vector<glm::dvec3> c{{0, 0, 0}, {d, 0, 0}};
   const build::PatchList list = build::buildMss(c, std::vector<double>{ri, rj}, {s});
   ASSERT_EQ(list.skinAtoms.size(), 2u);
+  const SkinAtomBalls balls = skinAtomBalls(list);
   // The edge cell's middle along the edge: z_X = c_i + α d (ORACLES C.2, grown weights).
   const double alpha = 0.5 + (ri * ri - rj * rj) / (2.0 * s * d * d);
   const double middle = (1.0 - s) * 0.5 * d + s * alpha * d;
@@ -222,7 +223,7 @@ TEST(MssPatch, OwnerIsTheAtomWhoseBallHoldsThePoint) {
       if (!hit) continue;
       const glm::dvec3 x = ray.org + hit->t * ray.dir;
       const glm::uvec4& atoms = list.mss.atoms[k];
-      const std::uint32_t owner = skinOwner(p, atoms, x);
+      const std::uint32_t owner = skinOwner(&balls, atoms, x);
       if (p.kind == build::MssKind::Convex) {
         ++convexHits;
         EXPECT_EQ(owner, atoms.x) << "x = (" << x.x << ", " << x.y << ", " << x.z << ")";
@@ -230,16 +231,17 @@ TEST(MssPatch, OwnerIsTheAtomWhoseBallHoldsThePoint) {
         grownWrong += (grownI <= grownJ ? 0u : 1u) != atoms.x;
       } else {
         ++edgeHits;
-        if (std::abs(x.x - middle) > 1e-9) EXPECT_EQ(owner, x.x < middle ? 0u : 1u) << "x.x = " << x.x << ", middle " << middle;
+        if (std::abs(x.x - middle) > 1e-9) {
+          EXPECT_EQ(owner, x.x < middle ? 0u : 1u) << "x.x = " << x.x << ", middle " << middle;
+        }
       }
     }
   }
   EXPECT_GT(convexHits, 1000);
   EXPECT_GT(edgeHits, 100);
   EXPECT_GT(grownWrong, 100);
-  build::PatchList bare = list;
-  bare.skinAtoms = {};
-  EXPECT_EQ(skinOwner(mssPatch(bare, list.mss.size() - 1), glm::uvec4(0, 1, ~0u, ~0u), glm::dvec3(5.0, 0.0, 0.0)), 0u);
+  EXPECT_EQ(skinOwner(&balls, glm::uvec4(0, 1, ~0u, ~0u), glm::dvec3(5.0, 0.0, 0.0)), 1u);
+  EXPECT_EQ(skinOwner(nullptr, glm::uvec4(0, 1, ~0u, ~0u), glm::dvec3(5.0, 0.0, 0.0)), 0u);
 }
 
 }  // namespace
