@@ -118,9 +118,10 @@ void renderSkin(const std::string& engine, const fs::path& exr) {
   ASSERT_EQ(r.status, 0) << r.output;
 }
 
-// Embree: atom.id is the brute-force owner on every hit pixel but exact ties. The tie margin,
-// 1e-3 Å², covers the hit point rebuilt from the float depth.t (~1e-5 Å at 40 Å) and is far
-// below the margins of the pixels it leaves out (r² is 1.7 to 3.2 Å²).
+// Embree: atom.id is the brute-force owner on every hit pixel but near ties. The tie margin,
+// 1e-3 Å², covers the hit point rebuilt from the float depth.t (~1e-5 Å at 40 Å, moving π by
+// ~1e-4 Å²). With the simplex's lowest atom 9080 of the 15746 pixels were wrong (5539 in
+// colour), with the least π over the simplex's atoms alone 2354.
 TEST(SkinOwnerCli, EmbreeNamesAndColoursTheOwningAtom) {
   const fs::path dir = ::surftrace::test::freshTempDir("skin_owner_embree");
   const fs::path exr = dir / "skin.exr";
@@ -131,12 +132,15 @@ TEST(SkinOwnerCli, EmbreeNamesAndColoursTheOwningAtom) {
               c.hits, c.ties, c.clipped, c.wrongAtom, c.wrongColor);
   EXPECT_GT(c.hits, 200u * 200u / 4);
   EXPECT_LT(c.ties, c.hits / 100);
-  EXPECT_LT(c.clipped, c.hits / 100);
+  EXPECT_LT(c.clipped, c.hits / 10);  // 3.5 % (highlights on the nitrogens and oxygens)
   EXPECT_EQ(c.wrongAtom, 0u) << c.first;
   EXPECT_EQ(c.wrongColor, 0u) << c.first;
 }
 
-// GL: the same from its float32 hit, with its float atoms (gl/shaders/skin.glsl).
+// GL: the same from its float32 hit, with its float atoms (gl/shaders/skin.glsl). The tie
+// margin is 1e-2 Å²: the float hit lies up to ~1e-3 Å off the exact one (ORACLES D.4's floor),
+// moving π by 2|x − c|·δ ≈ 1e-2 Å² at |x − c| ~ 4 Å, and float π rounds by ~1e-4 Å². These
+// pixels, on the boundary between two atoms, are where GL and Embree may name different atoms.
 TEST(SkinOwnerCli, GlNamesAndColoursTheOwningAtom) {
   const fs::path dir = ::surftrace::test::freshTempDir("skin_owner_gl");
   const fs::path exr = dir / "skin.exr";
@@ -147,7 +151,7 @@ TEST(SkinOwnerCli, GlNamesAndColoursTheOwningAtom) {
               c.hits, c.ties, c.clipped, c.wrongAtom, c.wrongColor);
   EXPECT_GT(c.hits, 200u * 200u / 4);
   EXPECT_LT(c.ties, c.hits / 100);
-  EXPECT_LT(c.clipped, c.hits / 100);
+  EXPECT_LT(c.clipped, c.hits / 10);  // 3.5 % (highlights on the nitrogens and oxygens)
   EXPECT_EQ(c.wrongAtom, 0u) << c.first;
   EXPECT_EQ(c.wrongColor, 0u) << c.first;
 }
