@@ -291,6 +291,15 @@ void checkMss(const PatchList& p) {
       badField("mss", "constant", k, q.constant[k],
                "is not in [-" + text(kMaxLength * kMaxLength) + ", " + text(kMaxLength * kMaxLength) + "] Å²");
   }
+  // The skin's atoms: all of them or none (patch_list.hpp SkinAtoms).
+  const SkinAtoms& a = p.skinAtoms;
+  if (!a.center.empty() && a.center.size() != p.params.atomCount)
+    throw std::runtime_error("skinAtoms.center has " + std::to_string(a.center.size()) +
+                             " entries, expected 0 or one per atom (" + std::to_string(p.params.atomCount) + ")");
+  checkPoints(a.center, "skinAtoms", "center");
+  for (std::size_t i = 0; i < a.weight.size(); ++i)
+    if (!(a.weight[i] >= 0.0 && a.weight[i] <= kMaxLength * kMaxLength))
+      badField("skinAtoms", "weight", i, a.weight[i], "is not in [0, " + text(kMaxLength * kMaxLength) + "] Å²");
 }
 
 // Every field against what the builders write; throws std::runtime_error naming the first

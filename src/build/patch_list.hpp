@@ -125,6 +125,18 @@ struct MssQuadrics {
 // The patches [first, second) of one kind (the list is grouped by kind).
 std::pair<std::size_t, std::size_t> mssKindRange(const MssQuadrics& mss, MssKind kind);
 
+// The weighted points the skin was built from, one per atom of the list (index = atom id):
+// centre z_i = c_i and weight w_i = r_i²/s (ORACLES C.1). The renderers need them to name the
+// atom whose ball owns a skin point (trace/mss_patch.hpp skinOwner), which a patch's quadric
+// alone does not tell. Empty for the other surfaces, and where not known (a version 2 file, a
+// list not made by the builder): a skin point then belongs to its simplex's lowest atom.
+struct SkinAtoms {
+  std::vector<glm::dvec3> center;
+  std::vector<double> weight;
+
+  std::size_t size() const { return center.size(); }
+};
+
 
 // A half-space n·x + d <= 0 (xyz = n, unit; w = d): the side that is kept.
 using Plane = glm::dvec4;
@@ -141,6 +153,7 @@ struct PatchList {
   // (a ∈ X) or X ∪ {a}; the plane is mss::cellPlane(X, a), which the file stores instead of
   // the plane. ~0u: not known (a list from an older file, or one not made by the builder).
   std::vector<std::uint32_t> cellPlaneAtom;
+  SkinAtoms skinAtoms;             // MSS: empty or params.atomCount of them
   std::uint32_t componentCount = 0;
 
   std::size_t patchCount() const {
@@ -158,7 +171,8 @@ struct PatchList {
   // area outside [0, 4πr²] or a vector area longer than π; an MSS coefficient that is not
   // its kind's; an atom >= params.atomCount, a torus with atomI >= atomJ, a triangle repeating
   // an atom, a component >= componentCount or one below it that no patch carries, a plane range
-  // past its array, MSS kinds out of order or a simplex not ascending with unused slots ~0u.
+  // past its array, MSS kinds out of order or a simplex not ascending with unused slots ~0u;
+  // skin atoms neither none nor params.atomCount of them, or a weight outside [0, 1e18] Å².
   void validate() const;
 };
 
@@ -207,6 +221,8 @@ void forEachArray(Visit&& visit, Lists&... p) {
   visit("mss", "cellCount", p.mss.cellCount...);
   visit("cellPlanes", "plane", p.cellPlanes...);
   visit("cellPlanes", "atom", p.cellPlaneAtom...);
+  visit("skinAtoms", "center", p.skinAtoms.center...);
+  visit("skinAtoms", "weight", p.skinAtoms.weight...);
 }
 
 // A cylinder about MSS patch k's axis that holds the patch: h = (x − center)·axis in

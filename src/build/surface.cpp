@@ -8,6 +8,7 @@
 
 #include "build/atom_spheres.hpp"
 #include "build/mss/mss_builder.hpp"
+#include "build/mss/skin_geometry.hpp"
 #include "build/moved_atoms.hpp"
 #include "build/ses/contour_buildup.hpp"
 #include "build/surface_components.hpp"
@@ -138,12 +139,20 @@ void gatherKept(const Molecule& m, const CullResult& cull, std::vector<glm::dvec
   for (std::size_t k = 0; k < cull.kept.size(); ++k) centers[k] = m.centers[cull.kept[k]], radii[k] = m.radii[cull.kept[k]];
 }
 
-// A list built from the atoms `kept` (input indices, ascending) of an input of `inputCount`,
+// A list built from the atoms `kept` (input indices, ascending) of the input `m`,
 // speaking of the input's atoms again. The map is increasing, so every order the builders keep
 // by atom index (tori i < j, ascending simplices, patches by lowest atom) stays.
-void restoreAtomIndices(PatchList& list, std::span<const std::uint32_t> kept, std::size_t inputCount) {
+void restoreAtomIndices(PatchList& list, std::span<const std::uint32_t> kept, const Molecule& m) {
+  const std::size_t inputCount = m.size();
   list.params.atomCount = static_cast<std::uint32_t>(inputCount);
   if (kept.size() == inputCount) return;
+  // The skin's atoms are the input's, left-out ones included, as the file stores them
+  // (stp_file.hpp): the kept ones' weights the same, bit for bit.
+  if (list.skinAtoms.size() > 0) {
+    list.skinAtoms.center = m.centers;
+    list.skinAtoms.weight.resize(inputCount);
+    for (std::size_t i = 0; i < inputCount; ++i) list.skinAtoms.weight[i] = mss::skinWeight(m.radii[i], list.params.shrinkFactor);
+  }
   for (auto* ids : {&list.convex.atom, &list.tori.atomI, &list.tori.atomJ, &list.concave.atomI, &list.concave.atomJ,
                     &list.concave.atomK})
     for (std::uint32_t& a : *ids) a = kept[a];
@@ -192,7 +201,7 @@ PatchList buildSurface(const Molecule& m, const SurfaceRequest& r, std::vector<s
     case SurfaceKind::Vdw: list = atomSpheres(centers, radii, 0.0, SurfaceKind::Vdw); break;
     case SurfaceKind::Sas: list = atomSpheres(centers, radii, r.probeRadius, SurfaceKind::Sas); break;
   }
-  restoreAtomIndices(list, cull.kept, cull.inputCount);
+  restoreAtomIndices(list, cull.kept, m);
   if (r.surface == SurfaceKind::Ses && r.dropCavities) list = outerComponent(list);
   list.params.radiiSet = m.radiiSet;
   list.params.inputCrc32 = m.inputCrc32;
@@ -224,7 +233,7 @@ struct SurfaceBuilder::State {
   // buildSurface gives it.
   PatchList finish(const PatchList& fresh, const Molecule& m) const {
     PatchList list = fresh;
-    restoreAtomIndices(list, given, m.size());
+    restoreAtomIndices(list, given, m);
     if (usesSes() && request.dropCavities) list = outerComponent(list);
     list.params.radiiSet = m.radiiSet;
     list.params.inputCrc32 = m.inputCrc32;

@@ -196,6 +196,7 @@ struct GlRenderer::Impl {
   view::PatchIdOrder ids;
   GLuint vao = 0;
   GLuint atomColorBuffer = 0;
+  GLuint skinAtomBuffer = 0, skinGridBuffer = 0;  // GpuPatches::skinAtoms, skinGrid
   GLuint frameBuffer = 0;  // the uniform block
   GLuint clipBuffer = 0, clipTexture = 0;
   GLuint countBuffer = 0;  // (fragments, hits) per patch, GlOptions::countFragments
@@ -218,6 +219,8 @@ struct GlRenderer::Impl {
     glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), records);
     glDeleteBuffers(static_cast<GLsizei>(kGpuKindCount), atoms);
     glDeleteBuffers(1, &atomColorBuffer);
+    glDeleteBuffers(1, &skinAtomBuffer);
+    glDeleteBuffers(1, &skinGridBuffer);
     glDeleteBuffers(1, &frameBuffer);
     glDeleteBuffers(1, &clipBuffer);
     glDeleteBuffers(1, &countBuffer);
@@ -433,6 +436,8 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
   glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.records);
   glCreateBuffers(static_cast<GLsizei>(kGpuKindCount), m.atoms);
   glCreateBuffers(1, &m.atomColorBuffer);
+  glCreateBuffers(1, &m.skinAtomBuffer);
+  glCreateBuffers(1, &m.skinGridBuffer);
   glCreateBuffers(1, &m.frameBuffer);
   glCreateBuffers(1, &m.clipBuffer);
   glCreateBuffers(1, &m.countBuffer);
@@ -472,6 +477,8 @@ void GlRenderer::upload(const build::PatchList& patches, const glm::dvec3& origi
     counts[row] = k.records.size();
   });
   bufferData(m.clipBuffer, g.clipPlanes);
+  bufferData(m.skinAtomBuffer, g.skinAtoms);
+  bufferData(m.skinGridBuffer, g.skinGrid);
   // Re-attach: the buffer's data store was just re-specified.
   glTextureBuffer(m.clipTexture, GL_RGBA32F, m.clipBuffer);
   checkGlError("uploading the patches");
@@ -550,6 +557,8 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   glBindBufferBase(GL_UNIFORM_BUFFER, kFrameBinding, m.frameBuffer);
   glBindBufferBase(GL_UNIFORM_BUFFER, kPeelBinding, m.peelBuffer);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomColorBinding, m.atomColorBuffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSkinAtomBinding, m.skinAtomBuffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSkinGridBinding, m.skinGridBuffer);
   glBindTextureUnit(kClipPlaneUnit, m.clipTexture);
   const std::size_t patchCount = m.ids.total();
   const std::vector<glm::uvec2> zeros(gl.countFragments ? patchCount : 0, glm::uvec2(0u));

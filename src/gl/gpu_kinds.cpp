@@ -22,6 +22,49 @@ glm::vec4 shifted(const glm::dvec3& x, const glm::dvec3& origin, double w) {
   return glm::vec4(glm::vec3(x - origin), static_cast<float>(w));
 }
 
+// GpuPatches::skinAtoms and skinGrid. Cells of edge twice the largest radius (a query reaches
+// a few of them), widened while there are more than 8 cells an atom.
+void packSkinAtoms(const build::PatchList& list, const glm::dvec3& origin, GpuPatches& g) {
+  const build::SkinAtoms& atoms = list.skinAtoms;
+  const std::size_t n = atoms.size();
+  const double s = list.params.shrinkFactor;
+  glm::dvec3 lo(0.0), hi(0.0);
+  double rMax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3 c = atoms.center[i] - origin;
+    lo = i == 0 ? c : glm::min(lo, c);
+    hi = i == 0 ? c : glm::max(hi, c);
+    rMax = std::max(rMax, std::sqrt(s * atoms.weight[i]));
+  }
+  double edge = std::max(2.0 * rMax, 1e-3 * (1.0 + glm::length(hi - lo)));
+  glm::uvec3 dims(1u);
+  for (;;) {
+    const glm::dvec3 cells = glm::floor((hi - lo) / edge) + 1.0;
+    if (cells.x * cells.y * cells.z <= 8.0 * static_cast<double>(n) + 8.0) {
+      dims = glm::uvec3(cells);
+      break;
+    }
+    edge *= 1.25;
+  }
+  auto cellOf = [&](std::size_t i) {
+    const glm::uvec3 c = glm::min(glm::uvec3(glm::max((atoms.center[i] - origin - lo) / edge, 0.0)), dims - 1u);
+    return (c.z * dims.y + c.y) * dims.x + c.x;
+  };
+  const std::size_t cellCount = n == 0 ? 0 : std::size_t{dims.x} * dims.y * dims.z;
+  g.skinGrid.assign(cellCount + 1 + n, 0u);
+  for (std::size_t i = 0; i < n; ++i) ++g.skinGrid[cellOf(i) + 1];
+  for (std::size_t c = 0; c < cellCount; ++c) g.skinGrid[c + 1] += g.skinGrid[c];
+  std::vector<std::uint32_t> next(g.skinGrid.begin(), g.skinGrid.begin() + static_cast<std::ptrdiff_t>(cellCount));
+  for (std::size_t i = 0; i < n; ++i) g.skinGrid[cellCount + 1 + next[cellOf(i)]++] = static_cast<std::uint32_t>(i);
+  const glm::uvec4 head(static_cast<std::uint32_t>(n), dims.x, dims.y, dims.z);
+  g.skinAtoms.reserve(3 + n);
+  g.skinAtoms.emplace_back(std::bit_cast<float>(head.x), std::bit_cast<float>(head.y), std::bit_cast<float>(head.z),
+                           std::bit_cast<float>(head.w));
+  g.skinAtoms.emplace_back(glm::vec3(lo), static_cast<float>(edge));
+  g.skinAtoms.emplace_back(static_cast<float>(rMax), 0.0f, 0.0f, 0.0f);
+  for (std::size_t i = 0; i < n; ++i) g.skinAtoms.push_back(shifted(atoms.center[i], origin, s * atoms.weight[i]));
+}
+
 }  // namespace
 
 GpuSphere GpuSphereKind::record(const build::PatchList& list, std::size_t i, const glm::dvec3& origin) {
@@ -131,6 +174,8 @@ GpuPatches packPatches(const build::PatchList& list, const glm::dvec3& origin) {
       g.clipPlanes.emplace_back(glm::vec3(n), static_cast<float>(p.w + glm::dot(n, origin)));
     }
   }
+
+  packSkinAtoms(list, origin, g);
 
   if (lo.x <= hi.x) {
     g.boundsCenter = 0.5 * (lo + hi);

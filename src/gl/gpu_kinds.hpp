@@ -105,6 +105,14 @@ struct GpuPatches {
   glm::dvec3 origin{0.0};
   GpuKindPatchesOf<GpuKinds>::type kinds;
   std::vector<glm::vec4> clipPlanes;  // n, w + n·origin: the SES clipping planes, then the MSS cell planes
+  // The skin's atoms (build::SkinAtoms) as skin.glsl's owner search reads them: at
+  // kSkinAtomBinding a header of three vec4, (n, cells along x, y, z) as uint bits, (the
+  // grid's corner − origin, cell edge), (the largest radius, 0, 0, 0), then per atom its vdW
+  // ball (centre − origin, r² = s·w); n = 0 when the list has none. At kSkinGridBinding the
+  // grid of cubic cells over the centres: cellStart[cells + 1] (x fastest), then the atoms of
+  // each cell in turn.
+  std::vector<glm::vec4> skinAtoms;
+  std::vector<std::uint32_t> skinGrid;
   // Bounding sphere of every patch (double, unshifted): sets the depth range.
   glm::dvec3 boundsCenter{0.0};
   double boundsRadius = 0.0;

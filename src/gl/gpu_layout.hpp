@@ -39,6 +39,8 @@ using shared::kOpaqueColorUnit;
 using shared::kOpaqueDepthUnit;
 using shared::kPeelBinding;
 using shared::kPreviousLayerUnit;
+using shared::kSkinAtomBinding;
+using shared::kSkinGridBinding;
 
 // A sphere is one vec4 (centre, radius).
 using GpuSphere = glm::vec4;

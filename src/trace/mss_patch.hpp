@@ -4,11 +4,15 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
+#include "build/neighbour_grid.hpp"
 #include "build/patch_list.hpp"
 #include "trace/ray.hpp"
 
 namespace surftrace::trace {
+
+struct SkinAtomBalls;
 
 // f(x) = radial·|x − center|² + axial·((x − center)·axis)² + constant, f < 0 inside the skin
 // body, kept where every cell plane (n, w) has n·x + w <= 0 and within boundRadius of the
@@ -22,7 +26,18 @@ struct MssPatch {
   double boundRadius = 1.0;
   build::MssExtent extent{-1.0, 1.0, 1.0};  // the cylinder about the axis that holds the patch
   std::span<const build::Plane> cellPlanes;
+  // The skin's atoms (SkinAtomBalls) that skinOwner() searches, owned elsewhere like
+  // cellPlanes; none (the simplex's lowest atom owns every point) when null.
+  const SkinAtomBalls* atomBalls = nullptr;
 };
+
+// The skin's atoms as their vdW balls, c_i and r_i² = s·w_i (build::SkinAtoms), and a grid over
+// them for skinOwner(). Empty when the list has no atoms.
+struct SkinAtomBalls {
+  std::vector<glm::dvec4> balls;  // centre, r²
+  build::NeighbourGrid grid;      // the centres with their radii r_i
+};
+SkinAtomBalls skinAtomBalls(const build::PatchList& list);
 
 MssPatch mssPatch(const build::PatchList& patches, std::size_t index);
 
@@ -53,8 +68,15 @@ bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
 // each cell plane (both lower bounds of the distance to the patch's edge).
 double boundaryDistance(const MssPatch& p, const glm::dvec3& x);
 
-// The atom a hit belongs to: the simplex's lowest atom (its convex sphere's own atom). The
-// atom of largest convex weight at x would need the atoms' centres, which the list does not hold.
-inline std::uint32_t atomOf(const MssPatch&, const glm::uvec4& atoms, const glm::dvec3&) { return atoms.x; }
+// The atom whose ball owns the skin point x: of all the atoms, the one of least power distance
+// |x − c_i|² − s·w_i = |x − c_i|² − r_i² to its vdW ball, the lower index on a tie. The search
+// starts from the patch's simplex `atoms` (unused slots ~0u) and looks no farther than that
+// bound allows. Without atoms (null or empty `balls`) the simplex's lowest atom. Why these
+// balls, and why not the simplex's atoms alone: mss_patch.cpp.
+std::uint32_t skinOwner(const SkinAtomBalls* balls, const glm::uvec4& atoms, const glm::dvec3& x);
+// The atom a hit belongs to (colour, atom.id): its owner.
+inline std::uint32_t atomOf(const MssPatch& p, const glm::uvec4& atoms, const glm::dvec3& x) {
+  return skinOwner(p.atomBalls, atoms, x);
+}
 
 }  // namespace surftrace::trace

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -21,10 +22,13 @@
 
 namespace surftrace::trace {
 
-// Plane arrays a scene owns (copied from the patch list): patches hold spans into them.
+// Arrays a scene owns (copied from the patch list): patches hold spans into them.
 struct ScenePlanes {
   std::vector<build::Plane> clip;  // concave triangles' self-intersection planes
   std::vector<build::Plane> cell;  // the skin's mixed-cell planes
+  // The skin's atoms (which one owns a skin point); behind a pointer, so that patches keep
+  // pointing at it when the scene moves.
+  std::unique_ptr<const SkinAtomBalls> skinAtoms;
 };
 
 // A row: `kind` (the image channel's code), `Patch` (the intersector's record: its file
@@ -77,6 +81,7 @@ template <build::MssKind K> struct SkinKind {
     const std::size_t k = build::mssKindRange(list.mss, K).first + i;
     MssPatch p = mssPatch(list, k);
     p.cellPlanes = std::span<const build::Plane>(planes.cell).subspan(list.mss.cellBegin[k], list.mss.cellCount[k]);
+    p.atomBalls = planes.skinAtoms.get();
     return p;
   }
   static Atoms atoms(const build::PatchList& list, std::size_t i) {

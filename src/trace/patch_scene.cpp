@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <tuple>
@@ -200,6 +201,7 @@ ScenePatches ScenePatches::fromPatchList(const build::PatchList& list, std::span
   for (std::size_t i = 0; i < centers.size(); ++i) s.atoms.push_back(glm::dvec4(centers[i], radii[i]));
   s.planes.clip = list.clipPlanes;
   s.planes.cell = list.cellPlanes;
+  if (list.skinAtoms.size() > 0) s.planes.skinAtoms = std::make_unique<const SkinAtomBalls>(skinAtomBalls(list));
   std::apply(
       [&](auto&... k) {
         auto load = [&](auto& kp) {

@@ -563,19 +563,28 @@ TEST(PatchListFile, SkinByReferenceRoundTripsBitExact) {
       const std::string what = std::string(file) + " s " + std::to_string(s);
       const PatchList p = buildSurface(m, {SurfaceKind::Mss, 1.4, s, false});
       ASSERT_GT(p.mss.size(), 0u) << what;
-      const std::vector<unsigned char> v3 = encodePatchList(p, {m.centers, m.radii});
-      const std::vector<unsigned char> whole = encodePatchList(p), v2 = encodePatchList(p, {}, 2);
+      ASSERT_EQ(p.skinAtoms.size(), m.size()) << what;
+      // A list without its atoms (not the builder's) is stored whole.
+      PatchList bare = p;
+      bare.skinAtoms = {};
+      const std::vector<unsigned char> v3 = encodePatchList(p, {m.centers, m.radii}), own = encodePatchList(p);
+      const std::vector<unsigned char> whole = encodePatchList(bare), v2 = encodePatchList(p, {}, 2);
       test::expectSamePatchLists(parsePatchList(v3, "v3.stp"), p, what + " by reference");
-      test::expectSamePatchLists(parsePatchList(whole, "whole.stp"), p, what + " whole");
+      test::expectSamePatchLists(parsePatchList(own, "own.stp"), p, what + " by reference to its own atoms");
+      EXPECT_EQ(own, v3) << what;
+      test::expectSamePatchLists(parsePatchList(whole, "whole.stp"), bare, what + " whole");
       // References only: the atoms (32 bytes), per patch its simplex and plane count (20), per
       // plane its atom (4), and the table's names and lengths.
       const std::size_t references = 32 * m.size() + 20 * p.mss.size() + 4 * p.cellPlanes.size();
       EXPECT_LE(v3.size(), references + 4096) << what;
       EXPECT_LT(5 * v3.size(), v2.size()) << what;
-      // Version 2 holds everything but the atoms across the planes, which read as not known.
+      // Version 2 holds everything but the atoms across the planes, which read as not known,
+      // and the skin's atoms, which read as none.
       PatchList old = parsePatchList(v2, "v2.stp");
       EXPECT_EQ(old.cellPlaneAtom, std::vector<std::uint32_t>(p.cellPlanes.size(), ~0u)) << what;
       old.cellPlaneAtom = p.cellPlaneAtom;
+      EXPECT_EQ(old.skinAtoms.size(), 0u) << what;
+      old.skinAtoms = p.skinAtoms;
       test::expectSamePatchLists(old, p, what + " version 2");
     }
   }
@@ -603,6 +612,8 @@ TEST(PatchListFile, Version2FilesStillRead) {
     ASSERT_GT(now.patchCount(), 0u) << c.file;
     EXPECT_EQ(old.cellPlaneAtom, std::vector<std::uint32_t>(now.cellPlanes.size(), ~0u)) << c.file;
     old.cellPlaneAtom = now.cellPlaneAtom;
+    EXPECT_EQ(old.skinAtoms.size(), 0u) << c.file;
+    old.skinAtoms = now.skinAtoms;
     test::expectSamePatchLists(old, now, c.file);
   }
   // Version 1 is refused with the file, its version and what to do.

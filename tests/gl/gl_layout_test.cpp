@@ -1,6 +1,10 @@
 // The GPU records: C++ struct offsets against what the linked GLSL programs report, and the packing.
+#include <algorithm>
+#include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -67,6 +71,11 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
             static_cast<GLint>(sizeof(GpuSkin)));
   EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinAtoms[0]", GL_ARRAY_STRIDE),
             static_cast<GLint>(sizeof(glm::uvec4)));
+  // The skin's atoms (GpuPatches::skinAtoms): a header of three vec4, then one vec4 per atom.
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinGridReach", GL_OFFSET), 32);
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinBalls[0]", GL_OFFSET), 48);
+  EXPECT_EQ(resourceProperty(skin, GL_BUFFER_VARIABLE, "skinBalls[0]", GL_ARRAY_STRIDE),
+            static_cast<GLint>(sizeof(glm::vec4)));
 
   const GLuint sphere = renderer.program(view::PatchKind::Convex);
   EXPECT_EQ(resourceProperty(sphere, GL_BUFFER_VARIABLE, "spheres[0]", GL_ARRAY_STRIDE),
@@ -86,6 +95,7 @@ TEST(GlLayout, StorageRecordsMatchStd430) {
                 {torus, "Tori", kRecordBinding},           {torus, "TorusAtoms", kAtomBinding},
                 {concave, "Concaves", kRecordBinding},     {concave, "ConcaveAtoms", kAtomBinding},
                 {skin, "Skins", kRecordBinding},           {skin, "SkinAtoms", kAtomBinding},
+                {skin, "SkinBalls", kSkinAtomBinding},     {skin, "SkinGridCells", kSkinGridBinding},
                 {sphere, "AtomColors", kAtomColorBinding}, {torus, "FragmentCounts", kFragmentCountBinding}};
   for (const auto& b : blocks)
     EXPECT_EQ(resourceProperty(b.program, GL_SHADER_STORAGE_BLOCK, b.block, GL_BUFFER_BINDING), b.binding) << b.block;
@@ -173,6 +183,35 @@ TEST(GlLayout, PackingShiftsInDoubleBeforeRounding) {
   EXPECT_EQ(edges.atoms[0], glm::uvec4(4, 9, ~0u, ~0u));
   ASSERT_EQ(withSkin.clipPlanes.size(), 2u);
   EXPECT_FLOAT_EQ(withSkin.clipPlanes[1].w, -4.0f);
+  // No skin atoms: the header with count 0. With them: the count, then each vdW ball, shifted
+  // in double, r² = s·w, and every atom once in the grid, in the cell that holds its centre.
+  ASSERT_EQ(withSkin.skinAtoms.size(), 3u);
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(withSkin.skinAtoms[0].x), 0u);
+  list.params.shrinkFactor = 0.25;
+  for (int i = 0; i < 10; ++i) {
+    list.skinAtoms.center.push_back(origin + glm::dvec3(0.0, 0.0, 1.0000123 * i));
+    list.skinAtoms.weight.push_back(4.0 * i);
+  }
+  const GpuPatches withAtoms = packPatches(list, origin);
+  ASSERT_EQ(withAtoms.skinAtoms.size(), 13u);
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(withAtoms.skinAtoms[0].x), 10u);
+  EXPECT_FLOAT_EQ(withAtoms.skinAtoms[3 + 9].z, 9.0001107f);
+  EXPECT_FLOAT_EQ(withAtoms.skinAtoms[3 + 9].w, 9.0f);
+  const glm::uvec3 dims(std::bit_cast<std::uint32_t>(withAtoms.skinAtoms[0].y), std::bit_cast<std::uint32_t>(withAtoms.skinAtoms[0].z),
+                        std::bit_cast<std::uint32_t>(withAtoms.skinAtoms[0].w));
+  const std::size_t cells = std::size_t{dims.x} * dims.y * dims.z;
+  const glm::vec4 corner = withAtoms.skinAtoms[1];
+  ASSERT_EQ(withAtoms.skinGrid.size(), cells + 1 + 10);
+  std::vector<int> seen(10, 0);
+  for (std::size_t c = 0; c < cells; ++c)
+    for (std::uint32_t e = withAtoms.skinGrid[c]; e < withAtoms.skinGrid[c + 1]; ++e) {
+      const std::uint32_t i = withAtoms.skinGrid[cells + 1 + e];
+      ASSERT_LT(i, 10u);
+      ++seen[i];
+      const float z = withAtoms.skinAtoms[3 + i].z;
+      EXPECT_EQ(c / (std::size_t{dims.x} * dims.y), std::min<std::size_t>(dims.z - 1, static_cast<std::size_t>((z - corner.z) / corner.w)));
+    }
+  EXPECT_EQ(seen, std::vector<int>(10, 1));
 }
 
 }  // namespace

@@ -194,5 +194,55 @@ TEST(MssPatch, ConeApexAndGenerators) {
   }
 }
 
+// The owner of a skin point (skinOwner): a convex patch is wholly its atom's (the skin there is
+// that atom's ball alone, ORACLES C.3), and the owners of an edge patch split at the middle of
+// its mixed cell along the edge, (1 − s)·(bisector of c_i c_j) + s·z_X. A carbon and a
+// hydrogen 1.0 Å apart at s = 0.2, hit by rays from all around: the power distance to the
+// grown balls (w = r²/s) instead would hand the hydrogen's own sphere to the carbon (their
+// bisector lies 4.7 Å out, beyond both cells), which the test shows too, so that it tells the
+// two rules apart. Without atoms: the lowest atom.
+TEST(MssPatch, OwnerIsTheAtomWhoseBallHoldsThePoint) {
+  const double s = 0.2, ri = 1.7, rj = 1.1, d = 1.0;
+  const std::vector<glm::dvec3> c{{0, 0, 0}, {d, 0, 0}};
+  const build::PatchList list = build::buildMss(c, std::vector<double>{ri, rj}, {s});
+  ASSERT_EQ(list.skinAtoms.size(), 2u);
+  const SkinAtomBalls balls = skinAtomBalls(list);
+  // The edge cell's middle along the edge: z_X = c_i + α d (ORACLES C.2, grown weights).
+  const double alpha = 0.5 + (ri * ri - rj * rj) / (2.0 * s * d * d);
+  const double middle = (1.0 - s) * 0.5 * d + s * alpha * d;
+  Rng rng(7);
+  std::normal_distribution<double> gauss;
+  int convexHits = 0, edgeHits = 0, grownWrong = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)));
+    const glm::dvec3 aim(gauss(rng), 0.3 * gauss(rng), 0.3 * gauss(rng));
+    const Ray ray{aim - 20.0 * dir, dir};
+    for (std::size_t k = 0; k < list.mss.size(); ++k) {
+      const MssPatch p = mssPatch(list, k);
+      const std::optional<PatchHit> hit = intersect(p, ray, 0.0, kInf);
+      if (!hit) continue;
+      const glm::dvec3 x = ray.org + hit->t * ray.dir;
+      const glm::uvec4& atoms = list.mss.atoms[k];
+      const std::uint32_t owner = skinOwner(&balls, atoms, x);
+      if (p.kind == build::MssKind::Convex) {
+        ++convexHits;
+        EXPECT_EQ(owner, atoms.x) << "x = (" << x.x << ", " << x.y << ", " << x.z << ")";
+        const double grownI = glm::dot(x - c[0], x - c[0]) - ri * ri / s, grownJ = glm::dot(x - c[1], x - c[1]) - rj * rj / s;
+        grownWrong += (grownI <= grownJ ? 0u : 1u) != atoms.x;
+      } else {
+        ++edgeHits;
+        if (std::abs(x.x - middle) > 1e-9) {
+          EXPECT_EQ(owner, x.x < middle ? 0u : 1u) << "x.x = " << x.x << ", middle " << middle;
+        }
+      }
+    }
+  }
+  EXPECT_GT(convexHits, 1000);
+  EXPECT_GT(edgeHits, 100);
+  EXPECT_GT(grownWrong, 100);
+  EXPECT_EQ(skinOwner(&balls, glm::uvec4(0, 1, ~0u, ~0u), glm::dvec3(5.0, 0.0, 0.0)), 1u);
+  EXPECT_EQ(skinOwner(nullptr, glm::uvec4(0, 1, ~0u, ~0u), glm::dvec3(5.0, 0.0, 0.0)), 0u);
+}
+
 }  // namespace
 }  // namespace surftrace::trace

@@ -155,21 +155,25 @@ namespace {
 
 // ---- The file's arrays ----
 
-bool isSkinGroup(const char* group) { return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0; }
+bool isSkinGroup(const char* group) {
+  return std::strcmp(group, "mss") == 0 || std::strcmp(group, "cellPlanes") == 0 || std::strcmp(group, "skinAtoms") == 0;
+}
 
-// Version 2: every array of forEachArray but cellPlanes.atom, which it predates.
+// Version 2: every array of forEachArray but cellPlanes.atom and skinAtoms, which it predates.
 template <class Visit, class List>
 void version2Arrays(Visit&& visit, List& p) {
   forEachArray([&](const char* group, const char* name, auto& v) {
-    if (std::strcmp(group, "cellPlanes") != 0 || std::strcmp(name, "atom") != 0) visit(std::string(group) + "." + name, v);
+    const bool newer = (std::strcmp(group, "cellPlanes") == 0 && std::strcmp(name, "atom") == 0) ||
+                       std::strcmp(group, "skinAtoms") == 0;
+    if (!newer) visit(std::string(group) + "." + name, v);
   }, p);
 }
 
 // What version 3 stores of the skin besides the simplices (mss.atoms), the plane counts
 // (mss.cellCount) and the atom across each plane (cellPlanes.atom).
 struct SkinFile {
-  std::vector<glm::dvec3> atomCenter;  // z_i of every atom of the list, or none
-  std::vector<double> atomWeight;      // w_i = mss::skinWeight(r_i, s)
+  std::vector<glm::dvec3> atomCenter;  // z_i of every atom of the list, or none: skinAtoms.center
+  std::vector<double> atomWeight;      // w_i = mss::skinWeight(r_i, s): skinAtoms.weight
   std::vector<std::uint32_t> cellBegin;  // empty: the running sum of mss.cellCount
   // The patches stored whole (ascending) and their fields; the others are derived.
   std::vector<std::uint32_t> wholePatch;
@@ -271,6 +275,12 @@ SkinFile encodeSkin(const PatchList& p, const PatchListAtoms& atoms) {
     f.atomCenter.assign(atoms.centers.begin(), atoms.centers.end());
     f.atomWeight.resize(atoms.radii.size());
     for (std::size_t i = 0; i < atoms.radii.size(); ++i) f.atomWeight[i] = mss::skinWeight(atoms.radii[i], p.params.shrinkFactor);
+  } else if (!p.skinAtoms.center.empty()) {
+    // The list carries its atoms (the builder's lists do): the same weighted points.
+    f.atomCenter = p.skinAtoms.center;
+    f.atomWeight = p.skinAtoms.weight;
+  }
+  if (!f.atomCenter.empty() && q.size() > 0) {
     // Only planes in one run are derived, each from the one patch whose run holds it (the
     // builder's lists); the planes of scattered or overlapping ranges are stored whole.
     if (running) markDerivable(p, {f.atomCenter, f.atomWeight, p.params.shrinkFactor}, patchWhole, planeWhole);
@@ -524,6 +534,8 @@ void expandSkin(Reader& r, PatchList& p, const SkinFile& f) {
       }
   });
   if (firstBad.load() < n) r.fail(derivePatch(p, w, patchWhole, planeWhole, firstBad.load()) + " (the file is damaged)");
+  p.skinAtoms.center = f.atomCenter;
+  p.skinAtoms.weight = f.atomWeight;
 }
 
 }  // namespace

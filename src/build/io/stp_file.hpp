@@ -26,7 +26,9 @@ namespace surftrace::build {
 // functions (mss::skinPatch, mss::cellPlane), so a built list comes back bit for bit in a
 // sixth of version 2's bytes (1AON's skin at s = 0.5: 30 MB, was 191 MB). A patch or plane
 // whose derivation does not give back its stored bits (a list not made by the builder, or no
-// atoms given) is stored whole. Version 1 lists are refused with advice.
+// atoms given) is stored whole. The atoms, when not given, are the list's own skinAtoms, and
+// the reader gives them back there (a version 2 file: none). Version 1 lists are refused with
+// advice.
 inline constexpr std::uint32_t kPatchFileVersion = 3;
 // The most atoms a list may speak of for each byte of its body. Nothing in the file but
 // params.atomCount says how many atoms there were (those inside another ball, merged or

@@ -373,6 +373,8 @@ struct MssBuilder::State {
     list.params.shrinkFactor = params.shrink;
     list.params.atomCount = static_cast<std::uint32_t>(centers.size());
     list.componentCount = 0;
+    list.skinAtoms.center.assign(centers.begin(), centers.end());
+    list.skinAtoms.weight.assign(weights.begin(), weights.end());
     // Chunk c = kind·blocks + block: the list holds the kinds in order, each by block.
     const std::size_t count = kMssKindCount * blocks.size();
     auto chunk = [&](std::size_t c) -> const Chunk& { return blocks[c % blocks.size()][c / blocks.size()]; };

@@ -22,6 +22,9 @@ const int kPreviousLayerUnit = 1;     // sampler2D previousLayer (R: t of layer 
 const int kOpaqueDepthUnit = 2;       // sampler2D opaqueDepth (R: t of the opaque geometry, +inf where none)
 const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius
 const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), then the lists
+const int kSkinAtomBinding = 6;       // the skin's atoms: uvec4 (count, grid cells along x, y, z), vec4 (grid corner, cell
+                                      // edge), vec4 (largest radius, unused), then vec4 balls[] (centre, r²)
+const int kSkinGridBinding = 7;       // uint skinGridCells[]: CSR cellStart[cells + 1], then the atoms of each cell
 const int kLayerColorUnit = 3;        // sampler2D layerColor: the colour a peel wrote (peel.glsl)
 const int kLayerDepthUnit = 4;        // sampler2D layerDepth (R: t, +inf where the peel wrote nothing)
 const int kAccumulatedUnit = 5;       // sampler2D accumulated: Σ α(1 − α)^k c_k, coverage 1 − (1 − α)^n

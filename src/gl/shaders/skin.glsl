@@ -6,6 +6,14 @@
 // (SURFTRACE_FRAGMENT_STAGE).
 layout(std430, binding = kRecordBinding) readonly buffer Skins { GpuSkin skins[]; };
 layout(std430, binding = kAtomBinding) readonly buffer SkinAtoms { uvec4 skinAtoms[]; };  // the simplex
+// The skin's atoms and the grid over them (gl::GpuPatches::skinAtoms, skinGrid).
+layout(std430, binding = kSkinAtomBinding) readonly buffer SkinBalls {
+  uvec4 skinGrid;       // atom count (0: the list has none), cells along x, y, z
+  vec4 skinGridCorner;  // the grid's corner (origin-shifted), cell edge
+  vec4 skinGridReach;   // the largest vdW radius, unused
+  vec4 skinBalls[];     // per atom: centre (origin-shifted), r²
+};
+layout(std430, binding = kSkinGridBinding) readonly buffer SkinGridCells { uint skinGridCells[]; };
 
 #ifdef SURFTRACE_GEOMETRY_STAGE
 layout(triangle_strip, max_vertices = 12) out;
@@ -31,6 +39,52 @@ void main() {
 
 #ifdef SURFTRACE_FRAGMENT_STAGE
 layout(binding = kClipPlaneUnit) uniform samplerBuffer clipPlanes;  // n, w: keep n·x + w <= 0
+
+// The atom whose ball owns the skin point x (origin-shifted), as trace/mss_patch.cpp skinOwner:
+// of all atoms the least |x − c_i|² − r_i², the lower index on a tie, searched within the
+// bound the simplex's atoms give (|x − c_j| <= r_j + √π); the simplex's lowest atom when the
+// list has no atoms.
+float skinPower(uint i, vec3 x) {
+  vec3 d = x - skinBalls[i].xyz;
+  return dot(d, d) - skinBalls[i].w;
+}
+
+uint skinOwner(uvec4 atoms, vec3 x) {
+  uint best = atoms.x;
+  float least = uintBitsToFloat(0x7f800000u);  // +inf
+  for (int k = 0; k < 4 && atoms[k] != 0xffffffffu; ++k) {
+    if (atoms[k] >= skinGrid.x) return atoms.x;
+    float p = skinPower(atoms[k], x);
+    if (p < least) {
+      least = p;
+      best = atoms[k];
+    }
+  }
+  // The cells that may hold such an atom (a millimetre-ångström more for the float binning).
+  float reach = sqrt(max(least, 0.0)) + skinGridReach.x + 1e-3;
+  ivec3 dims = ivec3(skinGrid.yzw);
+  vec3 corner = skinGridCorner.xyz;
+  float edge = skinGridCorner.w;
+  ivec3 lo = clamp(ivec3(floor((x - reach - corner) / edge)), ivec3(0), dims - 1);
+  ivec3 hi = clamp(ivec3(floor((x + reach - corner) / edge)), ivec3(0), dims - 1);
+  uint cells = uint(dims.x * dims.y * dims.z);
+  for (int cz = lo.z; cz <= hi.z; ++cz) {
+    for (int cy = lo.y; cy <= hi.y; ++cy) {
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        uint cell = uint((cz * dims.y + cy) * dims.x + cx);
+        for (uint e = skinGridCells[cell]; e < skinGridCells[cell + 1u]; ++e) {
+          uint j = skinGridCells[cells + 1u + e];
+          float p = skinPower(j, x);
+          if (p < least || (p == least && j < best)) {
+            least = p;
+            best = j;
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
 
 void main() {
   GpuSkin P = skins[patchIndex];
@@ -85,7 +139,7 @@ void main() {
     if (!kept) continue;
     vec3 g = radial * x + (axial * dot(x, a)) * a;
     vec3 n = dot(g, g) > 0.0 ? normalize(g) : -dir;  // a cone's apex: any normal
-    writeHit(dir, t, n, kind, globalId(kind, patchIndex), skinAtoms[patchIndex].x);
+    writeHit(dir, t, n, kind, globalId(kind, patchIndex), skinOwner(skinAtoms[patchIndex], x + c));
     return;
   }
   discard;
