@@ -97,6 +97,7 @@ set(slow_tests
   # trace_tests
   "Molecules/RenderOnSkin\\.HitsAreCertifiedAndNoRayCrossesTheBody(/.*)?"
   "Molecules/SesCrossings\\..*"
+  "Crossings\\.EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes"
   "MssPatch\\.MatchesBruteForceOracleOnRealPatches"
   "SkinCrossings\\.CountAndPlaceMatchTheSkinOracle"
   "StickPatch\\.MatchesBruteForceOracle"

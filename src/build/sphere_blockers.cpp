@@ -2,7 +2,9 @@
 #include "build/sphere_blockers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -80,6 +82,86 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
   return out;
 }
 
+SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms) {
+  SphereBlockers b = sphereBlockers(list.params, list.convex.center, list.convex.radius, list.convex.atom, atoms);
+  if (list.params.surface != SurfaceKind::Ses || atoms.empty()) return b;
+  std::vector<SaddleArc> arcs;
+  std::vector<glm::uvec2> arcAtoms;
+  for (std::size_t t = 0; t < list.tori.size(); ++t) {
+    const glm::dvec3 e1 = list.tori.e1[t];
+    arcs.push_back({list.tori.center[t], e1, glm::cross(list.tori.axis[t], e1), list.tori.bigRadius[t], list.tori.phiExtent[t]});
+    arcAtoms.push_back({list.tori.atomI[t], list.tori.atomJ[t]});
+  }
+  addSaddleArcs(b, list.convex.atom, arcs, arcAtoms);
+  return b;
+}
+
+void addSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                   std::span<const glm::uvec2> arcAtoms) {
+  // Atom -> its sphere (the list has at most one per atom), then a counting sort of the arcs.
+  std::unordered_map<std::uint32_t, std::uint32_t> sphereOf;
+  for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) sphereOf.emplace(sphereAtoms[i], i);
+  std::vector<std::uint32_t> count(sphereAtoms.size() + 1, 0);
+  auto forEachSphere = [&](std::size_t t, auto&& f) {
+    for (const std::uint32_t atom : {arcAtoms[t].x, arcAtoms[t].y})
+      if (const auto it = sphereOf.find(atom); it != sphereOf.end()) f(it->second);
+  };
+  for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { ++count[i + 1]; });
+  b.arcBegin.assign(sphereAtoms.size() + 1, 0);
+  for (std::size_t i = 0; i < sphereAtoms.size(); ++i) b.arcBegin[i + 1] = b.arcBegin[i] + count[i + 1];
+  b.arcs.resize(b.arcBegin.back());
+  std::vector<std::uint32_t> next(b.arcBegin.begin(), b.arcBegin.end() - 1);
+  for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { b.arcs[next[i]++] = arcs[t]; });
+}
+
+namespace {
+
+// Distance from the point p to the arc a.
+double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
+  const glm::dvec3 q = p - a.center;
+  double phi = std::atan2(glm::dot(q, a.e2), glm::dot(q, a.e1));
+  if (phi < 0.0) phi += 2.0 * std::numbers::pi;
+  auto at = [&](double f) { return a.center + a.radius * (std::cos(f) * a.e1 + std::sin(f) * a.e2); };
+  if (phi <= a.extent) return glm::length(p - at(phi));
+  return std::min(glm::length(p - at(0.0)), glm::length(p - at(a.extent)));
+}
+
+// Whether the point y of the free part of grown sphere i (centre c, radius G) lies on a part
+// that a saddle arc of the list bounds (onConvexPatch).
+bool onKeptPart(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double G, const glm::dvec3& y) {
+  if (b.arcBegin.empty() || b.arcBegin[i] == b.arcBegin[i + 1]) return true;
+  // The nearest blocker circle, by the angle between y's polar angle about the blocker's
+  // direction and the circle's.
+  const glm::dvec3 u = (y - c) / G;
+  double best = std::numeric_limits<double>::infinity();
+  glm::dvec3 edge(0.0);
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 o = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(o) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    const glm::dvec3 n = axis / D;
+    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    if (!(std::abs(h) < 1.0)) continue;
+    const double cosAlpha = glm::clamp(glm::dot(n, u), -1.0, 1.0);
+    const double gap = std::abs(std::acos(cosAlpha) - std::acos(h));
+    if (!(gap < best)) continue;
+    const glm::dvec3 side = u - cosAlpha * n;
+    const double s = glm::length(side);
+    if (!(s > 1e-12)) return true;  // y on a blocker's axis: every point of its circle is as near
+    best = gap;
+    edge = c + G * (h * n + std::sqrt(1.0 - h * h) * (side / s));
+  }
+  if (!std::isfinite(best)) return true;
+  // The list's arcs pass through its edge points to rounding; 1e-4 G also covers atoms merged
+  // within 1e-5 Å (atom_culling.hpp), whose circles and arcs are that far apart.
+  for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1]; ++a)
+    if (distanceToArc(b.arcs[a], edge) < 1e-4 * G) return true;
+  return false;
+}
+
+}  // namespace
+
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
                    double tolerance) {
   if (!(rho > 0.0)) return true;
@@ -88,7 +170,7 @@ bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c
     const glm::dvec4 o = b.blockers[b.list[k]];
     if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
   }
-  return true;
+  return onKeptPart(b, i, c, rho + b.grow, y);
 }
 
 double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho,

@@ -18,6 +18,8 @@
 #include "build/io/molecule.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "build/surface.hpp"
+#include "build/surface_components.hpp"
 #include "oracles/ray_march.hpp"
 #include "oracles/ses_oracle.hpp"
 #include "oracles/skin_certificate.hpp"
@@ -262,6 +264,45 @@ TEST(Crossings, MatchAPlainLoopOverThePatches) {
       }
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------
+// A closed surface: every ray that enters it leaves it, so each pixel crosses it an even
+// number of times. With --drop-cavities the outer surface alone is drawn (1VIS, 512², the
+// render command's front view): 62 pixels once crossed it an odd number of times.
+
+TEST(Crossings, EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes) {
+  const build::Molecule& m = molecule("paper/1vis.pdb.gz");
+  build::SurfaceRequest request;
+  request.probeRadius = kRp;
+  const build::PatchList list = build::outerComponent(build::buildSurface(m, request));
+  const PatchScene scene(ScenePatches::fromPatchList(list, m.centers, m.radii));
+  view::RenderOptions o;
+  o.camera.width = o.camera.height = 512;
+  o.camera = view::frameSpheres(o.camera, m.centers, request.reach(m.radii), view::namedViewDirection("front"));
+  o.opacity = 0.4;
+  o.maxLayers = kMaxLayers;  // every crossing: none dropped
+  const view::FrameBuffers fb = render(scene, o, {});
+  const view::Camera::Frame frame = o.camera.frame();
+  std::size_t odd = 0, covered = 0, most = 0;
+  for (int y = 0; y < o.camera.height; ++y)
+    for (int x = 0; x < o.camera.width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * o.camera.width + x;
+      covered += fb.layers[p] > 0;
+      most = std::max<std::size_t>(most, fb.layers[p]);
+      if (fb.layers[p] % 2 == 0) continue;
+      if (++odd > 12) continue;
+      std::ostringstream listed;
+      listed.precision(12);
+      for (const SceneHit& h : scene.intersectLayers1(frame.ray(x + 0.5, y + 0.5), kMaxLayers))
+        listed << " " << h.hit.t << " (kind " << static_cast<int>(h.kind) << " patch " << h.patch << ", n.d "
+               << glm::dot(h.hit.normal, glm::normalize(frame.ray(x + 0.5, y + 0.5).dir)) << ")";
+      ADD_FAILURE() << "pixel " << x << "," << y << ": " << fb.layers[p] << " crossings:" << listed.str();
+    }
+  std::printf("1VIS outer SES at 512²: %zu covered pixels, up to %zu crossings, %zu odd\n", covered, most, odd);
+  EXPECT_EQ(odd, 0u);
+  EXPECT_GT(covered, 50000u);
+  EXPECT_GE(most, 10u);
 }
 
 TEST(LayerList, MergesHitsWithinTheDistanceAndKeepsTheNearest) {
