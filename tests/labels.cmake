@@ -38,6 +38,7 @@ set(slow_tests
   "GlContext\\.OpensWithAnEmptyEnvironment"
   "GlPeelMerge\\..*"
   "GlPeelOpaque\\..*"
+  "GlPeelSes\\..*"
   "GlPrimitive\\.EyeInsideAndBesideCylinders"
   "Surfaces/GlPeel\\..*"
   "Views/GlPrimitiveViews\\..*"

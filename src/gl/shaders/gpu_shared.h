@@ -20,8 +20,9 @@ const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w
 const int kPeelBinding = 1;           // uniform block Peel (std140)
 const int kPreviousLayerUnit = 1;     // sampler2D previousLayer (R: t of layer k − 1, +inf where none)
 const int kOpaqueDepthUnit = 2;       // sampler2D opaqueDepth (R: t of the opaque geometry, +inf where none)
-const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius
-const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), then the lists
+const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius; then the saddle arcs, 3 each
+const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), the arcs' CSR
+                                      // arcBegin[n + 1] (indices into blockers[]), then the lists
 const int kLayerColorUnit = 3;        // sampler2D layerColor: the colour a peel wrote (peel.glsl)
 const int kLayerDepthUnit = 4;        // sampler2D layerDepth (R: t, +inf where the peel wrote nothing)
 const int kAccumulatedUnit = 5;       // sampler2D accumulated: Σ α(1 − α)^k c_k, coverage 1 − (1 − α)^n
