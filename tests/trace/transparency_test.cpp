@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "build/io/molecule.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "build/sphere_blockers.hpp"
 #include "build/surface.hpp"
 #include "build/surface_components.hpp"
 #include "oracles/ray_march.hpp"
@@ -303,6 +305,48 @@ TEST(Crossings, EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes) {
   EXPECT_EQ(odd, 0u);
   EXPECT_GT(covered, 50000u);
   EXPECT_GE(most, 10u);
+}
+
+// A sphere whose free part is two polar caps (a ring of 12 balls covers its equator) and saddle
+// arcs that bound the northern one alone (the northern half of each ball's circle): a point is
+// on the patch iff it lies outside every ball (brute force) and north of the equator. Without
+// arcs, both caps are.
+TEST(SaddleArcs, KeepOnlyThePartsOfASphereTheyBound) {
+  constexpr int kRing = 12;
+  const double D = 1.2, alpha = std::numbers::pi / 6.0;  // each ball's cap: 30° about its direction
+  const double h = std::cos(alpha), w = std::sqrt(D * D + 1.0 - 2.0 * D * h);
+  std::vector<glm::dvec4> atoms{{0.0, 0.0, 0.0, 1.0}};
+  std::vector<build::SaddleArc> arcs;
+  std::vector<glm::uvec2> arcAtoms;
+  for (int k = 0; k < kRing; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kRing;
+    const glm::dvec3 n(std::cos(a), std::sin(a), 0.0), e2 = glm::cross(n, glm::dvec3(0, 0, 1));
+    atoms.push_back(glm::dvec4(D * n, w));
+    // φ from the equator (−e2) over the north pole (z) to the equator again.
+    arcs.push_back({h * n, -e2, glm::dvec3(0, 0, 1), std::sin(alpha), std::numbers::pi});
+    arcAtoms.push_back({0u, static_cast<std::uint32_t>(k + 1)});
+  }
+  build::SurfaceParams params;
+  params.surface = build::SurfaceKind::Vdw;
+  const glm::dvec3 center(0.0);
+  const double radius = 1.0;
+  const std::uint32_t sphereAtom = 0;
+  build::SphereBlockers whole = build::sphereBlockers(params, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, atoms);
+  build::SphereBlockers north = whole;
+  build::addSaddleArcs(north, {&sphereAtom, 1}, arcs, arcAtoms);
+  std::mt19937_64 rng(11);
+  int free = 0, kept = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const glm::dvec3 x = randomUnit(rng);
+    bool outside = true;
+    for (std::size_t k = 1; k < atoms.size(); ++k) outside = outside && glm::length(x - glm::dvec3(atoms[k])) > atoms[k].w;
+    free += outside;
+    kept += outside && x.z > 0.0;
+    EXPECT_EQ(build::onConvexPatch(whole, 0, center, radius, x, 0.0), outside) << "point " << i;
+    EXPECT_EQ(build::onConvexPatch(north, 0, center, radius, x, 0.0), outside && x.z > 0.0) << "point " << i;
+  }
+  EXPECT_GT(kept, 400);
+  EXPECT_GT(free - kept, 400);  // the southern cap, dropped
 }
 
 TEST(LayerList, MergesHitsWithinTheDistanceAndKeepsTheNearest) {
