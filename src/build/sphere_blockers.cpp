@@ -82,6 +82,102 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
   return out;
 }
 
+namespace {
+
+// Distance from the point p to the arc a.
+double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
+  const glm::dvec3 q = p - a.center;
+  double phi = std::atan2(glm::dot(q, a.e2), glm::dot(q, a.e1));
+  if (phi < 0.0) phi += 2.0 * std::numbers::pi;
+  auto at = [&](double f) { return a.center + a.radius * (std::cos(f) * a.e1 + std::sin(f) * a.e2); };
+  if (phi <= a.extent) return glm::length(p - at(phi));
+  return std::min(glm::length(p - at(0.0)), glm::length(p - at(a.extent)));
+}
+
+// Whether every edge of the free part of grown sphere i (centre c, radius G) lies on one of its
+// saddle arcs: each blocker's circle minus the other blockers' caps is a set of intervals, the
+// edges (an edge of the list is one saddle's whole arc, from one concave triangle to the next),
+// and each edge's middle point must be on an arc. A sphere whose atom has no arc counts as
+// covered (it is kept whole).
+bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double G) {
+  if (b.arcBegin[i] == b.arcBegin[i + 1]) return true;
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  struct Interval {
+    double lo, hi;
+  };
+  std::vector<Interval> covered, gaps;
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 ok = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(ok) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    const glm::dvec3 n = axis / D;
+    const double h = (D * D + G * G - ok.w * ok.w) / (2.0 * D * G);
+    if (!(std::abs(h) < 1.0)) continue;
+    const double sk = std::sqrt(1.0 - h * h);
+    const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 v = glm::cross(n, u);
+    // The circle u(ψ) = h n + sk (cos ψ u + sin ψ v) lies in cap j where n_j·u(ψ) > h_j.
+    covered.clear();
+    bool all = false;
+    for (std::uint32_t j = b.begin[i]; j < b.begin[i + 1] && !all; ++j) {
+      if (j == k) continue;
+      const glm::dvec4 oj = b.blockers[b.list[j]];
+      const glm::dvec3 aj = glm::dvec3(oj) - c;
+      const double Dj = glm::length(aj);
+      if (!(Dj > 0.0)) continue;
+      const glm::dvec3 nj = aj / Dj;
+      const double hj = (Dj * Dj + G * G - oj.w * oj.w) / (2.0 * Dj * G);
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = std::hypot(A, B);
+      const double rest = hj - h * glm::dot(nj, n);
+      if (!(sk * M > 0.0)) {
+        all = all || rest < 0.0;
+        continue;
+      }
+      const double q = rest / (sk * M);
+      if (q >= 1.0) continue;
+      if (q <= -1.0) {
+        all = true;
+        continue;
+      }
+      const double mid = std::atan2(B, A), half = std::acos(q);
+      double lo = mid - half;
+      lo -= kTwoPi * std::floor(lo / kTwoPi);
+      if (lo + 2.0 * half <= kTwoPi) {
+        covered.push_back({lo, lo + 2.0 * half});
+      } else {
+        covered.push_back({lo, kTwoPi});
+        covered.push_back({0.0, lo + 2.0 * half - kTwoPi});
+      }
+    }
+    if (all) continue;
+    std::sort(covered.begin(), covered.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+    // The gaps between the merged intervals, around the circle, are the edges on this circle.
+    gaps.clear();
+    double reach = 0.0;
+    for (const Interval& x : covered) {
+      if (x.lo > reach) gaps.push_back({reach, x.lo});
+      reach = std::max(reach, x.hi);
+    }
+    if (reach < kTwoPi) gaps.push_back({reach, kTwoPi});
+    // A gap at both ends of [0, 2π) is one edge through ψ = 0.
+    if (gaps.size() >= 2 && gaps.front().lo == 0.0 && gaps.back().hi == kTwoPi) {
+      gaps.front().lo = gaps.back().lo - kTwoPi;
+      gaps.pop_back();
+    }
+    for (const Interval& g : gaps) {
+      const double psi = 0.5 * (g.lo + g.hi);
+      const glm::dvec3 p = c + G * (h * n + sk * (std::cos(psi) * u + std::sin(psi) * v));
+      bool on = false;
+      for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1] && !on; ++a) on = distanceToArc(b.arcs[a], p) < 1e-4 * G;
+      if (!on) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms) {
   SphereBlockers b = sphereBlockers(list.params, list.convex.center, list.convex.radius, list.convex.atom, atoms);
   if (list.params.surface != SurfaceKind::Ses || atoms.empty()) return b;
@@ -92,11 +188,12 @@ SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4>
     arcs.push_back({list.tori.center[t], e1, glm::cross(list.tori.axis[t], e1), list.tori.bigRadius[t], list.tori.phiExtent[t]});
     arcAtoms.push_back({list.tori.atomI[t], list.tori.atomJ[t]});
   }
-  addSaddleArcs(b, list.convex.atom, arcs, arcAtoms);
+  addSaddleArcs(b, list.convex.center, list.convex.radius, list.convex.atom, arcs, arcAtoms);
   return b;
 }
 
-void addSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
                    std::span<const glm::uvec2> arcAtoms) {
   // Atom -> its sphere (the list has at most one per atom), then a counting sort of the arcs.
   std::unordered_map<std::uint32_t, std::uint32_t> sphereOf;
@@ -112,19 +209,21 @@ void addSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms
   b.arcs.resize(b.arcBegin.back());
   std::vector<std::uint32_t> next(b.arcBegin.begin(), b.arcBegin.end() - 1);
   for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { b.arcs[next[i]++] = arcs[t]; });
+  // The test costs a pass over the blockers per hit: keep the arcs of the spheres whose edge
+  // they leave partly open alone (those --drop-cavities cut), none when no sphere has one.
+  std::vector<SaddleArc> open;
+  std::vector<std::uint32_t> openBegin(sphereAtoms.size() + 1, 0);
+  for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) {
+    if (!edgeCovered(b, i, centers[i], radii[i] + b.grow))
+      open.insert(open.end(), b.arcs.begin() + b.arcBegin[i], b.arcs.begin() + b.arcBegin[i + 1]);
+    openBegin[i + 1] = static_cast<std::uint32_t>(open.size());
+  }
+  b.arcs = std::move(open);
+  b.arcBegin = std::move(openBegin);
+  if (b.arcs.empty()) b.arcBegin.clear();
 }
 
 namespace {
-
-// Distance from the point p to the arc a.
-double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
-  const glm::dvec3 q = p - a.center;
-  double phi = std::atan2(glm::dot(q, a.e2), glm::dot(q, a.e1));
-  if (phi < 0.0) phi += 2.0 * std::numbers::pi;
-  auto at = [&](double f) { return a.center + a.radius * (std::cos(f) * a.e1 + std::sin(f) * a.e2); };
-  if (phi <= a.extent) return glm::length(p - at(phi));
-  return std::min(glm::length(p - at(0.0)), glm::length(p - at(a.extent)));
-}
 
 // Whether the point y of the free part of grown sphere i (centre c, radius G) lies on a part
 // that a saddle arc of the list bounds (onConvexPatch).

@@ -44,7 +44,8 @@ struct SphereBlockers {
   std::vector<std::uint32_t> begin;
   std::vector<std::uint32_t> list;
   // SES with its atoms only (else empty): CSR, arcs[arcBegin[i], arcBegin[i + 1]) are the arcs
-  // of probe centres of the list's saddles (tori) of sphere i's atom, on its grown sphere.
+  // of probe centres of the list's saddles (tori) of sphere i's atom, on its grown sphere, for
+  // the spheres whose edge they leave partly open (addSaddleArcs).
   std::vector<std::uint32_t> arcBegin;
   std::vector<SaddleArc> arcs;
 };
@@ -58,10 +59,13 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
 // With `atoms`, an SES list's blockers come with its saddle arcs (addSaddleArcs).
 SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms);
 
-// Adds the saddle arcs (`arcAtoms`: the torus's two atoms) to the spheres (`sphereAtoms`) of
-// their atoms; onConvexPatch then keeps a sphere's point only on a part of the sphere that one
-// of them bounds (see there).
-void addSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+// Adds the saddle arcs (`arcAtoms`: the torus's two atoms) to the spheres (`centers`, `radii`,
+// `sphereAtoms`: those sphereBlockers was given) of their atoms; onConvexPatch then keeps a
+// sphere's point only on a part of the sphere that one of them bounds (see there). Only the
+// spheres whose free part has an edge on no arc keep theirs (the others need no test), and
+// arcBegin stays empty when no sphere has one.
+void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
                    std::span<const glm::uvec2> arcAtoms);
 
 // Whether the point x of sphere i (centre c, radius ρ) is on its convex patch: outside every

@@ -35,7 +35,7 @@ SphereClip::SphereClip(const ScenePatches& patches) {
   const auto& tori = patches.of<TorusKind>();
   std::vector<build::SaddleArc> arcs;
   for (const TorusPatch& t : tori.patches) arcs.push_back({t.center, t.e1, t.e2, t.bigRadius, t.phiExtent});
-  build::addSaddleArcs(blockers_, row.atoms, arcs, tori.atoms);
+  build::addSaddleArcs(blockers_, centers, radii, row.atoms, arcs, tori.atoms);
 }
 
 bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {

@@ -277,7 +277,19 @@ TEST(Crossings, EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes) {
   const build::Molecule& m = molecule("paper/1vis.pdb.gz");
   build::SurfaceRequest request;
   request.probeRadius = kRp;
-  const build::PatchList list = build::outerComponent(build::buildSurface(m, request));
+  const build::PatchList all = build::buildSurface(m, request);
+  const build::PatchList list = build::outerComponent(all);
+  // The saddle arcs stay with the spheres whose edge they leave open: none of the whole SES's,
+  // a few of the outer one's (those that also line a cavity).
+  std::vector<glm::dvec4> atoms;
+  for (std::size_t i = 0; i < m.size(); ++i) atoms.push_back(glm::dvec4(m.centers[i], m.radii[i]));
+  EXPECT_TRUE(build::sphereBlockers(all, atoms).arcs.empty());
+  const build::SphereBlockers outer = build::sphereBlockers(list, atoms);
+  std::size_t open = 0;
+  for (std::size_t i = 0; i + 1 < outer.arcBegin.size(); ++i) open += outer.arcBegin[i + 1] > outer.arcBegin[i];
+  std::printf("1VIS outer SES: %zu of %zu spheres keep their saddle arcs\n", open, list.convex.size());
+  EXPECT_GT(open, 0u);
+  EXPECT_LT(open, list.convex.size() / 20);
   const PatchScene scene(ScenePatches::fromPatchList(list, m.centers, m.radii));
   view::RenderOptions o;
   o.camera.width = o.camera.height = 512;
@@ -333,7 +345,8 @@ TEST(SaddleArcs, KeepOnlyThePartsOfASphereTheyBound) {
   const std::uint32_t sphereAtom = 0;
   build::SphereBlockers whole = build::sphereBlockers(params, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, atoms);
   build::SphereBlockers north = whole;
-  build::addSaddleArcs(north, {&sphereAtom, 1}, arcs, arcAtoms);
+  build::addSaddleArcs(north, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, arcs, arcAtoms);
+  EXPECT_EQ(north.arcs.size(), arcs.size());  // the southern cap's edge is on no arc: the sphere keeps them
   std::mt19937_64 rng(11);
   int free = 0, kept = 0;
   for (int i = 0; i < 4000; ++i) {
@@ -347,6 +360,11 @@ TEST(SaddleArcs, KeepOnlyThePartsOfASphereTheyBound) {
   }
   EXPECT_GT(kept, 400);
   EXPECT_GT(free - kept, 400);  // the southern cap, dropped
+  // Whole circles bound both caps: the sphere needs no test, and no sphere keeps arcs.
+  for (build::SaddleArc& a : arcs) a.extent = 2.0 * std::numbers::pi;
+  build::SphereBlockers both = whole;
+  build::addSaddleArcs(both, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, arcs, arcAtoms);
+  EXPECT_TRUE(both.arcBegin.empty());
 }
 
 TEST(LayerList, MergesHitsWithinTheDistanceAndKeepsTheNearest) {
