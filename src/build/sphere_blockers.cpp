@@ -10,6 +10,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -102,45 +104,53 @@ double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
 bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double G) {
   if (b.arcBegin[i] == b.arcBegin[i + 1]) return true;
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  // Each blocker's cap on the grown sphere: direction n, cos of its angular radius h.
+  struct Circle {
+    glm::dvec3 n;
+    double h;
+  };
+  std::vector<Circle> circles;
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 o = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(o) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    if (h <= -1.0) return true;  // a blocker hides the whole sphere: no edge (not drawn)
+    if (h < 1.0) circles.push_back({axis / D, h});
+  }
   struct Interval {
     double lo, hi;
   };
   std::vector<Interval> covered, gaps;
-  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
-    const glm::dvec4 ok = b.blockers[b.list[k]];
-    const glm::dvec3 axis = glm::dvec3(ok) - c;
-    const double D = glm::length(axis);
-    if (!(D > 0.0)) continue;
-    const glm::dvec3 n = axis / D;
-    const double h = (D * D + G * G - ok.w * ok.w) / (2.0 * D * G);
-    if (!(std::abs(h) < 1.0)) continue;
-    const double sk = std::sqrt(1.0 - h * h);
+  for (std::size_t k = 0; k < circles.size(); ++k) {
+    const glm::dvec3 n = circles[k].n;
+    const double h = circles[k].h, sk = std::sqrt(1.0 - h * h);
     const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     const glm::dvec3 v = glm::cross(n, u);
-    // The circle u(ψ) = h n + sk (cos ψ u + sin ψ v) lies in cap j where n_j·u(ψ) > h_j.
-    covered.clear();
+    // The circle u(ψ) = h n + sk (cos ψ u + sin ψ v) lies in cap j where n_j·u(ψ) > h_j, i.e.
+    // where cos(ψ − ψj) > q = (h_j − h n_j·n) / (sk |(n_j·u, n_j·v)|).
+    // First, without trigonometry: is the whole circle in one cap (most buried atoms' are)?
     bool all = false;
-    for (std::uint32_t j = b.begin[i]; j < b.begin[i + 1] && !all; ++j) {
+    for (std::size_t j = 0; j < circles.size() && !all; ++j) {
       if (j == k) continue;
-      const glm::dvec4 oj = b.blockers[b.list[j]];
-      const glm::dvec3 aj = glm::dvec3(oj) - c;
-      const double Dj = glm::length(aj);
-      if (!(Dj > 0.0)) continue;
-      const glm::dvec3 nj = aj / Dj;
-      const double hj = (Dj * Dj + G * G - oj.w * oj.w) / (2.0 * Dj * G);
-      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = std::hypot(A, B);
-      const double rest = hj - h * glm::dot(nj, n);
-      if (!(sk * M > 0.0)) {
-        all = all || rest < 0.0;
+      const glm::dvec3 nj = circles[j].n;
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v);
+      all = circles[j].h - h * glm::dot(nj, n) <= -sk * std::sqrt(A * A + B * B);
+    }
+    if (all) continue;
+    covered.clear();
+    for (std::size_t j = 0; j < circles.size() && !all; ++j) {
+      if (j == k) continue;
+      const glm::dvec3 nj = circles[j].n;
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = sk * std::sqrt(A * A + B * B);
+      const double rest = circles[j].h - h * glm::dot(nj, n);
+      if (!(rest < M)) continue;  // q >= 1: the circle misses cap j (or only touches it)
+      if (rest <= -M) {
+        all = true;  // q <= -1: the whole circle is in cap j
         continue;
       }
-      const double q = rest / (sk * M);
-      if (q >= 1.0) continue;
-      if (q <= -1.0) {
-        all = true;
-        continue;
-      }
-      const double mid = std::atan2(B, A), half = std::acos(q);
+      const double mid = std::atan2(B, A), half = std::acos(rest / M);
       double lo = mid - half;
       lo -= kTwoPi * std::floor(lo / kTwoPi);
       if (lo + 2.0 * half <= kTwoPi) {
@@ -211,11 +221,15 @@ void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::
   for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { b.arcs[next[i]++] = arcs[t]; });
   // The test costs a pass over the blockers per hit: keep the arcs of the spheres whose edge
   // they leave partly open alone (those --drop-cavities cut), none when no sphere has one.
+  // The spheres are independent (an O(n²) pass over each one's blockers): in parallel.
+  std::vector<char> covered(sphereAtoms.size());
+  tbb::parallel_for(std::size_t{0}, sphereAtoms.size(), [&](std::size_t i) {
+    covered[i] = edgeCovered(b, static_cast<std::uint32_t>(i), centers[i], radii[i] + b.grow);
+  });
   std::vector<SaddleArc> open;
   std::vector<std::uint32_t> openBegin(sphereAtoms.size() + 1, 0);
   for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) {
-    if (!edgeCovered(b, i, centers[i], radii[i] + b.grow))
-      open.insert(open.end(), b.arcs.begin() + b.arcBegin[i], b.arcs.begin() + b.arcBegin[i + 1]);
+    if (!covered[i]) open.insert(open.end(), b.arcs.begin() + b.arcBegin[i], b.arcs.begin() + b.arcBegin[i + 1]);
     openBegin[i + 1] = static_cast<std::uint32_t>(open.size());
   }
   b.arcs = std::move(open);
