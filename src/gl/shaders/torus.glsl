@@ -183,7 +183,8 @@ bool polishOnTube(vec3 o, vec3 d, float lo, float hi, inout float s) {
       if (signOf(Dnext) == signOf(Da)) a = next, Da = Dnext;
       else b = next;
     }
-    bool converged = abs(next - s) <= 1e-7 * max(1.0, abs(s));
+    // Float D is noisy at ~1e-7, so Newton's steps need not shrink below that: stop on D too.
+    bool converged = abs(next - s) <= 1e-7 * max(1.0, abs(s)) || abs(Dnext) <= 0.1 * kPolishTolerance;
     s = next;
     D = Dnext;
     slope = slopeNext;
