@@ -38,6 +38,7 @@ set(slow_tests
   "GlContext\\.OpensWithAnEmptyEnvironment"
   "GlPeelMerge\\..*"
   "GlPeelOpaque\\..*"
+  "GlPeelSes\\..*"
   "GlPrimitive\\.EyeInsideAndBesideCylinders"
   "Surfaces/GlPeel\\..*"
   "Views/GlPrimitiveViews\\..*"
@@ -99,6 +100,7 @@ set(slow_tests
   # trace_tests
   "Molecules/RenderOnSkin\\.HitsAreCertifiedAndNoRayCrossesTheBody(/.*)?"
   "Molecules/SesCrossings\\..*"
+  "Crossings\\.EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes"
   "MssPatch\\.MatchesBruteForceOracleOnRealPatches"
   "SkinCrossings\\.CountAndPlaceMatchTheSkinOracle"
   "StickPatch\\.MatchesBruteForceOracle"

@@ -2,11 +2,15 @@
 #include "build/sphere_blockers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <utility>
+
+#include <tbb/parallel_for.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -80,6 +84,197 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
   return out;
 }
 
+namespace {
+
+// Distance from the point p to the arc a.
+double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
+  const glm::dvec3 q = p - a.center;
+  double phi = std::atan2(glm::dot(q, a.e2), glm::dot(q, a.e1));
+  if (phi < 0.0) phi += 2.0 * std::numbers::pi;
+  auto at = [&](double f) { return a.center + a.radius * (std::cos(f) * a.e1 + std::sin(f) * a.e2); };
+  if (phi <= a.extent) return glm::length(p - at(phi));
+  return std::min(glm::length(p - at(0.0)), glm::length(p - at(a.extent)));
+}
+
+// Whether every edge of the free part of grown sphere i (centre c, radius G) lies on one of its
+// saddle arcs: each blocker's circle minus the other blockers' caps is a set of intervals, the
+// edges (an edge of the list is one saddle's whole arc, from one concave triangle to the next),
+// and each edge's middle point must be on an arc. A sphere whose atom has no arc counts as
+// covered (it is kept whole).
+bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double G) {
+  if (b.arcBegin[i] == b.arcBegin[i + 1]) return true;
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  // Each blocker's cap on the grown sphere: direction n, cos of its angular radius h.
+  struct Circle {
+    glm::dvec3 n;
+    double h;
+  };
+  std::vector<Circle> circles;
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 o = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(o) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    if (h <= -1.0) return true;  // a blocker hides the whole sphere: no edge (not drawn)
+    if (h < 1.0) circles.push_back({axis / D, h});
+  }
+  struct Interval {
+    double lo, hi;
+  };
+  std::vector<Interval> covered, gaps;
+  for (std::size_t k = 0; k < circles.size(); ++k) {
+    const glm::dvec3 n = circles[k].n;
+    const double h = circles[k].h, sk = std::sqrt(1.0 - h * h);
+    const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 v = glm::cross(n, u);
+    // The circle u(ψ) = h n + sk (cos ψ u + sin ψ v) lies in cap j where n_j·u(ψ) > h_j, i.e.
+    // where cos(ψ − ψj) > q = (h_j − h n_j·n) / (sk |(n_j·u, n_j·v)|).
+    // First, without trigonometry: is the whole circle in one cap (most buried atoms' are)?
+    bool all = false;
+    for (std::size_t j = 0; j < circles.size() && !all; ++j) {
+      if (j == k) continue;
+      const glm::dvec3 nj = circles[j].n;
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v);
+      all = circles[j].h - h * glm::dot(nj, n) <= -sk * std::sqrt(A * A + B * B);
+    }
+    if (all) continue;
+    covered.clear();
+    for (std::size_t j = 0; j < circles.size() && !all; ++j) {
+      if (j == k) continue;
+      const glm::dvec3 nj = circles[j].n;
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = sk * std::sqrt(A * A + B * B);
+      const double rest = circles[j].h - h * glm::dot(nj, n);
+      if (!(rest < M)) continue;  // q >= 1: the circle misses cap j (or only touches it)
+      if (rest <= -M) {
+        all = true;  // q <= -1: the whole circle is in cap j
+        continue;
+      }
+      const double mid = std::atan2(B, A), half = std::acos(rest / M);
+      double lo = mid - half;
+      lo -= kTwoPi * std::floor(lo / kTwoPi);
+      if (lo + 2.0 * half <= kTwoPi) {
+        covered.push_back({lo, lo + 2.0 * half});
+      } else {
+        covered.push_back({lo, kTwoPi});
+        covered.push_back({0.0, lo + 2.0 * half - kTwoPi});
+      }
+    }
+    if (all) continue;
+    std::sort(covered.begin(), covered.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+    // The gaps between the merged intervals, around the circle, are the edges on this circle.
+    gaps.clear();
+    double reach = 0.0;
+    for (const Interval& x : covered) {
+      if (x.lo > reach) gaps.push_back({reach, x.lo});
+      reach = std::max(reach, x.hi);
+    }
+    if (reach < kTwoPi) gaps.push_back({reach, kTwoPi});
+    // A gap at both ends of [0, 2π) is one edge through ψ = 0.
+    if (gaps.size() >= 2 && gaps.front().lo == 0.0 && gaps.back().hi == kTwoPi) {
+      gaps.front().lo = gaps.back().lo - kTwoPi;
+      gaps.pop_back();
+    }
+    for (const Interval& g : gaps) {
+      const double psi = 0.5 * (g.lo + g.hi);
+      const glm::dvec3 p = c + G * (h * n + sk * (std::cos(psi) * u + std::sin(psi) * v));
+      bool on = false;
+      for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1] && !on; ++a) on = distanceToArc(b.arcs[a], p) < 1e-4 * G;
+      if (!on) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms) {
+  SphereBlockers b = sphereBlockers(list.params, list.convex.center, list.convex.radius, list.convex.atom, atoms);
+  if (list.params.surface != SurfaceKind::Ses || atoms.empty()) return b;
+  std::vector<SaddleArc> arcs;
+  std::vector<glm::uvec2> arcAtoms;
+  for (std::size_t t = 0; t < list.tori.size(); ++t) {
+    const glm::dvec3 e1 = list.tori.e1[t];
+    arcs.push_back({list.tori.center[t], e1, glm::cross(list.tori.axis[t], e1), list.tori.bigRadius[t], list.tori.phiExtent[t]});
+    arcAtoms.push_back({list.tori.atomI[t], list.tori.atomJ[t]});
+  }
+  addSaddleArcs(b, list.convex.center, list.convex.radius, list.convex.atom, arcs, arcAtoms);
+  return b;
+}
+
+void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                   std::span<const glm::uvec2> arcAtoms) {
+  // Atom -> its sphere (the list has at most one per atom), then a counting sort of the arcs.
+  std::unordered_map<std::uint32_t, std::uint32_t> sphereOf;
+  for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) sphereOf.emplace(sphereAtoms[i], i);
+  std::vector<std::uint32_t> count(sphereAtoms.size() + 1, 0);
+  auto forEachSphere = [&](std::size_t t, auto&& f) {
+    for (const std::uint32_t atom : {arcAtoms[t].x, arcAtoms[t].y})
+      if (const auto it = sphereOf.find(atom); it != sphereOf.end()) f(it->second);
+  };
+  for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { ++count[i + 1]; });
+  b.arcBegin.assign(sphereAtoms.size() + 1, 0);
+  for (std::size_t i = 0; i < sphereAtoms.size(); ++i) b.arcBegin[i + 1] = b.arcBegin[i] + count[i + 1];
+  b.arcs.resize(b.arcBegin.back());
+  std::vector<std::uint32_t> next(b.arcBegin.begin(), b.arcBegin.end() - 1);
+  for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { b.arcs[next[i]++] = arcs[t]; });
+  // The test costs a pass over the blockers per hit: keep the arcs of the spheres whose edge
+  // they leave partly open alone (those --drop-cavities cut), none when no sphere has one.
+  // The spheres are independent (an O(n²) pass over each one's blockers): in parallel.
+  std::vector<char> covered(sphereAtoms.size());
+  tbb::parallel_for(std::size_t{0}, sphereAtoms.size(), [&](std::size_t i) {
+    covered[i] = edgeCovered(b, static_cast<std::uint32_t>(i), centers[i], radii[i] + b.grow);
+  });
+  std::vector<SaddleArc> open;
+  std::vector<std::uint32_t> openBegin(sphereAtoms.size() + 1, 0);
+  for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) {
+    if (!covered[i]) open.insert(open.end(), b.arcs.begin() + b.arcBegin[i], b.arcs.begin() + b.arcBegin[i + 1]);
+    openBegin[i + 1] = static_cast<std::uint32_t>(open.size());
+  }
+  b.arcs = std::move(open);
+  b.arcBegin = std::move(openBegin);
+  if (b.arcs.empty()) b.arcBegin.clear();
+}
+
+namespace {
+
+// Whether the point y of the free part of grown sphere i (centre c, radius G) lies on a part
+// that a saddle arc of the list bounds (onConvexPatch).
+bool onKeptPart(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double G, const glm::dvec3& y) {
+  if (b.arcBegin.empty() || b.arcBegin[i] == b.arcBegin[i + 1]) return true;
+  // The nearest blocker circle, by the angle between y's polar angle about the blocker's
+  // direction and the circle's.
+  const glm::dvec3 u = (y - c) / G;
+  double best = std::numeric_limits<double>::infinity();
+  glm::dvec3 edge(0.0);
+  for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
+    const glm::dvec4 o = b.blockers[b.list[k]];
+    const glm::dvec3 axis = glm::dvec3(o) - c;
+    const double D = glm::length(axis);
+    if (!(D > 0.0)) continue;
+    const glm::dvec3 n = axis / D;
+    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    if (!(std::abs(h) < 1.0)) continue;
+    const double cosAlpha = glm::clamp(glm::dot(n, u), -1.0, 1.0);
+    const double gap = std::abs(std::acos(cosAlpha) - std::acos(h));
+    if (!(gap < best)) continue;
+    const glm::dvec3 side = u - cosAlpha * n;
+    const double s = glm::length(side);
+    if (!(s > 1e-12)) return true;  // y on a blocker's axis: every point of its circle is as near
+    best = gap;
+    edge = c + G * (h * n + std::sqrt(1.0 - h * h) * (side / s));
+  }
+  if (!std::isfinite(best)) return true;
+  // The list's arcs pass through its edge points to rounding; 1e-4 G also covers atoms merged
+  // within 1e-5 Å (atom_culling.hpp), whose circles and arcs are that far apart.
+  for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1]; ++a)
+    if (distanceToArc(b.arcs[a], edge) < 1e-4 * G) return true;
+  return false;
+}
+
+}  // namespace
+
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
                    double tolerance) {
   if (!(rho > 0.0)) return true;
@@ -88,7 +283,7 @@ bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c
     const glm::dvec4 o = b.blockers[b.list[k]];
     if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
   }
-  return true;
+  return onKeptPart(b, i, c, rho + b.grow, y);
 }
 
 double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho,

@@ -6,12 +6,21 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "build/patch_list.hpp"
 
 namespace surftrace::build {
+
+// A torus's arc of probe centres, c + R (cos φ e1 + sin φ e2) for φ in [0, extent]: where the
+// grown spheres of its two atoms meet, the edge of both atoms' convex patches (on the grown
+// spheres).
+struct SaddleArc {
+  glm::dvec3 center, e1, e2;
+  double radius = 0.0, extent = 0.0;
+};
 
 // The whole spheres of a patch list draw their hidden part too: fine for the nearest hit, but a
 // transparent surface would show it. A hit x on sphere i (centre c, radius ρ) is on its convex
@@ -24,7 +33,9 @@ namespace surftrace::build {
 // alone) the spheres themselves stand in: complete for vdW and SAS, but the SES list has spheres
 // of exposed atoms only, so a part of a sphere that only buried atoms hide then shows. With
 // --drop-cavities the builder keeps a sphere that lines both the outer surface and a cavity
-// whole, so its cavity side shows through while the cavity's tori and concave triangles are gone.
+// whole; its cavity side, whose tori and concave triangles are gone, would be a piece of surface
+// with an open edge, which a ray crosses once (an odd number of crossings): the saddle arcs
+// below tell the parts of a sphere that the list keeps from those it dropped.
 struct SphereBlockers {
   double grow = 0.0;                     // g
   std::vector<glm::dvec4> blockers;      // centre, grown radius r_k + h
@@ -32,6 +43,11 @@ struct SphereBlockers {
   // minus grown radius) first, ties by index.
   std::vector<std::uint32_t> begin;
   std::vector<std::uint32_t> list;
+  // SES with its atoms only (else empty): CSR, arcs[arcBegin[i], arcBegin[i + 1]) are the arcs
+  // of probe centres of the list's saddles (tori) of sphere i's atom, on its grown sphere, for
+  // the spheres whose edge they leave partly open (addSaddleArcs).
+  std::vector<std::uint32_t> arcBegin;
+  std::vector<SaddleArc> arcs;
 };
 
 // The blockers of each sphere (`centers`, `radii`, `sphereAtoms`: the list's convex spheres)
@@ -40,13 +56,25 @@ struct SphereBlockers {
 SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::dvec3> centers,
                               std::span<const double> radii, std::span<const std::uint32_t> sphereAtoms,
                               std::span<const glm::dvec4> atoms);
-inline SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms) {
-  return sphereBlockers(list.params, list.convex.center, list.convex.radius, list.convex.atom, atoms);
-}
+// With `atoms`, an SES list's blockers come with its saddle arcs (addSaddleArcs).
+SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4> atoms);
+
+// Adds the saddle arcs (`arcAtoms`: the torus's two atoms) to the spheres (`centers`, `radii`,
+// `sphereAtoms`: those sphereBlockers was given) of their atoms; onConvexPatch then keeps a
+// sphere's point only on a part of the sphere that one of them bounds (see there). Only the
+// spheres whose free part has an edge on no arc keep theirs (the others need no test), and
+// arcBegin stays empty when no sphere has one.
+void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                   std::span<const glm::uvec2> arcAtoms);
 
 // Whether the point x of sphere i (centre c, radius ρ) is on its convex patch: outside every
 // grown blocker of i, points within a relative `tolerance` of a blocker's sphere counting as
-// outside it.
+// outside it. With saddle arcs, also on a part of the free sphere (the grown sphere minus the
+// blockers) that the list keeps: the nearest point of the part's edge to y is the nearest point
+// of any blocker's circle (a nearer edge point would be a nearer circle point), and that edge is
+// in the list iff a saddle arc of the sphere's atom passes there. A sphere whose atom has no
+// saddle arc is kept whole.
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
                    double tolerance);
 

@@ -383,10 +383,20 @@ struct GlRenderer::Impl {
     std::vector<glm::vec4> blockers;
     blockers.reserve(b.blockers.size());
     for (const glm::dvec4& o : b.blockers) blockers.push_back(vec4Of(glm::dvec3(o) - origin, o.w));
-    const std::uint32_t offset = static_cast<std::uint32_t>(b.begin.size());
+    // The saddle arcs (three vec4 each: centre and radius, e1 and extent, e2) after the
+    // blockers; their CSR, as indices into the blockers' array, after the blockers' CSR.
+    const std::uint32_t arcBase = static_cast<std::uint32_t>(blockers.size());
+    for (const build::SaddleArc& a : b.arcs) {
+      blockers.push_back(vec4Of(a.center - origin, a.radius));
+      blockers.push_back(vec4Of(a.e1, a.extent));
+      blockers.push_back(vec4Of(a.e2, 0.0));
+    }
+    const std::uint32_t offset = static_cast<std::uint32_t>(2 * b.begin.size());
     std::vector<std::uint32_t> list;
-    list.reserve(b.begin.size() + b.list.size());
+    list.reserve(2 * b.begin.size() + b.list.size());
     for (std::uint32_t i : b.begin) list.push_back(offset + i);
+    for (std::size_t i = 0; i < b.begin.size(); ++i)
+      list.push_back(arcBase + 3 * (b.arcBegin.empty() ? 0u : b.arcBegin[i]));
     list.insert(list.end(), b.list.begin(), b.list.end());
     bufferData(blockerBuffer, blockers);
     bufferData(blockerListBuffer, list);

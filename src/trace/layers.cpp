@@ -30,6 +30,12 @@ SphereClip::SphereClip(const ScenePatches& patches) {
     radii.push_back(s.radius);
   }
   blockers_ = build::sphereBlockers(patches.params, centers, radii, row.atoms, patches.atoms);
+  // The saddles bound the kept parts of each sphere (--drop-cavities drops some: sphere_blockers.hpp).
+  if (patches.params.surface != build::SurfaceKind::Ses || patches.atoms.empty()) return;
+  const auto& tori = patches.of<TorusKind>();
+  std::vector<build::SaddleArc> arcs;
+  for (const TorusPatch& t : tori.patches) arcs.push_back({t.center, t.e1, t.e2, t.bigRadius, t.phiExtent});
+  build::addSaddleArcs(blockers_, centers, radii, row.atoms, arcs, tori.atoms);
 }
 
 bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {

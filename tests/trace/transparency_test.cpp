@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
@@ -18,6 +19,9 @@
 #include "build/io/molecule.hpp"
 #include "build/mss/mss_builder.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "build/sphere_blockers.hpp"
+#include "build/surface.hpp"
+#include "build/surface_components.hpp"
 #include "oracles/ray_march.hpp"
 #include "oracles/ses_oracle.hpp"
 #include "oracles/skin_certificate.hpp"
@@ -262,6 +266,105 @@ TEST(Crossings, MatchAPlainLoopOverThePatches) {
       }
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------
+// A closed surface: every ray that enters it leaves it, so each pixel crosses it an even
+// number of times. With --drop-cavities the outer surface alone is drawn (1VIS, 512², the
+// render command's front view): 62 pixels once crossed it an odd number of times.
+
+TEST(Crossings, EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes) {
+  const build::Molecule& m = molecule("paper/1vis.pdb.gz");
+  build::SurfaceRequest request;
+  request.probeRadius = kRp;
+  const build::PatchList all = build::buildSurface(m, request);
+  const build::PatchList list = build::outerComponent(all);
+  // The saddle arcs stay with the spheres whose edge they leave open: none of the whole SES's,
+  // a few of the outer one's (those that also line a cavity).
+  std::vector<glm::dvec4> atoms;
+  for (std::size_t i = 0; i < m.size(); ++i) atoms.push_back(glm::dvec4(m.centers[i], m.radii[i]));
+  EXPECT_TRUE(build::sphereBlockers(all, atoms).arcs.empty());
+  const build::SphereBlockers outer = build::sphereBlockers(list, atoms);
+  std::size_t open = 0;
+  for (std::size_t i = 0; i + 1 < outer.arcBegin.size(); ++i) open += outer.arcBegin[i + 1] > outer.arcBegin[i];
+  std::printf("1VIS outer SES: %zu of %zu spheres keep their saddle arcs\n", open, list.convex.size());
+  EXPECT_GT(open, 0u);
+  EXPECT_LT(open, list.convex.size() / 20);
+  const PatchScene scene(ScenePatches::fromPatchList(list, m.centers, m.radii));
+  view::RenderOptions o;
+  o.camera.width = o.camera.height = 512;
+  o.camera = view::frameSpheres(o.camera, m.centers, request.reach(m.radii), view::namedViewDirection("front"));
+  o.opacity = 0.4;
+  o.maxLayers = kMaxLayers;  // every crossing: none dropped
+  const view::FrameBuffers fb = render(scene, o, {});
+  const view::Camera::Frame frame = o.camera.frame();
+  std::size_t odd = 0, covered = 0, most = 0;
+  for (int y = 0; y < o.camera.height; ++y)
+    for (int x = 0; x < o.camera.width; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * o.camera.width + x;
+      covered += fb.layers[p] > 0;
+      most = std::max<std::size_t>(most, fb.layers[p]);
+      if (fb.layers[p] % 2 == 0) continue;
+      if (++odd > 12) continue;
+      std::ostringstream listed;
+      listed.precision(12);
+      for (const SceneHit& h : scene.intersectLayers1(frame.ray(x + 0.5, y + 0.5), kMaxLayers))
+        listed << " " << h.hit.t << " (kind " << static_cast<int>(h.kind) << " patch " << h.patch << ", n.d "
+               << glm::dot(h.hit.normal, glm::normalize(frame.ray(x + 0.5, y + 0.5).dir)) << ")";
+      ADD_FAILURE() << "pixel " << x << "," << y << ": " << fb.layers[p] << " crossings:" << listed.str();
+    }
+  std::printf("1VIS outer SES at 512²: %zu covered pixels, up to %zu crossings, %zu odd\n", covered, most, odd);
+  EXPECT_EQ(odd, 0u);
+  EXPECT_GT(covered, 50000u);
+  EXPECT_GE(most, 10u);
+}
+
+// A sphere whose free part is two polar caps (a ring of 12 balls covers its equator) and saddle
+// arcs that bound the northern one alone (the northern half of each ball's circle): a point is
+// on the patch iff it lies outside every ball (brute force) and north of the equator. Without
+// arcs, both caps are.
+TEST(SaddleArcs, KeepOnlyThePartsOfASphereTheyBound) {
+  constexpr int kRing = 12;
+  const double D = 1.2, alpha = std::numbers::pi / 6.0;  // each ball's cap: 30° about its direction
+  const double h = std::cos(alpha), w = std::sqrt(D * D + 1.0 - 2.0 * D * h);
+  std::vector<glm::dvec4> atoms{{0.0, 0.0, 0.0, 1.0}};
+  std::vector<build::SaddleArc> arcs;
+  std::vector<glm::uvec2> arcAtoms;
+  for (int k = 0; k < kRing; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kRing;
+    const glm::dvec3 n(std::cos(a), std::sin(a), 0.0), e2 = glm::cross(n, glm::dvec3(0, 0, 1));
+    atoms.push_back(glm::dvec4(D * n, w));
+    // φ from the equator (−e2) over the north pole (z) to the equator again.
+    arcs.push_back({h * n, -e2, glm::dvec3(0, 0, 1), std::sin(alpha), std::numbers::pi});
+    arcAtoms.push_back({0u, static_cast<std::uint32_t>(k + 1)});
+  }
+  build::SurfaceParams params;
+  params.surface = build::SurfaceKind::Vdw;
+  const glm::dvec3 center(0.0);
+  const double radius = 1.0;
+  const std::uint32_t sphereAtom = 0;
+  build::SphereBlockers whole = build::sphereBlockers(params, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, atoms);
+  build::SphereBlockers north = whole;
+  build::addSaddleArcs(north, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, arcs, arcAtoms);
+  EXPECT_EQ(north.arcs.size(), arcs.size());  // the southern cap's edge is on no arc: the sphere keeps them
+  std::mt19937_64 rng(11);
+  int free = 0, kept = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const glm::dvec3 x = randomUnit(rng);
+    bool outside = true;
+    for (std::size_t k = 1; k < atoms.size(); ++k) outside = outside && glm::length(x - glm::dvec3(atoms[k])) > atoms[k].w;
+    free += outside;
+    kept += outside && x.z > 0.0;
+    EXPECT_EQ(build::onConvexPatch(whole, 0, center, radius, x, 0.0), outside) << "point " << i;
+    EXPECT_EQ(build::onConvexPatch(north, 0, center, radius, x, 0.0), outside && x.z > 0.0) << "point " << i;
+  }
+  EXPECT_GT(kept, 400);
+  EXPECT_GT(free - kept, 400);  // the southern cap, dropped
+  // Whole circles bound both caps: the sphere needs no test, and no sphere keeps arcs.
+  for (build::SaddleArc& a : arcs) a.extent = 2.0 * std::numbers::pi;
+  build::SphereBlockers both = whole;
+  build::addSaddleArcs(both, {&center, 1}, {&radius, 1}, {&sphereAtom, 1}, arcs, arcAtoms);
+  EXPECT_TRUE(both.arcBegin.empty());
 }
 
 TEST(LayerList, MergesHitsWithinTheDistanceAndKeepsTheNearest) {

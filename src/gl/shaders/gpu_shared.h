@@ -20,8 +20,9 @@ const int kClipPlaneUnit = 0;         // samplerBuffer clipPlanes (RGBA32F: n, w
 const int kPeelBinding = 1;           // uniform block Peel (std140)
 const int kPreviousLayerUnit = 1;     // sampler2D previousLayer (R: t of layer k − 1, +inf where none)
 const int kOpaqueDepthUnit = 2;       // sampler2D opaqueDepth (R: t of the opaque geometry, +inf where none)
-const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius
-const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), then the lists
+const int kBlockerBinding = 4;        // vec4 blockers[]: centre (origin-shifted), grown radius; then the saddle arcs, 3 each
+const int kBlockerListBinding = 5;    // uint blockerList[]: CSR begin[n + 1] (offsets into this array), the arcs' CSR
+                                      // arcBegin[n + 1] (indices into blockers[]), then the lists
 const int kSkinAtomBinding = 6;       // the skin's atoms: uvec4 (count, grid cells along x, y, z), vec4 (grid corner, cell
                                       // edge), vec4 (largest radius, unused), then vec4 balls[] (centre, r²)
 const int kSkinGridBinding = 7;       // uint skinGridCells[]: CSR cellStart[cells + 1], then the atoms of each cell

@@ -26,6 +26,50 @@ layout(std430, binding = kBlockerListBinding) readonly buffer BlockerList { uint
 // is the same crossing within the merge distance (float rounding of y is ~1e-6 of the
 // coordinates, far below it).
 const float kBlockerTolerance = 1e-4;
+
+// Distance from p to the saddle arc at blockers[a]: c + R (cos φ e1 + sin φ e2), φ in [0, Δφ].
+float distanceToArc(uint a, vec3 p) {
+  vec4 cR = blockers[a], e1 = blockers[a + 1u], e2 = blockers[a + 2u];
+  vec3 q = p - cR.xyz;
+  float phi = atan(dot(q, e2.xyz), dot(q, e1.xyz));
+  if (phi < 0.0) phi += kTwoPi;
+  if (phi <= e1.w) return length(q - cR.w * (cos(phi) * e1.xyz + sin(phi) * e2.xyz));
+  return min(length(q - cR.w * e1.xyz), length(q - cR.w * (cos(e1.w) * e1.xyz + sin(e1.w) * e2.xyz)));
+}
+
+// build::onConvexPatch's saddle-arc test (sphere_blockers.cpp, onKeptPart): the nearest point
+// of the blockers' circles to y (on grown sphere i, centre c, radius G) lies on a saddle arc
+// of the list, else y is on a part of the sphere the list dropped (--drop-cavities).
+bool onKeptPart(uint i, vec3 c, float G, vec3 y) {
+  uint m = blockerList[0] / 2u;  // n + 1
+  uint arcLo = blockerList[m + i], arcHi = blockerList[m + i + 1u];
+  if (arcLo == arcHi) return true;
+  vec3 u = (y - c) / G;
+  float best = 1e30;
+  vec3 edge = vec3(0.0);
+  for (uint k = blockerList[i]; k < blockerList[i + 1u]; ++k) {
+    vec4 o = blockers[blockerList[k]];
+    vec3 axis = o.xyz - c;
+    float D = length(axis);
+    if (!(D > 0.0)) continue;
+    vec3 n = axis / D;
+    float h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    if (!(abs(h) < 1.0)) continue;
+    float cosAlpha = clamp(dot(n, u), -1.0, 1.0);
+    float gap = abs(acos(cosAlpha) - acos(h));
+    if (!(gap < best)) continue;
+    vec3 side = u - cosAlpha * n;
+    float sl = length(side);
+    if (!(sl > 1e-6)) return true;  // y on a blocker's axis: every point of its circle is as near
+    best = gap;
+    edge = c + G * (h * n + sqrt(1.0 - h * h) * (side / sl));
+  }
+  if (best == 1e30) return true;
+  for (uint a = arcLo; a < arcHi; a += 3u)
+    if (distanceToArc(a, edge) < 1e-4 * G) return true;
+  return false;
+}
+
 bool onConvexPatch(uint i, vec4 s, vec3 x) {
   float grow = peel.merge.z;
   vec3 y = s.xyz + ((s.w + grow) / s.w) * (x - s.xyz);
@@ -33,7 +77,7 @@ bool onConvexPatch(uint i, vec4 s, vec3 x) {
     vec4 o = blockers[blockerList[k]];
     if (length(y - o.xyz) < o.w * (1.0 - kBlockerTolerance)) return false;
   }
-  return true;
+  return onKeptPart(i, s.xyz, s.w + grow, y);
 }
 
 void main() {

@@ -54,8 +54,9 @@ void main() {
 
 #ifdef SURFTRACE_FRAGMENT_STAGE
 const int kRootIterations = 40;   // bracketed Newton: bisection alone needs 24 in float
-const int kPolishSteps = 2;       // Newton steps on the own tube after the quartic
-const float kPolishRadius = 1e-3; // their trust region (normalised units)
+const int kPolishSteps = 12;      // Newton–bisection steps on the own tube after the quartic
+const float kPolishRadius = 0.05; // their reach from the quartic's root (normalised units)
+const float kPolishTolerance = 2e-6; // |D| at a root of the tube (normalised; float D: ~1e-7)
 const float kSpherePad = 1e-5;    // widening of the patch's bounding sphere (float rounding)
 
 float S, invS, Rn, rn;  // the torus in units of S = R + rp (ORACLES B.1)
@@ -145,25 +146,51 @@ bool insidePatch(vec3 x, float rho, GpuTorus T) {
   return true;
 }
 
-// Newton on the signed tube distance D = |x − P| − rn, Lipschitz 1 with slope n·d, so it is
-// as well conditioned as the geometry allows (the quartic's slope also carries F2).
-float polishOnTube(vec3 o, vec3 d, float s, float lo, float hi) {
-  for (int k = 0; k < kPolishSteps; ++k) {
-    vec3 x = o + s * d;
-    float rho = length(x.xy);
-    if (!(rho > 0.0)) break;
-    vec3 g = vec3((rho - Rn) / rho * x.xy, x.z);
-    float len = length(g);
-    float D = len - rn, slope = dot(g, d) / len;
-    if (D == 0.0 || !(abs(slope) > 0.0)) break;
-    float next = s - D / slope;
-    if (!(next >= lo && next <= hi && abs(next - s) <= kPolishRadius)) break;
-    vec3 y = o + next * d;
-    float rhoY = length(y.xy);
-    if (!(abs(length(vec2(rhoY - Rn, y.z)) - rn) < abs(D))) break;
+// The signed tube distance D = |x − P| − rn at s and its slope n·d: Lipschitz 1, so it is as
+// well conditioned as the geometry allows (the quartic's slope also carries F2).
+float tubeDistance(vec3 o, vec3 d, float s, out float slope) {
+  vec3 x = o + s * d;
+  float rho = length(x.xy);
+  vec3 g = vec3(rho > 0.0 ? (rho - Rn) / rho * x.xy : vec2(-Rn, 0.0), x.z);
+  float len = length(g);
+  slope = len > 0.0 ? dot(g, d) / len : 0.0;
+  return len - rn;
+}
+
+// The root of D near the quartic's root s. The float quartic's coefficients carry errors of
+// ~1e-7, and where its roots cluster (a ray nearly tangent to the tube, or passing near two of
+// its sheets) its root can lie 0.003–0.03 (0.01–0.1 Å) off the tube: a layer there is one
+// that Embree does not have, and the next pass, whose isolation starts beyond it, finds the
+// same crossing again. Newton on D, safeguarded by bisection once a step has crossed the root
+// (STYLE §3.4), within kPolishRadius of the quartic's root. False when D does not vanish
+// there (to kPolishTolerance): the float quartic's root is none of the tube's (a near-double
+// root that rounding made real).
+bool polishOnTube(vec3 o, vec3 d, float lo, float hi, inout float s) {
+  float slope, D = tubeDistance(o, d, s, slope);
+  float s0 = s, a = s, b = s, Da = D;
+  bool bracketed = false;
+  for (int k = 0; k < kPolishSteps && D != 0.0; ++k) {
+    float next = abs(slope) > 0.0 ? s - D / slope : s;
+    if (bracketed && !(next > min(a, b) && next < max(a, b))) next = 0.5 * (a + b);
+    if (!bracketed && !(next >= lo && next <= hi && abs(next - s0) <= kPolishRadius)) break;
+    float slopeNext, Dnext = tubeDistance(o, d, next, slopeNext);
+    if (!bracketed && signOf(Dnext) != signOf(D)) {
+      bracketed = true;
+      a = s;
+      Da = D;
+      b = next;
+    } else if (bracketed) {
+      if (signOf(Dnext) == signOf(Da)) a = next, Da = Dnext;
+      else b = next;
+    }
+    // Float D is noisy at ~1e-7, so Newton's steps need not shrink below that: stop on D too.
+    bool converged = abs(next - s) <= 1e-7 * max(1.0, abs(s)) || abs(Dnext) <= 0.1 * kPolishTolerance;
     s = next;
+    D = Dnext;
+    slope = slopeNext;
+    if (converged) break;
   }
-  return s;
+  return abs(D) <= kPolishTolerance;
 }
 
 // Peeling passes `after`, the s beyond which a root is the next layer (sAfter <= lo outside
@@ -187,7 +214,7 @@ bool castQuartic(vec3 o, vec3 d, GpuTorus T, float lo, float hi, bool peeling, f
     float zr = (x.z - rn) * (x.z + rn);
     float f1 = (rho - Rn) * (rho - Rn) + zr, f2 = (rho + Rn) * (rho + Rn) + zr;
     if (abs(f1) > abs(f2)) continue;
-    s = polishOnTube(o, d, s, lo, hi);
+    if (!polishOnTube(o, d, lo, hi, s)) continue;
     if (peeling && !(s > after)) continue;
     x = o + s * d;
     if (insidePatch(x, length(x.xy), T)) {
