@@ -716,7 +716,8 @@ void addTrajectoryCommand(CLI::App& app, const std::string& commandLine) {
   addSurfaceOptions(*cmd, o->surface);
   cmd->add_option("-o,--output", o->output,
                   "PNG file name pattern with one integer conversion for the frame number, e.g. frames/%05d.png "
-                  "(folders are made as needed)");
+                  "(folders are made as needed); each PNG holds the sRGB encoding of the linear colour the --exr "
+                  "frames hold");
   cmd->add_option("--exr", o->exr, "EXR pattern (colour, depth, normal, ids, flags per frame), e.g. frames/%05d.exr");
   cmd->add_option("--frames", o->frames,
                   "Frames a:b:step: a, a+step, ... below b, numbered from 0 (default: all); a single number is one "

@@ -98,8 +98,8 @@ class GlRenderer {
   void upload(const build::PatchList& patches, const glm::dvec3& origin, const build::SphereBlockers* blockers = nullptr,
               const build::BallStickModel* model = nullptr);
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
-  // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion
-  // are rejected with std::invalid_argument (the Embree path renders those). With
+  // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion (and
+  // the soft and full lighting presets, which need them) are rejected with std::invalid_argument (the Embree path renders those). With
   // options.opacity < 1 it peels up to options.maxLayers layers, the transparency of
   // trace::render, over `opaque` when given (peel()).
   void draw(const view::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {},

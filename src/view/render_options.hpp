@@ -15,7 +15,7 @@
 namespace surftrace::view {
 
 // The Embree path renders everything; the GL path renders the centre sample only and rejects
-// samplesPerPixel > 1, shadows and ambient occlusion.
+// samplesPerPixel > 1, shadows and ambient occlusion (so also the soft and full lighting presets).
 struct RenderOptions {
   Camera camera;
   ColorMode color = ColorMode::Patch;
