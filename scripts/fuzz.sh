@@ -16,7 +16,12 @@ if ! command -v clang++ >/dev/null 2>&1; then
   exit 0
 fi
 CC=clang CXX=clang++ cmake -S tests/fuzz -B build/fuzz -G Ninja >/dev/null
-cmake --build build/fuzz -j "${FUZZ_JOBS:-$(nproc)}" >/dev/null
+if ! cmake --build build/fuzz -j "${FUZZ_JOBS:-$(nproc)}" >build/fuzz/build.log 2>&1; then
+  grep -E "error|undefined reference" build/fuzz/build.log | head -20 >&2
+  echo "fuzz: the fuzzers did not build (whole log: build/fuzz/build.log). tests/fuzz/CMakeLists.txt" \
+    "lists the sources the readers need by hand: add any new one they call." >&2
+  exit 1
+fi
 
 # Seeds: the files of tests/data (and tests/fuzz/seeds) in each format, up to 64 KiB each,
 # gzipped ones included (the readers gunzip by content).
