@@ -251,16 +251,20 @@ TEST(GlBallAndStick, ModelUnderTheOpaqueSesMeetsTheGlVsEmbreePreset) {
 // occlusion rays are refused with a message that names the Embree engine.
 TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
   const GlContext context;
-  for (const View& v : kViews) {
-    const Scene s = loadScene(v.file);
-    view::RenderOptions o = viewOptions(s, v);
-    o.lighting = view::lightingFor(view::LightingPreset::Simple);
+  // GL's frame against Embree's exact one (with its masks) under the same options.
+  const auto glAgainstEmbree = [&](const Scene& s, const view::RenderOptions& o) {
     const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
     view::RenderOptions exact = o;
     exact.referenceMasks = true;
     const view::FrameBuffers ref = trace::render(scene, exact, {});
     const view::FrameBuffers f = renderGl(context, s.patches, o, {}, GlOptions{});
-    const view::FrameComparison a = view::compareFrames(f, ref, &o.camera);
+    return view::compareFrames(f, ref, &o.camera);
+  };
+  for (const View& v : kViews) {
+    const Scene s = loadScene(v.file);
+    view::RenderOptions o = viewOptions(s, v);
+    o.lighting = view::lightingFor(view::LightingPreset::Simple);
+    const view::FrameComparison a = glAgainstEmbree(s, o);
     std::printf("%s, lighting simple: %s\n", v.name, a.summary().c_str());
     EXPECT_GT(a.colorSamples, a.pixels / 10);
     const std::vector<std::string> bad = view::CompareThresholds::preset("gl-vs-embree").violations(a);
@@ -272,12 +276,7 @@ TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
     view::RenderOptions o = viewOptions(s, kViews[0]);
     o.lighting = view::lightingFor(view::LightingPreset::Simple);
     o.opacity = 0.5;
-    const trace::PatchScene scene(trace::ScenePatches::fromPatchList(s.patches));
-    view::RenderOptions exact = o;
-    exact.referenceMasks = true;
-    const view::FrameBuffers ref = trace::render(scene, exact, {});
-    const view::FrameBuffers f = renderGl(context, s.patches, o, {}, GlOptions{});
-    const view::FrameComparison a = view::compareFrames(f, ref, &o.camera);
+    const view::FrameComparison a = glAgainstEmbree(s, o);
     std::printf("%s, lighting simple, opacity 0.5: %s\n", kViews[0].name, a.summary().c_str());
     const std::vector<std::string> bad = view::CompareThresholds::preset("transparency").violations(a);
     EXPECT_TRUE(bad.empty()) << a.summary();

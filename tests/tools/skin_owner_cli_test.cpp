@@ -118,18 +118,16 @@ void renderSkin(const std::string& engine, const fs::path& exr) {
   ASSERT_EQ(r.status, 0) << r.output;
 }
 
-// Embree: atom.id is the brute-force owner on every hit pixel but near ties. The tie margin,
-// 1e-3 Å², covers the hit point rebuilt from the float depth.t (~1e-5 Å at 40 Å, moving π by
-// ~1e-4 Å²). With the simplex's lowest atom 9080 of the 15746 pixels were wrong (5539 in
-// colour), with the least π over the simplex's atoms alone 2354.
-TEST(SkinOwnerCli, EmbreeNamesAndColoursTheOwningAtom) {
-  const fs::path dir = ::surftrace::test::freshTempDir("skin_owner_embree");
+// Renders with `engine` and requires atom.id and the colour of every hit pixel to be the
+// brute-force owner's, but for ties within `tieMargin` Å² (what each engine's hit point allows).
+void expectOwnersNamedAndColoured(const std::string& engine, double tieMargin) {
+  const fs::path dir = ::surftrace::test::freshTempDir("skin_owner_" + engine);
   const fs::path exr = dir / "skin.exr";
-  renderSkin("embree", exr);
+  renderSkin(engine, exr);
   const build::Molecule m = build::readMolecule(kCrambin);
-  const Checked c = checkOwners(exr, m, 1e-3);
-  std::printf("embree: %zu hit pixels, %zu ties left out, %zu clipped colours, %zu wrong atoms, %zu wrong colours\n",
-              c.hits, c.ties, c.clipped, c.wrongAtom, c.wrongColor);
+  const Checked c = checkOwners(exr, m, tieMargin);
+  std::printf("%s: %zu hit pixels, %zu ties left out, %zu clipped colours, %zu wrong atoms, %zu wrong colours\n",
+              engine.c_str(), c.hits, c.ties, c.clipped, c.wrongAtom, c.wrongColor);
   EXPECT_GT(c.hits, 200u * 200u / 4);
   EXPECT_LT(c.ties, c.hits / 100);
   EXPECT_LT(c.clipped, c.hits / 10);  // 3.5 % (highlights on the nitrogens and oxygens)
@@ -137,24 +135,17 @@ TEST(SkinOwnerCli, EmbreeNamesAndColoursTheOwningAtom) {
   EXPECT_EQ(c.wrongColor, 0u) << c.first;
 }
 
+// Embree: atom.id is the brute-force owner on every hit pixel but near ties. The tie margin,
+// 1e-3 Å², covers the hit point rebuilt from the float depth.t (~1e-5 Å at 40 Å, moving π by
+// ~1e-4 Å²). With the simplex's lowest atom 9080 of the 15746 pixels were wrong (5539 in
+// colour), with the least π over the simplex's atoms alone 2354.
+TEST(SkinOwnerCli, EmbreeNamesAndColoursTheOwningAtom) { expectOwnersNamedAndColoured("embree", 1e-3); }
+
 // GL: the same from its float32 hit, with its float atoms (gl/shaders/skin.glsl). The tie
 // margin is 1e-2 Å²: the float hit lies up to ~1e-3 Å off the exact one (ORACLES D.4's floor),
 // moving π by 2|x − c|·δ ≈ 1e-2 Å² at |x − c| ~ 4 Å, and float π rounds by ~1e-4 Å². These
 // pixels, on the boundary between two atoms, are where GL and Embree may name different atoms.
-TEST(SkinOwnerCli, GlNamesAndColoursTheOwningAtom) {
-  const fs::path dir = ::surftrace::test::freshTempDir("skin_owner_gl");
-  const fs::path exr = dir / "skin.exr";
-  renderSkin("gl", exr);
-  const build::Molecule m = build::readMolecule(kCrambin);
-  const Checked c = checkOwners(exr, m, 1e-2);
-  std::printf("gl: %zu hit pixels, %zu ties left out, %zu clipped colours, %zu wrong atoms, %zu wrong colours\n",
-              c.hits, c.ties, c.clipped, c.wrongAtom, c.wrongColor);
-  EXPECT_GT(c.hits, 200u * 200u / 4);
-  EXPECT_LT(c.ties, c.hits / 100);
-  EXPECT_LT(c.clipped, c.hits / 10);  // 3.5 % (highlights on the nitrogens and oxygens)
-  EXPECT_EQ(c.wrongAtom, 0u) << c.first;
-  EXPECT_EQ(c.wrongColor, 0u) << c.first;
-}
+TEST(SkinOwnerCli, GlNamesAndColoursTheOwningAtom) { expectOwnersNamedAndColoured("gl", 1e-2); }
 
 }  // namespace
 }  // namespace surftrace::tools::test

@@ -48,6 +48,18 @@ FrameBuffers ballsFrame(int w, int h, const std::vector<Ball>& balls) {
   return f;
 }
 
+// A plane facing the eye at view depth z covering the whole image (colour that of ballsFrame's
+// misses).
+FrameBuffers flatFrame(int w, int h, float z) {
+  FrameBuffers f = ballsFrame(w, h, {});
+  for (std::size_t p = 0; p < f.pixels(); ++p) {
+    f.kind[p] = 1;
+    f.viewZ[p] = f.depth[p] = z;
+    f.normal[3 * p + 2] = -1.0f;
+  }
+  return f;
+}
+
 // Two overlapping spheres: an outline against the background and a depth jump between them.
 FrameBuffers twoBalls() { return ballsFrame(64, 48, {{24, 24, 100, 14}, {40, 22, 80, 11}}); }
 
@@ -339,12 +351,7 @@ TEST(ImageEffects, CreasesAreWhereNormalsTurnOnOneSurface) {
 // minimum length), and a stretch of the long crease that turns by less than the angle but more
 // than the weak one (hysteresis) still joins its ends.
 TEST(ImageEffects, CreasesKeepLongPiecesAndDropSpecks) {
-  FrameBuffers f = ballsFrame(64, 32, {});
-  for (std::size_t p = 0; p < f.pixels(); ++p) {
-    f.kind[p] = 1;
-    f.viewZ[p] = f.depth[p] = 50.0f;
-    f.normal[3 * p + 2] = -1.0f;
-  }
+  FrameBuffers f = flatFrame(64, 32, 50.0f);
   auto tilt = [&](int x, int y, double degrees) {
     const std::size_t p = at(f, x, y);
     f.normal[3 * p] = static_cast<float>(std::sin(degrees * kPi / 180.0));
@@ -512,12 +519,7 @@ TEST(ImageEffects, DepthDarkeningLooksTheSameAtAnyImageSize) {
 }
 
 TEST(ImageEffects, DepthDarkeningLeavesAFlatBufferAlone) {
-  FrameBuffers f = ballsFrame(40, 30, {});
-  for (std::size_t p = 0; p < f.pixels(); ++p) {
-    f.kind[p] = 1;
-    f.viewZ[p] = f.depth[p] = 37.25f;
-    f.normal[3 * p + 2] = -1.0f;
-  }
+  FrameBuffers f = flatFrame(40, 30, 37.25f);
   const FrameBuffers before = f;
   ImageEffects e;
   e.depthDarkening = true;
