@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -86,6 +87,20 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
 
 namespace {
 
+// A blocker's circle on the grown sphere (centre c, radius G): the direction n from c towards
+// the blocker (centre, grown radius) and h, the cosine of the circle's polar angle about n (law
+// of cosines; |h| >= 1 where the spheres do not cross). None when the blocker's centre is c.
+struct BlockerCircle {
+  glm::dvec3 n;
+  double h;
+};
+std::optional<BlockerCircle> blockerCircle(const glm::dvec4& blocker, const glm::dvec3& c, double G) {
+  const glm::dvec3 axis = glm::dvec3(blocker) - c;
+  const double D = glm::length(axis);
+  if (!(D > 0.0)) return std::nullopt;
+  return BlockerCircle{axis / D, (D * D + G * G - blocker.w * blocker.w) / (2.0 * D * G)};
+}
+
 // Distance from the point p to the arc a.
 double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
   const glm::dvec3 q = p - a.center;
@@ -105,19 +120,12 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
   if (b.arcBegin[i] == b.arcBegin[i + 1]) return true;
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   // Each blocker's cap on the grown sphere: direction n, cos of its angular radius h.
-  struct Circle {
-    glm::dvec3 n;
-    double h;
-  };
-  std::vector<Circle> circles;
+  std::vector<BlockerCircle> circles;
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
-    const glm::dvec4 o = b.blockers[b.list[k]];
-    const glm::dvec3 axis = glm::dvec3(o) - c;
-    const double D = glm::length(axis);
-    if (!(D > 0.0)) continue;
-    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
-    if (h <= -1.0) return true;  // a blocker hides the whole sphere: no edge (not drawn)
-    if (h < 1.0) circles.push_back({axis / D, h});
+    const std::optional<BlockerCircle> circle = blockerCircle(b.blockers[b.list[k]], c, G);
+    if (!circle) continue;
+    if (circle->h <= -1.0) return true;  // a blocker hides the whole sphere: no edge (not drawn)
+    if (circle->h < 1.0) circles.push_back(*circle);
   }
   struct Interval {
     double lo, hi;
@@ -249,12 +257,10 @@ bool onKeptPart(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, d
   double best = std::numeric_limits<double>::infinity();
   glm::dvec3 edge(0.0);
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
-    const glm::dvec4 o = b.blockers[b.list[k]];
-    const glm::dvec3 axis = glm::dvec3(o) - c;
-    const double D = glm::length(axis);
-    if (!(D > 0.0)) continue;
-    const glm::dvec3 n = axis / D;
-    const double h = (D * D + G * G - o.w * o.w) / (2.0 * D * G);
+    const std::optional<BlockerCircle> circle = blockerCircle(b.blockers[b.list[k]], c, G);
+    if (!circle) continue;
+    const glm::dvec3 n = circle->n;
+    const double h = circle->h;
     if (!(std::abs(h) < 1.0)) continue;
     const double cosAlpha = glm::clamp(glm::dot(n, u), -1.0, 1.0);
     const double gap = std::abs(std::acos(cosAlpha) - std::acos(h));
@@ -292,14 +298,10 @@ double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const g
   if (!(rho > 0.0)) return d;
   const double grown = rho + b.grow;
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
-    const glm::dvec4 o = b.blockers[b.list[k]];
-    const glm::dvec3 axis = glm::dvec3(o) - c;
-    const double D = glm::length(axis);
-    if (!(D > 0.0)) continue;
-    // The circle of the grown spheres (law of cosines) is at polar angle acos(h) about the
-    // axis towards the blocker, on sphere i as on the grown sphere (y − c ∥ x − c).
-    const double h = (D * D + grown * grown - o.w * o.w) / (2.0 * D * grown);
-    d = std::min(d, distanceToSphereCircle(c, rho, x, axis / D, h));
+    // The circle of the grown spheres is at polar angle acos(h) about the axis towards the
+    // blocker, on sphere i as on the grown sphere (y − c ∥ x − c).
+    const std::optional<BlockerCircle> circle = blockerCircle(b.blockers[b.list[k]], c, grown);
+    if (circle) d = std::min(d, distanceToSphereCircle(c, rho, x, circle->n, circle->h));
   }
   return d;
 }
