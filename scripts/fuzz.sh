@@ -18,7 +18,7 @@ fi
 CC=clang CXX=clang++ cmake -S tests/fuzz -B build/fuzz -G Ninja >/dev/null
 if ! cmake --build build/fuzz -j "${FUZZ_JOBS:-$(nproc)}" >build/fuzz/build.log 2>&1; then
   { grep -E "error|undefined reference" build/fuzz/build.log || true; } | head -20 >&2
-  echo "fuzz: the fuzzers did not build (whole log: build/fuzz/build.log). tests/fuzz/CMakeLists.txt" \
+  echo "fuzz: the fuzzers did not build (whole log: build/fuzz/build.log). tests/fuzz/sources.cmake" \
     "lists the sources the readers need by hand: add any new one they call." >&2
   exit 1
 fi
