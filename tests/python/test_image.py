@@ -102,6 +102,18 @@ def test_options_equal_the_cli_options(surface, folder):
     assert buffers_equal(image, surftrace.Image.load(exr)) == []
 
 
+@pytest.mark.parametrize("preset", ["simple", "soft", "full"])
+def test_lighting_equals_the_cli_lighting(surface, folder, preset):
+    """lighting= is the CLI's --lighting: the same buffers, and a picture other than the headlight's."""
+    image = surftrace.render(surface, size=(40, 32), lighting=preset)
+    exr, _, _ = cli_render(folder, f"lighting-{preset}", "--size", "40x32", "--lighting", preset)
+    assert buffers_equal(image, surftrace.Image.load(exr)) == []
+    headlight = surftrace.render(surface, size=(40, 32))
+    covered = np.isfinite(image.depth_t)
+    assert covered.sum() > 200
+    assert np.abs(image.rgb[covered] - headlight.rgb[covered]).max() > 0.05
+
+
 # ---- Buffers: shapes, row order, no copies ---------------------------------------------------
 
 
