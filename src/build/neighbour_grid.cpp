@@ -230,7 +230,7 @@ void NeighbourGrid::build(std::span<const glm::dvec3> centers, std::span<const d
 
 template <class Accept>
 void NeighbourGrid::collect(const glm::dvec3& lo, const glm::dvec3& hi, Accept&& accept,
-                            std::vector<std::uint32_t>& out) const {
+                            std::vector<std::uint32_t>& out, bool ordered) const {
   const glm::ivec3 a = cellOf(lo);
   const glm::ivec3 b = cellOf(hi);
   // Cells consecutive in x are consecutive in the sorted arrays: one run per (y, z) row.
@@ -259,7 +259,7 @@ void NeighbourGrid::collect(const glm::dvec3& lo, const glm::dvec3& hi, Accept&&
       cursor += static_cast<std::ptrdiff_t>(accept(s));
     }
   });
-  sortNearlySorted(start, cursor);
+  if (ordered) sortNearlySorted(start, cursor);
   out.resize(first + static_cast<std::size_t>(cursor - start));
 }
 
@@ -285,8 +285,15 @@ void NeighbourGrid::neighbours(std::uint32_t i, std::vector<std::uint32_t>& out)
   if (self != out.end() && *self == i) out.erase(self);
 }
 
-void NeighbourGrid::atomsNear(const glm::dvec3& p, double reach,
-                              std::vector<std::uint32_t>& out) const {
+void NeighbourGrid::atomsNear(const glm::dvec3& p, double reach, std::vector<std::uint32_t>& out) const {
+  near(p, reach, out, true);
+}
+
+void NeighbourGrid::atomsNearUnordered(const glm::dvec3& p, double reach, std::vector<std::uint32_t>& out) const {
+  near(p, reach, out, false);
+}
+
+void NeighbourGrid::near(const glm::dvec3& p, double reach, std::vector<std::uint32_t>& out, bool ordered) const {
   SURFTRACE_ASSERT(std::isfinite(reach));
   // r_j + reach <= maxRadius_ + reach for every j (rounding is monotone), so nothing can
   // be near when the latter is not positive, and the box below is not empty.
@@ -300,7 +307,7 @@ void NeighbourGrid::atomsNear(const glm::dvec3& p, double reach,
     // max(.., 0) makes a non-positive r_j + reach reject (d^2 >= 0) without a branch.
     const double sum = std::max(cj.w + reach, 0.0);
     return dx * dx + dy * dy + dz * dz < sum * sum;
-  }, out);
+  }, out, ordered);
 }
 
 }  // namespace surftrace::build

@@ -236,6 +236,11 @@ TEST(NeighbourGrid, AtomsNearMatchesBruteForce) {
       std::vector<Index> got;
       grid.atomsNear(p, reach, got);
       ASSERT_EQ(got, oracleAtomsNear(a, p, reach)) << "reach " << reach << ", trial " << trial;
+      // The unordered query: the same atoms, each once, in any order.
+      std::vector<Index> unordered;
+      grid.atomsNearUnordered(p, reach, unordered);
+      std::sort(unordered.begin(), unordered.end());
+      ASSERT_EQ(unordered, got) << "unordered, reach " << reach << ", trial " << trial;
     }
   }
   // Far outside the bounding box, and far enough that the query box overflows.

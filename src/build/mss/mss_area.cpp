@@ -311,8 +311,17 @@ struct Potentials {
   double area = 0.0, flux = 0.0, axial = 0.0, firstAxial = 0.0, J = 0.0;
 };
 
+// The patch's constants of the potentials, with the quotients that do not depend on h formed
+// once (the same roundings as forming them at every h: each is the leftmost operation of its
+// expression there).
 struct BoundaryFrame {
   double gamma, sqrtGamma, absB, signB, sqrtBeta;
+  double betaOverSqrtGamma, fluxPerH, axialPerH2, threeGamma;  // β/√γ, −c/|B|, ½A/|B|, 3γ
+
+  explicit BoundaryFrame(const Revolution& r)
+      : gamma(r.alpha * (1.0 + r.alpha)), sqrtGamma(std::sqrt(gamma)), absB(std::abs(r.B)), signB(r.B > 0.0 ? 1.0 : -1.0),
+        sqrtBeta(std::sqrt(std::max(0.0, r.beta))), betaOverSqrtGamma(r.beta / sqrtGamma), fluxPerH(-r.c / absB),
+        axialPerH2(0.5 * r.A / absB), threeGamma(3.0 * gamma) {}
 };
 
 Potentials potentials(const Revolution& r, const BoundaryFrame& f, double h) {
@@ -327,11 +336,11 @@ Potentials potentials(const Revolution& r, const BoundaryFrame& f, double h) {
     log = std::log1p((f.sqrtGamma * a + f.gamma * h2 / (m.J + f.sqrtBeta)) / f.sqrtBeta);
   else if (r.beta < 0.0)
     log = std::log(f.sqrtGamma * a + m.J);
-  const double half = 0.5 * (a * m.J + r.beta / f.sqrtGamma * log);
+  const double half = 0.5 * (a * m.J + f.betaOverSqrtGamma * log);
   m.area = h < 0.0 ? -half : half;
-  m.flux = -r.c / f.absB * h;
-  m.axial = 0.5 * r.A / f.absB * h2;
-  m.firstAxial = m.J * m.J * m.J / (3.0 * f.gamma);
+  m.flux = f.fluxPerH * h;
+  m.axial = f.axialPerH2 * h2;
+  m.firstAxial = m.J * m.J * m.J / f.threeGamma;
   return m;
 }
 
@@ -343,6 +352,7 @@ struct ConicBranch {
   double tScale, hScale, orientation, dist;
   glm::dvec2 foot, along;
   Potentials ref;  // M is taken relative to the sheet's anchor (∮ dφ = 0), against cancellation
+  double orientedDist, dist2;  // orientation·dist and dist², formed once
 };
 
 Moments conicIntegrand(const Revolution& r, const BoundaryFrame& f, const ConicBranch& q, double sigma) {
@@ -356,7 +366,7 @@ Moments conicIntegrand(const Revolution& r, const BoundaryFrame& f, const ConicB
   } else {
     t = q.tScale * sh, dt = q.tScale * ch, h = q.hScale * ch, dh = q.hScale * sh;
   }
-  const double dphi = q.orientation * q.dist * dt / (q.dist * q.dist + t * t);
+  const double dphi = q.orientedDist * dt / (q.dist2 + t * t);
   const glm::dvec2 x = q.foot + t * q.along;
   const glm::dvec3 perp = q.orientation * dh * (-x.y * r.e1 + x.x * r.e2);  // ρ e⊥(φ) dh
   const Potentials m = potentials(r, f, h);
@@ -483,8 +493,7 @@ double hyperboloidMomentsBoundary(const PatchList& p, std::size_t k, double relT
   if (!setUpRevolution(p, k, r, lo, hi)) return 0.0;
   const double bound = p.mss.boundRadius[k];
   const double tol = relTol * kTwoPi * bound * bound;
-  const BoundaryFrame f{r.alpha * (1.0 + r.alpha), std::sqrt(r.alpha * (1.0 + r.alpha)), std::abs(r.B),
-                        r.B > 0.0 ? 1.0 : -1.0, std::sqrt(std::max(0.0, r.beta))};
+  const BoundaryFrame f(r);
   auto addM = [&](double weight, const Potentials& at, const Potentials& ref) {
     m.area += weight * (at.area - ref.area);
     m.flux += weight * (at.flux - ref.flux);
@@ -531,7 +540,8 @@ double hyperboloidMomentsBoundary(const PatchList& p, std::size_t k, double relT
     // rounding describes the same curve to rounding.
     if (kk == 0.0) kk = 1e-30 * (s.dist * s.dist + std::abs(r.beta));
     for (const double branch : {-1.0, 1.0}) {
-      ConicBranch q{kk < 0.0, 0.0, 0.0, branch, s.dist, s.dist * glm::dvec2(s.nx, s.ny), glm::dvec2(-s.ny, s.nx), {}};
+      ConicBranch q{kk < 0.0, 0.0, 0.0, branch, s.dist, s.dist * glm::dvec2(s.nx, s.ny), glm::dvec2(-s.ny, s.nx), {},
+                    branch * s.dist, s.dist * s.dist};
       pieces.clear();
       if (kk > 0.0) {  // branch = the sign of h
         const double c = std::sqrt(kk / r.alpha), sk = std::sqrt(kk);

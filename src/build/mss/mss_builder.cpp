@@ -171,9 +171,10 @@ void atomPatches(const Geometry& g, const NeighbourGrid& grid, std::uint32_t i, 
   const glm::dvec3 zi = p.z[i];
   const double wi = p.w[i];
 
-  // The neighbours whose power plane comes within ρ_i, nearest plane first.
+  // The neighbours whose power plane comes within ρ_i, nearest plane first (sorted below by
+  // distance, then atom: the grid's order does not matter).
   sc.near.clear();
-  grid.atomsNear(zi, g.reach[i], sc.near);
+  grid.atomsNearUnordered(zi, g.reach[i], sc.near);
   sc.candidates.clear();
   for (std::uint32_t j : sc.near) {
     if (j == i) continue;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <gmpxx.h>
@@ -96,6 +97,9 @@ void PowerCell::reset(const WeightedPoints& points, std::uint32_t atom, double h
   maxNorm2_ = 3.0 * half * half;
   ballCentre_ = glm::dvec3(0.0);
   ballRadius_ = std::sqrt(maxNorm2_);
+  boxLo_ = glm::dvec3(-half);
+  boxHi_ = glm::dvec3(half);
+  boxHalf_ = half;
 }
 
 CellVertex PowerCell::makeVertex(std::uint16_t a, std::uint16_t b, std::uint16_t c) {
@@ -309,9 +313,13 @@ PowerCell::Clip PowerCell::clip(std::uint32_t j) {
   std::swap(faceVerts_, nextFaceVerts_);
   maxNorm2_ = 0.0;
   ballCentre_ = glm::dvec3(0.0);
+  boxLo_ = glm::dvec3(std::numeric_limits<double>::infinity());
+  boxHi_ = -boxLo_;
   for (const CellVertex& v : vertices_) {
     maxNorm2_ = std::max(maxNorm2_, glm::dot(v.p, v.p));
     ballCentre_ += v.p;
+    boxLo_ = glm::min(boxLo_, v.p);
+    boxHi_ = glm::max(boxHi_, v.p);
   }
   ballCentre_ /= static_cast<double>(vertices_.size());
   double radius2 = 0.0;
