@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec4.hpp>
+#include <tbb/parallel_for.h>
+
 #include "build/io/mesh_writer.hpp"
 #include "build/io/output_file.hpp"
 #include "build/mesh/mesher.hpp"
@@ -19,6 +22,7 @@
 #include "progress_bar.hpp"
 #include "surface_input.hpp"
 #include "surftrace/surface.hpp"
+#include "trace/mss_patch.hpp"
 
 namespace surftrace::tools {
 namespace {
@@ -73,15 +77,16 @@ std::vector<bool> selectComponents(const std::string& which, const std::vector<b
 }
 
 void runMesh(const MeshOptions& o) {
-  // The other surfaces are refused before any work rather than left to run: the vdW and SAS
-  // surfaces' creases are bridged by triangles whose split points never reach the crease (the
-  // refinement grows without bound: 1CRN's SAS went from 50k to 13M triangles at 0.1 Å), and on
-  // the skin the refinement did not finish on 1CRN within a minute.
-  if (o.surface.surface != "ses")
+  // The vdW and SAS surfaces are refused before any work rather than left to run: their creases
+  // are bridged by triangles whose split points never reach the crease (the refinement grows
+  // without bound: 1CRN's SAS went from 50k to 13M triangles at 0.1 Å). The skin is smooth (C¹,
+  // no creases) and is meshed; where it has a tunnel or pocket narrower than the grid (near a
+  // change of its topology) the refinement stops with the place named.
+  if (o.surface.surface != "ses" && o.surface.surface != "mss")
     throw std::invalid_argument("--surface " + o.surface.surface +
-                                ": mesh makes SES meshes only so far (the refinement does not yet converge at the "
-                                "creases of the vdW and SAS surfaces, nor in reasonable time on the skin); use "
-                                "--surface ses, or render the " + o.surface.surface + " surface exactly with `render`");
+                                ": mesh makes SES and skin meshes only so far (the refinement does not yet converge "
+                                "at the creases of the vdW and SAS surfaces); use --surface ses or mss, or render the " +
+                                o.surface.surface + " surface exactly with `render`");
   build::meshFormatOf(o.output);  // a name with no known extension fails before any work
   build::prepareOutputPath(o.output, "-o", build::OutputContent::Binary);
   const auto limit = limitThreads(o.threads);
@@ -100,6 +105,15 @@ void runMesh(const MeshOptions& o) {
   const std::vector<glm::dvec3> seeds = build::mesh::surfaceSeeds(patches);
   build::mesh::MeshResult r = build::mesh::meshSurface(*field, seeds, params);
   bar.clear();
+  // A skin vertex belongs to the atom whose ball owns it, of all the atoms (least power distance,
+  // as the renderers name it: trace::skinOwner); the field knows only its simplex's atoms, whose
+  // best is where the search starts.
+  if (!patches.skinAtoms.center.empty()) {
+    const trace::SkinAtomBalls balls = trace::skinAtomBalls(patches);
+    tbb::parallel_for(std::size_t{0}, r.mesh.positions.size(), [&](std::size_t v) {
+      r.mesh.atom[v] = trace::skinOwner(&balls, glm::uvec4(r.mesh.atom[v], ~0u, ~0u, ~0u), r.mesh.positions[v]);
+    });
+  }
   const double meshSeconds = secondsSince(meshStart);
   std::vector<build::mesh::MeshComponent> components = build::mesh::meshComponents(r.mesh);
   if (o.component != "all") {

@@ -98,18 +98,30 @@ class SkinDistance final : public SurfaceDistance {
     double d = std::isfinite(t) ? std::abs(t) : (gl > 0.0 ? std::abs(v.value) / gl : std::sqrt(std::abs(v.value)));
     // Near the skin the distance itself, to the closest point (exact), so that the mesher's
     // samples and its certificate see the true distance; farther, the estimate.
-    if (d <= reach()) d = glm::length(closest(x).point - x);
+    if (d <= reach()) d = glm::length(project(x, v).point - x);
     return v.value < 0.0 ? -d : d;
   }
 
   SurfacePoint closest(const glm::dvec3& x) const override {
+    if (centers_.empty()) return SurfacePoint{};
+    return project(x, evaluate(x));
+  }
+
+  double reach() const override { return 0.5 * rMin_; }
+  glm::dvec3 boundsMin() const override { return lo_; }
+  glm::dvec3 boundsMax() const override { return hi_; }
+
+  SkinValue evaluate(const glm::dvec3& x) const;
+
+ private:
+  // closest(x) from G at x, v0 = evaluate(x), which signedDistance has already (evaluate is
+  // most of the skin mesher's time: a second one at the same point cost a fifth of it).
+  SurfacePoint project(const glm::dvec3& x, const SkinValue& v0) const {
     SurfacePoint out;
-    if (centers_.empty()) return out;
     // Onto the skin first, along the gradient: each step to the nearest root of the current
     // cell's quadric on the line.
     glm::dvec3 p = x;
-    SkinValue v = evaluate(p);
-    const SkinValue v0 = v;
+    SkinValue v = v0;
     for (int step = 0; step < 64 && !onSkin(v); ++step) {
       const mss::SkinQuadric q = quadricOf(v);
       const double gl = glm::length(v.gradient);
@@ -170,13 +182,6 @@ class SkinDistance final : public SurfaceDistance {
     return out;
   }
 
-  double reach() const override { return 0.5 * rMin_; }
-  glm::dvec3 boundsMin() const override { return lo_; }
-  glm::dvec3 boundsMax() const override { return hi_; }
-
-  SkinValue evaluate(const glm::dvec3& x) const;
-
- private:
   static bool sameSupport(const SkinValue& a, const SkinValue& b) {
     if (a.size != b.size) return false;
     for (int k = 0; k < a.size; ++k)
