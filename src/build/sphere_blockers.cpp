@@ -111,6 +111,15 @@ double distanceToArc(const SaddleArc& a, const glm::dvec3& p) {
   return std::min(glm::length(p - at(0.0)), glm::length(p - at(a.extent)));
 }
 
+// distanceToArc(a, p) < tolerance, skipping the trigonometry where p is farther than that from
+// the arc's whole circle: every point of the circle is at least ||p − centre| − radius| from p,
+// a bound that is taken as conclusive only when it exceeds the tolerance by far more than the
+// rounding of either side.
+bool nearArc(const SaddleArc& a, const glm::dvec3& p, double tolerance) {
+  if (std::abs(glm::length(p - a.center) - a.radius) > 2.0 * tolerance) return false;
+  return distanceToArc(a, p) < tolerance;
+}
+
 // Whether every edge of the free part of grown sphere i (centre c, radius G) lies on one of its
 // saddle arcs: each blocker's circle minus the other blockers' caps is a set of intervals, the
 // edges (an edge of the list is one saddle's whole arc, from one concave triangle to the next),
@@ -131,6 +140,11 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
     double lo, hi;
   };
   std::vector<Interval> covered, gaps;
+  // A cap j that cuts circle k: cos(ψ − ψj) > rest/M there, with (A, B) = M/sk (cos ψj, sin ψj).
+  struct Cut {
+    double A, B, rest, M;
+  };
+  std::vector<Cut> cuts;
   for (std::size_t k = 0; k < circles.size(); ++k) {
     const glm::dvec3 n = circles[k].n;
     const double h = circles[k].h, sk = std::sqrt(1.0 - h * h);
@@ -138,26 +152,22 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
     const glm::dvec3 v = glm::cross(n, u);
     // The circle u(ψ) = h n + sk (cos ψ u + sin ψ v) lies in cap j where n_j·u(ψ) > h_j, i.e.
     // where cos(ψ − ψj) > q = (h_j − h n_j·n) / (sk |(n_j·u, n_j·v)|).
-    // First, without trigonometry: is the whole circle in one cap (most buried atoms' are)?
+    // First, without trigonometry: is the whole circle in one cap (most buried atoms' are)? The
+    // same pass keeps the caps that cut the circle, whose arcs the trigonometry below needs.
     bool all = false;
-    for (std::size_t j = 0; j < circles.size() && !all; ++j) {
-      if (j == k) continue;
-      const glm::dvec3 nj = circles[j].n;
-      const double A = glm::dot(nj, u), B = glm::dot(nj, v);
-      all = circles[j].h - h * glm::dot(nj, n) <= -sk * std::sqrt(A * A + B * B);
-    }
-    if (all) continue;
-    covered.clear();
+    cuts.clear();
     for (std::size_t j = 0; j < circles.size() && !all; ++j) {
       if (j == k) continue;
       const glm::dvec3 nj = circles[j].n;
       const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = sk * std::sqrt(A * A + B * B);
       const double rest = circles[j].h - h * glm::dot(nj, n);
-      if (!(rest < M)) continue;  // q >= 1: the circle misses cap j (or only touches it)
-      if (rest <= -M) {
-        all = true;  // q <= -1: the whole circle is in cap j
-        continue;
-      }
+      if (rest <= -M) all = true;  // q <= -1: the whole circle is in cap j
+      else if (rest < M) cuts.push_back({A, B, rest, M});  // else q >= 1: the circle misses cap j (or only touches it)
+    }
+    if (all) continue;
+    covered.clear();
+    for (const Cut& cut : cuts) {
+      const double A = cut.A, B = cut.B, M = cut.M, rest = cut.rest;
       const double mid = std::atan2(B, A), half = std::acos(rest / M);
       double lo = mid - half;
       lo -= kTwoPi * std::floor(lo / kTwoPi);
@@ -168,7 +178,6 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
         covered.push_back({0.0, lo + 2.0 * half - kTwoPi});
       }
     }
-    if (all) continue;
     std::sort(covered.begin(), covered.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
     // The gaps between the merged intervals, around the circle, are the edges on this circle.
     gaps.clear();
@@ -187,7 +196,7 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
       const double psi = 0.5 * (g.lo + g.hi);
       const glm::dvec3 p = c + G * (h * n + sk * (std::cos(psi) * u + std::sin(psi) * v));
       bool on = false;
-      for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1] && !on; ++a) on = distanceToArc(b.arcs[a], p) < 1e-4 * G;
+      for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1] && !on; ++a) on = nearArc(b.arcs[a], p, 1e-4 * G);
       if (!on) return false;
     }
   }
@@ -210,9 +219,8 @@ SphereBlockers sphereBlockers(const PatchList& list, std::span<const glm::dvec4>
   return b;
 }
 
-void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
-                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
-                   std::span<const glm::uvec2> arcAtoms) {
+void attachSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                      std::span<const glm::uvec2> arcAtoms) {
   // Atom -> its sphere (the list has at most one per atom), then a counting sort of the arcs.
   std::unordered_map<std::uint32_t, std::uint32_t> sphereOf;
   for (std::uint32_t i = 0; i < sphereAtoms.size(); ++i) sphereOf.emplace(sphereAtoms[i], i);
@@ -227,6 +235,16 @@ void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::
   b.arcs.resize(b.arcBegin.back());
   std::vector<std::uint32_t> next(b.arcBegin.begin(), b.arcBegin.end() - 1);
   for (std::size_t t = 0; t < arcs.size(); ++t) forEachSphere(t, [&](std::uint32_t i) { b.arcs[next[i]++] = arcs[t]; });
+}
+
+bool freeEdgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double grown) {
+  return edgeCovered(b, i, c, grown);
+}
+
+void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::span<const double> radii,
+                   std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                   std::span<const glm::uvec2> arcAtoms) {
+  attachSaddleArcs(b, sphereAtoms, arcs, arcAtoms);
   // The test costs a pass over the blockers per hit: keep the arcs of the spheres whose edge
   // they leave partly open alone (those --drop-cavities cut), none when no sphere has one.
   // The spheres are independent (an O(n²) pass over each one's blockers): in parallel.
@@ -275,21 +293,21 @@ bool onKeptPart(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, d
   // The list's arcs pass through its edge points to rounding; 1e-4 G also covers atoms merged
   // within 1e-5 Å (atom_culling.hpp), whose circles and arcs are that far apart.
   for (std::uint32_t a = b.arcBegin[i]; a < b.arcBegin[i + 1]; ++a)
-    if (distanceToArc(b.arcs[a], edge) < 1e-4 * G) return true;
+    if (nearArc(b.arcs[a], edge, 1e-4 * G)) return true;
   return false;
 }
 
 }  // namespace
 
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
-                   double tolerance) {
+                   double tolerance, bool keptPartTest) {
   if (!(rho > 0.0)) return true;
   const glm::dvec3 y = c + ((rho + b.grow) / rho) * (x - c);
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
     const glm::dvec4 o = b.blockers[b.list[k]];
     if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
   }
-  return onKeptPart(b, i, c, rho + b.grow, y);
+  return !keptPartTest || onKeptPart(b, i, c, rho + b.grow, y);
 }
 
 double convexPatchEdgeDistance(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho,

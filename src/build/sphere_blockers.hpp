@@ -68,6 +68,15 @@ void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::
                    std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
                    std::span<const glm::uvec2> arcAtoms);
 
+// addSaddleArcs in two steps, for a caller that only ever asks about some spheres (a transparent
+// frame's rays meet a fraction of them): attachSaddleArcs gives every sphere all its arcs, and
+// freeEdgeCovered(b, i, ...) says whether sphere i is one addSaddleArcs would have left without
+// arcs (every edge of its free part on an arc; `grown` = ρ_i + g). onConvexPatch with
+// `keptPartTest` = !freeEdgeCovered then answers as after addSaddleArcs, bit for bit.
+void attachSaddleArcs(SphereBlockers& b, std::span<const std::uint32_t> sphereAtoms, std::span<const SaddleArc> arcs,
+                      std::span<const glm::uvec2> arcAtoms);
+bool freeEdgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double grown);
+
 // Whether the point x of sphere i (centre c, radius ρ) is on its convex patch: outside every
 // grown blocker of i, points within a relative `tolerance` of a blocker's sphere counting as
 // outside it. With saddle arcs, also on a part of the free sphere (the grown sphere minus the
@@ -76,7 +85,7 @@ void addSaddleArcs(SphereBlockers& b, std::span<const glm::dvec3> centers, std::
 // in the list iff a saddle arc of the sphere's atom passes there. A sphere whose atom has no
 // saddle arc is kept whole.
 bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, double rho, const glm::dvec3& x,
-                   double tolerance);
+                   double tolerance, bool keptPartTest = true);
 
 // Distance from the point x of sphere i (on its convex patch) to the patch's edge: to the
 // nearest circle in which a grown blocker cuts the grown sphere, mapped back to sphere i (a

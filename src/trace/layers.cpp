@@ -35,12 +35,23 @@ SphereClip::SphereClip(const ScenePatches& patches) {
   const auto& tori = patches.of<TorusKind>();
   std::vector<build::SaddleArc> arcs;
   for (const TorusPatch& t : tori.patches) arcs.push_back({t.center, t.e1, t.e2, t.bigRadius, t.phiExtent});
-  build::addSaddleArcs(blockers_, centers, radii, row.atoms, arcs, tori.atoms);
+  // build::addSaddleArcs would check every sphere now; most are never hit (onPatch checks).
+  build::attachSaddleArcs(blockers_, row.atoms, arcs, tori.atoms);
+  keptPartTest_ = std::make_unique<std::atomic<std::uint8_t>[]>(spheres_.size());
 }
 
 bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {
   const glm::dvec4 s = spheres_[sphere];
-  return build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance);
+  bool keptPartTest = false;
+  if (keptPartTest_ && blockers_.arcBegin[sphere] != blockers_.arcBegin[sphere + 1]) {
+    std::uint8_t state = keptPartTest_[sphere].load(std::memory_order_relaxed);
+    if (state == 0) {
+      state = build::freeEdgeCovered(blockers_, sphere, glm::dvec3(s), s.w + blockers_.grow) ? 1 : 2;
+      keptPartTest_[sphere].store(state, std::memory_order_relaxed);
+    }
+    keptPartTest = state == 2;
+  }
+  return build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance, keptPartTest);
 }
 
 double SphereClip::edgeDistance(std::uint32_t sphere, const glm::dvec3& x) const {

@@ -2,7 +2,9 @@
 // test that keeps a whole sphere's hit only where it lies on its convex patch.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -31,6 +33,8 @@ class SphereClip {
  public:
   SphereClip() = default;
   explicit SphereClip(const ScenePatches& patches);
+  SphereClip(SphereClip&&) = default;
+  SphereClip& operator=(SphereClip&&) = default;
 
   // Whether the hit x on sphere `sphere` (index among the scene's spheres) is on its patch.
   // Points within a relative kBoundaryTolerance of a grown neighbour count as outside it.
@@ -41,7 +45,11 @@ class SphereClip {
 
  private:
   std::vector<glm::dvec4> spheres_;  // the scene's spheres: centre, radius ρ
-  build::SphereBlockers blockers_;
+  build::SphereBlockers blockers_;   // with every saddle arc (build::attachSaddleArcs)
+  // Per sphere with arcs: whether its saddle arcs bound its kept part (build::freeEdgeCovered,
+  // an O(blockers²) check), found when a hit first asks: 0 not yet, 1 no (covered), 2 yes.
+  // A frame's rays meet a fraction of the spheres; threads that race store the same answer.
+  std::unique_ptr<std::atomic<std::uint8_t>[]> keptPartTest_;
 };
 
 // The crossings of one ray, nearest first, no two within kLayerMergeDistance (the nearer of

@@ -267,6 +267,39 @@ bool clipToWedge(const Limits& l, const glm::dvec3& o, const glm::dvec3& d, doub
   return halfPlane(-l.startSin, l.startCos) && halfPlane(l.endSin, -l.endCos);
 }
 
+// A ring torus's saddle (R >= rp) lies in the slab between its contact circles' planes,
+// a ∈ [rp sin θi, rp sin θj], and outside the cylinder ρ < R − rp·max cos θ: the two sets that
+// the sphere, cylinder, visibility and wedge clips leave open above and below the saddle and
+// in the hole of the ring. Whether o + s d (|d| = 1) for s in [lo, hi] meets both, padded by
+// kShellPad: false only for a ray that can have no root on the patch, so the quartic is
+// skipped and the interval [lo, hi] it would solve on is left as it is (every hit found is
+// the one found without this test, bit for bit). Accepted roots lie on the tube to the
+// quartic's rounding (polishOnTube), within kShellPad of both sets. On a spindle torus
+// (R < rp) the lemon points a cusp keeps (clipLocal) are not on the tube, and for limits
+// outside (−π/2, π/2) sin θ is not monotonic: there it always says yes.
+constexpr double kShellPad = 1e-6;
+
+bool mayMeetRingSaddle(const Normalised& n, const Limits& l, const glm::dvec3& o, const glm::dvec3& d, double lo,
+                       double hi) {
+  // Both limits within (−π/2, π/2), θi <= θj (as the builder makes them): sin θ increases there.
+  if (n.R < n.r || !(l.thetaICos > 0.0 && l.thetaJCos > 0.0 && l.thetaISin <= l.thetaJSin)) return true;
+  const double zLo = n.r * l.thetaISin - kShellPad, zHi = n.r * l.thetaJSin + kShellPad;
+  if (d.z == 0.0) {
+    if (!(o.z >= zLo && o.z <= zHi)) return false;
+  } else {
+    const double a = (zLo - o.z) / d.z, b = (zHi - o.z) / d.z;
+    if (!narrow(std::min(a, b), std::max(a, b), lo, hi)) return false;
+  }
+  // cos θ peaks at θ = 0 when it lies in [θi, θj], else at the limit nearer to it.
+  const double cosMax = l.thetaISin <= 0.0 && l.thetaJSin >= 0.0 ? 1.0 : std::max(l.thetaICos, l.thetaJCos);
+  const double rhoMin = n.R - n.r * cosMax - kShellPad;
+  if (!(rhoMin > 0.0)) return true;
+  // The cylinder is convex: the segment lies inside it when both ends do.
+  const glm::dvec3 a = o + lo * d, b = o + hi * d;
+  const double inside2 = rhoMin * rhoMin;
+  return !(a.x * a.x + a.y * a.y < inside2 && b.x * b.x + b.y * b.y < inside2);
+}
+
 // [min, max] of cos over [a, b] (b − a <= 2π): the endpoints, or ±1 where a multiple of π
 // lies inside.
 void cosRange(double a, double b, double& lo, double& hi) {
@@ -442,6 +475,7 @@ std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, doubl
       valid ? VisibilitySphere{p.derived.visibilityClip, p.derived.visibilityHeight, p.derived.visibilityRadius}
             : makeVisibilitySphere(n, limits);
   if (!clipToVisibilitySphere(visibility, o, d, lo, hi) || !clipToWedge(limits, o, d, lo, hi)) return std::nullopt;
+  if (!mayMeetRingSaddle(n, limits, o, d, lo, hi)) return std::nullopt;
   // B.2: monic quartic (|x|² − R² − r²)² + 4R²(z² − r²) along o + s d.
   const double R2 = n.R * n.R;
   const double K = glm::dot(o, o) - R2 - n.r * n.r;

@@ -584,6 +584,49 @@ TEST(TorusPatch, MatchesBruteForceOracle) {
   EXPECT_LT(stats.skippedGrazing + stats.skippedEdge, stats.trials / 100);
 }
 
+// Before the quartic, a ring torus's ray is dropped unless it meets the slab between the contact
+// circles' planes outside the ring's inner cylinder (ρ >= R − rp·max cos θ). Rays that cross
+// the saddle exactly on those sets' faces: at a contact circle (θ a hair inside θi or θj) and
+// on the circle of least ρ (θ = 0, or the limit nearest it), from every direction that meets
+// the surface at |n·d| >= 0.2, and with (tMin, tMax] a window of ±1e-7 S around the crossing,
+// so that the ray's clipped chord barely enters the sets. Each must find that crossing; a slab
+// or cylinder drawn too tight by more than about 1e-7 S, or on the wrong limit, drops it.
+TEST(TorusPatch, RingSaddleFacesKeepTheirHits) {
+  int checked = 0;
+  for (std::uint64_t seed = 0; seed < 3000; ++seed) {
+    std::mt19937_64 rng(seed + 9000000);
+    TorusPatch p = randomPatch(rng);
+    if (p.bigRadius < p.probeRadius) continue;  // spindles skip the test (clipLocal keeps lemon points)
+    const double S = scaleOf(p);
+    const int face = static_cast<int>(seed % 3);  // 0: at θi, 1: at θj, 2: on the least-ρ circle
+    const double inside = 1e-10;
+    const double theta = face == 0   ? p.thetaI + inside
+                         : face == 1 ? p.thetaJ - inside
+                         : p.thetaI <= 0.0 && p.thetaJ >= 0.0 ? 0.0
+                         : p.thetaI > 0.0                     ? p.thetaI + inside
+                                                              : p.thetaJ - inside;
+    const double phi = p.phiExtent * uniform(rng, 0.1, 0.9);
+    const LVec target = torusPointL(p, theta, phi);
+    const glm::dvec3 normal = normalAt(p, toD(target));
+    glm::dvec3 dir;
+    do dir = randomUnit(rng);
+    while (std::abs(glm::dot(dir, normal)) < 0.2);
+    const double reach = S * uniform(rng, 0.5, 3.0);
+    const double length = logUniform(rng, 1e-2, 1e2);
+    Ray ray{toD(target - static_cast<Ld>(reach) * toL(dir)), dir * length};
+    const double tTarget = reach / length, window = 1e-7 * S / length;
+    const std::string label = "seed " + std::to_string(seed) + " face " + std::to_string(face);
+    const std::optional<PatchHit> hit = intersect(p, ray, tTarget - window, tTarget + window);
+    if (!hit) {
+      ADD_FAILURE() << label << ": the crossing at t = " << tTarget << " is lost";
+      continue;
+    }
+    EXPECT_NEAR(hit->t, tTarget, 1e-9 * S / length) << label;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+}
+
 // Scaling the direction scales t and nothing else.
 // The derived values prepare() caches are exactly those intersect() would compute: a patch
 // without them (built by hand, or edited after prepare()) gives bit-identical results.

@@ -2,6 +2,7 @@
 // oracles of the body sampled along the ray (SES: ORACLES D.1; vdW: the union of balls; skin:
 // the certified sign of D.3), against a plain loop over the patches, and the composited colour
 // against its formula.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -317,6 +318,46 @@ TEST(Crossings, EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes) {
   EXPECT_EQ(odd, 0u);
   EXPECT_GT(covered, 50000u);
   EXPECT_GE(most, 10u);
+}
+
+// SphereClip decides per sphere, when a hit first asks, whether its saddle arcs bound its kept
+// part; build::addSaddleArcs decides for every sphere up front. On the 1VIS outer SES (spheres
+// that also line a dropped cavity keep their arcs) both say the same for random points of
+// every sphere, asked in a random order of the spheres, among them points that only the arcs
+// drop (so a SphereClip that skipped the arcs would differ; testing them on every sphere would
+// only be slower: a sphere whose edges are all on arcs keeps every free point).
+TEST(SaddleArcs, CheckedOnFirstUseAsWhenAllAreCheckedUpFront) {
+  const build::Molecule& m = molecule("paper/1vis.pdb.gz");
+  build::SurfaceRequest request;
+  request.probeRadius = kRp;
+  const build::PatchList list = build::outerComponent(build::buildSurface(m, request));
+  std::vector<glm::dvec4> atoms;
+  for (std::size_t i = 0; i < m.size(); ++i) atoms.push_back(glm::dvec4(m.centers[i], m.radii[i]));
+  const build::SphereBlockers upFront = build::sphereBlockers(list, atoms);
+  const SphereClip clip(ScenePatches::fromPatchList(list, m.centers, m.radii));
+  std::vector<std::uint32_t> order(list.convex.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::mt19937_64 rng(5);
+  std::shuffle(order.begin(), order.end(), rng);
+  std::size_t points = 0, onPatch = 0, droppedByArcs = 0;
+  for (const std::uint32_t i : order) {
+    const glm::dvec3 c = list.convex.center[i];
+    const double rho = list.convex.radius[i];
+    // Denser on the spheres that keep arcs: their dropped parts are small.
+    const bool keepsArcs = !upFront.arcBegin.empty() && upFront.arcBegin[i + 1] > upFront.arcBegin[i];
+    for (int k = 0; k < (keepsArcs ? 5000 : 50); ++k) {
+      const glm::dvec3 x = c + rho * randomUnit(rng);
+      const bool expected = build::onConvexPatch(upFront, i, c, rho, x, kBoundaryTolerance);
+      ASSERT_EQ(clip.onPatch(i, x), expected) << "sphere " << i << " point " << k;
+      ++points;
+      onPatch += expected;
+      droppedByArcs += !expected && build::onConvexPatch(upFront, i, c, rho, x, kBoundaryTolerance, false);
+    }
+  }
+  std::printf("1VIS outer SES: %zu points, %zu on a patch, %zu dropped by saddle arcs alone\n", points, onPatch,
+              droppedByArcs);
+  EXPECT_GT(onPatch, points / 50);
+  EXPECT_GT(droppedByArcs, 50u);
 }
 
 // A sphere whose free part is two polar caps (a ring of 12 balls covers its equator) and saddle
