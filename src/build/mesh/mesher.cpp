@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -127,6 +128,11 @@ double settleZero(const SurfaceDistance& field, Grid& grid, Key key, double valu
   return value;
 }
 
+// The farthest a point of a Kuhn triangle (half a cube's face, or a diagonal section) lies
+// from its nearest corner, in grid steps: half the face diagonal √2 of a right triangle; the
+// sections through the cube (sides 1, √2, √3, right-angled) reach √3/2, which is larger.
+constexpr double kFaceCover = 0.8660254037844387;
+
 // Whether the field may cross zero between two points of one sign: by the Lipschitz bound it
 // cannot where |f(a)| + |f(b)| >= |a − b| (|f| is at least the distance up to the reach).
 bool mayHideCrossing(double fa, double fb, double length, double reach) {
@@ -200,6 +206,11 @@ Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dve
         for (int v = 0; v < 8; ++v)
           if (kuhnEdge(u, v) && mayHideCrossing(value[u], value[v], cornerDistance(u, v), reach))
             hides[u][v] = hides[v][u] = anyHidden = true;
+      // A corner nearer the surface than a face diagonal's half: a channel thinner than the
+      // grid may pierce a face of the cell between its edges (mayHideInFace).
+      double nearest = kInf;
+      for (int c = 0; c < 8; ++c) nearest = std::min(nearest, std::abs(value[c]));
+      anyHidden = anyHidden || nearest < kFaceCover * grid.h;
       const bool crossed = count != 0 && count != 8;
       if (!crossed && !anyHidden) continue;
       (crossed ? w.cells : w.near).push_back(cell);
@@ -208,8 +219,10 @@ Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dve
         const int* q = kFaces[f];
         const int faceIn = in[q[0]] + in[q[1]] + in[q[2]] + in[q[3]];
         bool faceHides = false;
-        for (int x = 0; x < 4; ++x)
+        for (int x = 0; x < 4; ++x) {
+          faceHides = faceHides || std::abs(value[q[x]]) < kFaceCover * grid.h;
           for (int y = 0; y < 4; ++y) faceHides = faceHides || hides[q[x]][q[y]];
+        }
         if ((faceIn == 0 || faceIn == 4) && !faceHides) continue;
         const int axis = f / 2, step = f % 2 == 0 ? -1 : 1;
         std::int64_t n[3] = {i / kFine, j / kFine, k / kFine};
@@ -318,6 +331,28 @@ bool hiddenCrossing(const SurfaceDistance& field, const glm::dvec3& a, double fa
   if (inside(fm) != inside(fa)) return true;
   return hiddenCrossing(field, a, fa, m, fm, minLength, budget) || hiddenCrossing(field, m, fm, b, fb, minLength, budget);
 }
+// Whether the field changes sign inside the triangle (a, b, c), whose values have one sign: a
+// channel thinner than the grid (two probe balls' narrow neck) can pierce a face between its
+// edges. Where each corner's |f| covers the triangle (coverRadius) there is no crossing; else
+// the triangle is cut into four at its edges' midpoints, down to pieces of `minLength`, with
+// at most `budget` evaluations of the field.
+double coverRadius(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+bool hiddenInFace(const SurfaceDistance& field, const glm::dvec3& a, double fa, const glm::dvec3& b, double fb,
+                  const glm::dvec3& c, double fc, double minLength, int& budget) {
+  const double reach = field.reach();
+  const double cover = coverRadius(a, b, c);
+  if (std::min({std::abs(fa), std::abs(fb), std::abs(fc), reach}) >= cover) return false;
+  if (glm::length(b - a) + glm::length(c - b) + glm::length(a - c) < 3.0 * minLength || budget <= 0) return false;
+  budget -= 3;
+  const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  const double fab = field.signedDistance(ab), fbc = field.signedDistance(bc), fca = field.signedDistance(ca);
+  if (inside(fab) != inside(fa) || inside(fbc) != inside(fa) || inside(fca) != inside(fa)) return true;
+  return hiddenInFace(field, a, fa, ab, fab, ca, fca, minLength, budget) ||
+         hiddenInFace(field, ab, fab, b, fb, bc, fbc, minLength, budget) ||
+         hiddenInFace(field, ca, fca, bc, fbc, c, fc, minLength, budget) ||
+         hiddenInFace(field, ab, fab, bc, fbc, ca, fca, minLength, budget);
+}
+
 // Field evaluations per edge in hiddenCrossing, and rounds of bisection.
 constexpr int kHiddenBudget = 64;
 constexpr int kHiddenRounds = 3 * kFineBits;
@@ -363,20 +398,71 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
     }
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  std::vector<EdgeKey> marked;
-  const auto search = [&](const std::vector<EdgeKey>& edges) {
-    std::vector<char> hidden(edges.size(), 0);
-    tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t n) { hidden[n] = hides(edges[n]); });
-    marked.clear();
-    for (std::size_t n = 0; n < edges.size(); ++n) {
-      if (!hidden[n]) continue;
-      const auto a = unpackKey(edges[n].a), b = unpackKey(edges[n].b);
-      // An edge whose midpoint is no vertex of the fine lattice is left as it is.
-      if ((a[0] + b[0]) % 2 == 0 && (a[1] + b[1]) % 2 == 0 && (a[2] + b[2]) % 2 == 0) marked.push_back(edges[n]);
-    }
+  // The faces of the walked cells' tetrahedra, each with its keys in order.
+  using Face = std::array<Key, 3>;
+  const auto faceOf = [](Key p, Key q, Key s) {
+    Face f{p, q, s};
+    std::sort(f.begin(), f.end());
+    return f;
   };
-  search(candidates);
+  const auto facesOf = [&](const Tet& t, std::vector<Face>& out) {
+    out.push_back(faceOf(t[0], t[1], t[2])), out.push_back(faceOf(t[0], t[1], t[3]));
+    out.push_back(faceOf(t[0], t[2], t[3])), out.push_back(faceOf(t[1], t[2], t[3]));
+  };
+  std::vector<Face> faces;
+  for (const std::vector<Key>* list : {&walk.cells, &walk.near})
+    for (Key cell : *list)
+      for (const auto& tet : kTets)
+        facesOf({cornerKey(cell, tet[0]), cornerKey(cell, tet[1]), cornerKey(cell, tet[2]), cornerKey(cell, tet[3])},
+                faces);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  const auto faceHides = [&](const Face& f) {
+    const double fa = walk.values.at(f[0]), fb = walk.values.at(f[1]), fc = walk.values.at(f[2]);
+    if (inside(fa) != inside(fb) || inside(fa) != inside(fc)) return false;
+    int budget = kHiddenBudget;
+    return hiddenInFace(field, grid.position(f[0]), fa, grid.position(f[1]), fb, grid.position(f[2]), fc, minLength,
+                        budget);
+  };
+  const auto squaredLength = [](const EdgeKey& e) {
+    const auto a = unpackKey(e.a), b = unpackKey(e.b);
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+  };
+  // The order in which a tetrahedron's bisected edges are taken: longest first, then by keys.
+  const auto before = [&](const EdgeKey& x, const EdgeKey& y) {
+    const std::int64_t lx = squaredLength(x), ly = squaredLength(y);
+    return lx != ly ? lx > ly : y < x;
+  };
+  std::vector<EdgeKey> marked;
+  const auto mark = [&](const EdgeKey& e) {
+    const auto a = unpackKey(e.a), b = unpackKey(e.b);
+    // An edge whose midpoint is no vertex of the fine lattice is left as it is.
+    if ((a[0] + b[0]) % 2 == 0 && (a[1] + b[1]) % 2 == 0 && (a[2] + b[2]) % 2 == 0) marked.push_back(e);
+  };
+  std::set<Face> testedFaces;
+  const auto search = [&](const std::vector<EdgeKey>& edges, const std::vector<Face>& faceList) {
+    std::vector<char> hidden(edges.size(), 0), faceHidden(faceList.size(), 0);
+    tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t n) { hidden[n] = hides(edges[n]); });
+    tbb::parallel_for(std::size_t{0}, faceList.size(), [&](std::size_t n) { faceHidden[n] = faceHides(faceList[n]); });
+    marked.clear();
+    for (std::size_t n = 0; n < edges.size(); ++n)
+      if (hidden[n]) mark(edges[n]);
+    // A face that hides a crossing between its edges is bisected at its longest edge: the
+    // faces cut from it shrink until the crossing meets an edge.
+    for (std::size_t n = 0; n < faceList.size(); ++n) {
+      if (!faceHidden[n]) continue;
+      const Face& f = faceList[n];
+      EdgeKey longest(f[0], f[1]);
+      for (const EdgeKey& e : {EdgeKey(f[1], f[2]), EdgeKey(f[0], f[2])})
+        if (before(e, longest)) longest = e;
+      mark(longest);
+    }
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+  };
+  search(candidates, faces);
   tested.insert(candidates.begin(), candidates.end());
+  testedFaces.insert(faces.begin(), faces.end());
   const auto valueOf = [&](Key key) {
     if (const auto it = walk.values.find(key); it != walk.values.end()) return it->second;
     const double v = settleZero(field, grid, key, field.signedDistance(grid.position(key)));
@@ -385,10 +471,6 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
   };
   const auto onGrid = [](const std::array<std::int64_t, 3>& p) {
     return p[0] % kFine == 0 && p[1] % kFine == 0 && p[2] % kFine == 0;
-  };
-  const auto squaredLength = [](const EdgeKey& e) {
-    const auto a = unpackKey(e.a), b = unpackKey(e.b);
-    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
   };
   for (int round = 0; !marked.empty() && round < kHiddenRounds; ++round) {
     // The cells around a bisected grid edge: the cells whose lowest corner is its lower end
@@ -436,14 +518,12 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
         const Tet tet = stack.back();
         stack.pop_back();
         int bestP = -1, bestQ = -1;
-        std::int64_t bestLength = -1;
         EdgeKey best;
         for (int p = 0; p < 4; ++p)
           for (int q = p + 1; q < 4; ++q) {
             const EdgeKey e(tet[p], tet[q]);
             if (!midpointOf(tet[p], tet[q])) continue;
-            const std::int64_t length = squaredLength(e);
-            if (length > bestLength || (length == bestLength && best < e)) bestLength = length, best = e, bestP = p, bestQ = q;
+            if (bestP < 0 || before(e, best)) best = e, bestP = p, bestQ = q;
           }
         if (bestP < 0) {
           tets.push_back(tet);
@@ -460,11 +540,17 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
     r.tets = std::move(tets);
     // The new tetrahedra's edges not searched yet, and the new cells'.
     std::vector<EdgeKey> fresh;
-    for (const Tet& t : created)
+    std::vector<Face> freshFaces, tetFaces;
+    for (const Tet& t : created) {
       for (int p = 0; p < 4; ++p)
         for (int q = p + 1; q < 4; ++q)
           if (tested.insert(EdgeKey(t[p], t[q])).second) fresh.emplace_back(t[p], t[q]);
-    search(fresh);
+      tetFaces.clear();
+      facesOf(t, tetFaces);
+      for (const Face& f : tetFaces)
+        if (testedFaces.insert(f).second) freshFaces.push_back(f);
+    }
+    search(fresh, freshFaces);
   }
   return r;
 }
