@@ -81,7 +81,7 @@ set(slow_tests
   "CompareHtml\\..*"
   "CompareMasks\\..*"
   "CompareMesh(OneView|Views)\\..*"
-  "MeshCli\\.CrambinSesIsClosedOnTheSurfaceAndWithinItsBound"
+  "MeshCli\\.(CrambinSesIsClosedOnTheSurfaceAndWithinItsBound|GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound)"
   "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
   "EngineCli\\.(TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
   "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"

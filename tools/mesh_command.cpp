@@ -133,6 +133,9 @@ void runMesh(const MeshOptions& o) {
                components.size() - outer, open ? (", " + std::to_string(open) + " NOT CLOSED").c_str() : "");
   std::fprintf(out, "max deviation   %.6f Å certified (--max-error %g Å; grid %.3f Å, %d refinement rounds)\n",
                r.certifiedError, o.maxError, params.gridSpacing, r.rounds);
+  if (r.refinedCells)
+    std::fprintf(out, "thin parts      %zu grid cells subdivided where the body or a gap is thinner than the grid\n",
+                 r.refinedCells);
   if (r.badTriangles)
     std::fprintf(out, "warning         %zu triangles face against the surface's normals\n", r.badTriangles);
   // The exact area and volume where the patches give them (SES, skin): of the whole surface,

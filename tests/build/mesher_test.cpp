@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <string>
@@ -325,6 +326,48 @@ TEST(Mesher, FarApartSpheresAreTwoComponents) {
   EXPECT_EQ(topologyOf(one.mesh).eulerByComponent.size(), 1u);
 }
 
+// A gap of solvent thinner than the grid: two balls 0.02 Å apart, a grid of 0.6 Å whose edges
+// across the gap have both ends inside (one in each ball). Marching tetrahedra on the grid's
+// values alone bridges the gap (one component); the two spheres are two components, each
+// closed with Euler characteristic 2, and the mesh stays within ε of them.
+TEST(Mesher, GapThinnerThanTheGridIsNotBridged) {
+  const UnionField f({{{0, 0, 0}, 2.5}, {{5.02, 0.02, -0.01}, 2.5}}, false);
+  for (double eps : {0.1, 0.02}) {
+    SCOPED_TRACE("eps " + std::to_string(eps));
+    const MeshResult r = meshOf(f, {glm::dvec3(-2.5, 0, 0), glm::dvec3(7.52, 0.02, -0.01)}, eps, 0.6);
+    expectSound(f, r, eps);
+    const Topology t = topologyOf(r.mesh);
+    ASSERT_EQ(t.eulerByComponent.size(), 2u);
+    EXPECT_EQ(t.eulerByComponent.at(0), 2);
+    EXPECT_EQ(t.eulerByComponent.at(1), 2);
+    EXPECT_EQ(meshComponents(r.mesh).size(), 2u);
+  }
+}
+
+// A wall of the body thinner than the grid: a ball with a cavity 0.08 Å under its surface.
+// Grid edges across the wall have both ends outside the body (one in the cavity, one in the
+// solvent), so marching tetrahedra on the grid's values alone opens a hole through the wall.
+// The outer surface and the cavity are two closed components of Euler characteristic 2.
+TEST(Mesher, WallThinnerThanTheGridIsNotPierced) {
+  const Ball outer{{0, 0, 0}, 3.0}, inner{{1.72, 0.03, -0.02}, 1.2};
+  const CavityField f(outer, inner);
+  for (double eps : {0.1, 0.02}) {
+    SCOPED_TRACE("eps " + std::to_string(eps));
+    const MeshResult r = meshOf(f, {glm::dvec3(-3, 0, 0), inner.c - glm::dvec3(1.2, 0, 0)}, eps, 0.5);
+    expectSound(f, r, eps);
+    const Topology t = topologyOf(r.mesh);
+    ASSERT_EQ(t.eulerByComponent.size(), 2u);
+    EXPECT_EQ(t.eulerByComponent.at(0), 2);
+    EXPECT_EQ(t.eulerByComponent.at(1), 2);
+    const std::vector<MeshComponent> c = meshComponents(r.mesh);
+    ASSERT_EQ(c.size(), 2u);
+    for (const MeshComponent& k : c) {
+      const double want = k.surfaceComponent == 0 ? 4.0 / 3 * kPi * 27.0 : -4.0 / 3 * kPi * 1.728;
+      EXPECT_NEAR(k.volume, want, eps * (k.surfaceComponent == 0 ? 4 * kPi * 9.0 : 4 * kPi * 1.44));
+    }
+  }
+}
+
 TEST(Mesher, CavityIsItsOwnInwardFacingComponent) {
   const Ball outer{{0, 0, 0}, 3.0}, inner{{0.4, 0.2, -0.3}, 1.2};
   const CavityField f(outer, inner);
@@ -418,6 +461,28 @@ TEST(Mesher, DiscontinuousFieldIsAnError) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("changes sign without a zero"), std::string::npos) << e.what();
   }
+}
+
+// A field whose closest points are not numbers above z = 0.5 (a broken field): a triangle
+// there has no bound (+inf), rather than the bound of its corners alone.
+class NanClosestField : public SphereField {
+ public:
+  using SphereField::SphereField;
+  SurfacePoint closest(const glm::dvec3& x) const override {
+    SurfacePoint p = SphereField::closest(x);
+    if (x.z > 0.5) p.point = glm::dvec3(std::nan(""));
+    return p;
+  }
+};
+
+TEST(Mesher, NanClosestPointLeavesATriangleUnbounded) {
+  const NanClosestField f({{0, 0, 0}, 2.0});
+  const glm::dvec3 a = glm::normalize(glm::dvec3(0.2, 0.0, 1.0)) * 2.0, b = glm::normalize(glm::dvec3(0.0, 0.2, 1.0)) * 2.0,
+                   c = glm::normalize(glm::dvec3(-0.2, -0.2, 1.0)) * 2.0;
+  EXPECT_EQ(certifiedDeviation(f, a, b, c, 0.05), std::numeric_limits<double>::infinity());
+  // Below z = 0.5 the same triangle shape has its finite bound.
+  const glm::dvec3 a2(a.x, a.z, -a.y), b2(b.x, b.z, -b.y), c2(c.x, c.z, -c.y);
+  EXPECT_LT(certifiedDeviation(f, a2, b2, c2, 0.05), 0.1);
 }
 
 // --- Files --------------------------------------------------------------------------------

@@ -186,6 +186,90 @@ TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   EXPECT_EQ(compared.status, 0) << compared.output;
 }
 
+// The closed pieces of a mesh (by shared vertices), largest signed volume first, and how many
+// directed edges miss their one reverse (0: closed and consistently oriented).
+struct MeshPiece {
+  long long euler = 0;
+  double volume = 0.0;
+};
+std::vector<MeshPiece> piecesOf(const PlyMesh& m, std::size_t& unmatched) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  unmatched = 0;
+  for (const auto& [e, n] : directed)
+    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  std::vector<std::uint32_t> parent(m.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const auto& t : m.triangles) {
+    parent[root(parent, t[1])] = root(parent, t[0]);
+    parent[root(parent, t[2])] = root(parent, t[0]);
+  }
+  std::map<std::uint32_t, std::array<double, 4>> piece;  // vertices, triangles, volume, used
+  std::vector<char> used(m.positions.size(), 0);
+  for (const auto& t : m.triangles) {
+    auto& p = piece[root(parent, t[0])];
+    p[1] += 1.0;
+    p[2] += glm::dot(m.positions[t[0]], glm::cross(m.positions[t[1]], m.positions[t[2]])) / 6.0;
+    for (std::uint32_t v : t)
+      if (!used[v]) used[v] = 1, p[0] += 1.0;
+  }
+  std::vector<MeshPiece> out;
+  // A closed triangle mesh has E = 3F/2, so V − E + F = V − F/2.
+  for (const auto& [r, p] : piece) out.push_back({static_cast<long long>(p[0] - 0.5 * p[1]), p[2]});
+  std::sort(out.begin(), out.end(), [](const MeshPiece& a, const MeshPiece& b) { return a.volume > b.volume; });
+  return out;
+}
+
+// A piece of GroEL–GroES (1AON: the atoms within 9 Å of (38.93, −32.65, −9.19)) whose SES has a
+// wall of the body 0.54 Å thin between two probe balls, and solvent necks where probe balls
+// barely overlap, all thinner than the 0.7 Å grid: meshed closed and consistently oriented,
+// every vertex on the SES (the brute-force oracle), as many components as `area` finds, each
+// with an even Euler characteristic (closed orientable), and within 0.1 Å by `compare --views
+// 26`. Before the grid was subdivided at thin parts, `mesh` gave up here after growing the mesh
+// to millions of triangles.
+TEST(MeshCli, GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound) {
+  const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1aon_piece");
+  const surftrace::build::Molecule full = surftrace::build::readMolecule(data("paper/1aon.pdb.gz"));
+  const glm::dvec3 centre(38.93, -32.65, -9.19);
+  std::vector<surftrace::oracle::Sphere> atoms;
+  {
+    std::ofstream out(dir / "piece.xyzr");
+    char line[160];
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      if (glm::length(full.centers[i] - centre) >= 9.0) continue;
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", full.centers[i].x, full.centers[i].y,
+                    full.centers[i].z, full.radii[i]);
+      out << line;
+      atoms.push_back({full.centers[i], full.radii[i]});
+    }
+  }
+  ASSERT_GT(atoms.size(), 100u);
+  const std::string piece = (dir / "piece.xyzr").string();
+  const auto made = runTool("mesh " + piece + " --max-error 0.1 -o " + (dir / "m.ply").string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const PlyMesh m = readPly(dir / "m.ply");
+  std::size_t unmatched = 0;
+  const std::vector<MeshPiece> pieces = piecesOf(m, unmatched);
+  EXPECT_EQ(unmatched, 0u) << "edges not shared by exactly two triangles in opposite directions";
+  const surftrace::oracle::SesOracle oracle(atoms, 1.4);
+  double worst = 0.0;
+  for (const glm::dvec3& p : m.positions) worst = std::max(worst, std::abs(oracle.distanceToAccessible(p).dist - 1.4));
+  EXPECT_LT(worst, 1e-9) << "a vertex off the SES";
+  const auto areas = runTool("area " + piece + " --format json");
+  ASSERT_EQ(areas.status, 0) << areas.output;
+  const auto exact = nlohmann::json::parse(areas.output.substr(areas.output.find('{')))["ses"]["components"];
+  ASSERT_EQ(pieces.size(), exact.size());
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    EXPECT_EQ(pieces[k].euler % 2, 0) << "component " << k;
+    EXPECT_LE(pieces[k].euler, 2) << "component " << k;
+    EXPECT_EQ(pieces[k].volume > 0.0, !exact[k]["cavity"].get<bool>()) << "component " << k;
+  }
+  const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + piece +
+                                " --surface ses --views 26 --size 256x256 --max-error 0.1");
+  EXPECT_EQ(compared.status, 0) << compared.output;
+}
+
 // With --component the printed exact area and volume are those of the kept components (here the
 // outer surface), from `area`'s per-component values, and the percentages compare with them.
 TEST(MeshCli, ComponentFilterComparesWithTheKeptComponents) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -47,10 +48,15 @@ constexpr std::size_t kMaxGrowth = 200;
 // instead of filling the memory (1AON's SES at 0.1 Å passed 18 GB without finishing).
 constexpr std::size_t kMaxTriangles = 20'000'000;
 
-// Grid vertices are (i, j, k) in [0, 2^20)^3, packed into one key; a cell is keyed by its
-// lowest corner.
-constexpr int kAxisBits = 20;
-constexpr std::int64_t kAxisLimit = std::int64_t{1} << kAxisBits;
+// Grid vertices are (i, j, k) in [0, 2^21)^3 in fine units, kFine to a grid step, packed into
+// one key; a cell is keyed by its lowest corner. The fine units are the vertices that bisecting
+// tetrahedra adds where the body is thinner than the grid (refineHidden): a midpoint of two
+// vertices is a vertex as long as their coordinates differ by even numbers, which allows
+// kFineBits halvings of a grid edge.
+constexpr int kAxisBits = 21;
+constexpr int kFineBits = 8;
+constexpr std::int64_t kFine = std::int64_t{1} << kFineBits;
+constexpr std::int64_t kAxisLimit = std::int64_t{1} << (kAxisBits - kFineBits);  // grid cells per axis
 using Key = std::uint64_t;
 Key packKey(std::int64_t i, std::int64_t j, std::int64_t k) {
   return static_cast<Key>(i) | static_cast<Key>(j) << kAxisBits | static_cast<Key>(k) << (2 * kAxisBits);
@@ -62,8 +68,8 @@ std::array<std::int64_t, 3> unpackKey(Key key) {
 }
 // Corner c (bits x = 1, y = 2, z = 4) of the cell keyed `cell`.
 Key cornerKey(Key cell, int c) {
-  return cell + static_cast<Key>(c & 1) + (static_cast<Key>(c >> 1 & 1) << kAxisBits) +
-         (static_cast<Key>(c >> 2 & 1) << (2 * kAxisBits));
+  return cell + static_cast<Key>((c & 1) * kFine) + (static_cast<Key>((c >> 1 & 1) * kFine) << kAxisBits) +
+         (static_cast<Key>((c >> 2 & 1) * kFine) << (2 * kAxisBits));
 }
 // Kuhn's triangulation of the cube: the six monotone paths from corner 0 to corner 7. Every
 // cube is split alike, so each square face is cut along the same diagonal from both sides and
@@ -72,17 +78,34 @@ Key cornerKey(Key cell, int c) {
 constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 // The four corners of each face: x = 0, x = 1, y = 0, y = 1, z = 0, z = 1.
 constexpr int kFaces[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
+// Kuhn's edges are the corner pairs (u, v) whose bits u has a strict subset of v's: 19 per cube.
+bool kuhnEdge(int u, int v) { return u != v && (u & v) == u; }
+
+// An edge between two vertices, its keys in order.
+struct EdgeKey {
+  Key a = 0, b = 0;
+  EdgeKey() = default;
+  EdgeKey(Key p, Key q) : a(std::min(p, q)), b(std::max(p, q)) {}
+  bool operator==(const EdgeKey& o) const { return a == o.a && b == o.b; }
+  bool operator<(const EdgeKey& o) const { return a != o.a ? a < o.a : b < o.b; }
+};
+struct EdgeHash {
+  std::size_t operator()(const EdgeKey& e) const {
+    return static_cast<std::size_t>(e.a * 0x9E3779B97F4A7C15ull ^ (e.b + 0x632BE59BD9B4E019ull + (e.a << 6)));
+  }
+};
 
 struct Grid {
   glm::dvec3 origin{0.0};
   double h = 0.0;
-  // Grid vertices where the field was exactly 0, moved off the surface (see walkGrid).
+  // Grid vertices where the field was exactly 0, moved off the surface (see valueAt).
   std::unordered_map<Key, glm::dvec3> moved;
   glm::dvec3 position(Key key) const {
     if (!moved.empty())
       if (const auto it = moved.find(key); it != moved.end()) return it->second;
     const auto [i, j, k] = unpackKey(key);
-    return origin + h * glm::dvec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+    return origin + (h / static_cast<double>(kFine)) *
+                        glm::dvec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
   }
 };
 
@@ -90,16 +113,48 @@ struct Grid {
 // sits on the surface and marching tetrahedra's output is a closed manifold.
 bool inside(double value) { return value < 0.0; }
 
+// The value at a grid vertex whose field value came out `value`. A grid vertex on the surface
+// would put the crossings of all its edges at one point (zero-area triangles): it is moved off
+// the surface by a small step, outwards (0 counts as outside), which keeps every tetrahedron's
+// sign pattern and makes the crossings distinct.
+double settleZero(const SurfaceDistance& field, Grid& grid, Key key, double value) {
+  for (double step = 1e-4; value == 0.0 && step < 0.5; step *= 4.0)
+    for (double sign : {1.0, -1.0}) {
+      const glm::dvec3 moved = grid.position(key) + sign * step * grid.h / static_cast<double>(kFine) *
+                                                        glm::normalize(glm::dvec3(0.53, 0.71, 0.46));
+      const double v = field.signedDistance(moved);
+      if (v > 0.0 && value == 0.0) grid.moved[key] = moved, value = v;
+    }
+  return value;
+}
+
+// The farthest a point of a Kuhn triangle (half a cube's face, or a diagonal section) lies
+// from its nearest corner, in grid steps: half the face diagonal √2 of a right triangle; the
+// sections through the cube (sides 1, √2, √3, right-angled) reach √3/2, which is larger.
+constexpr double kFaceCover = 0.8660254037844387;
+
+// Whether the field may cross zero between two points of one sign: by the Lipschitz bound it
+// cannot where |f(a)| + |f(b)| >= |a − b| (|f| is at least the distance up to the reach).
+bool mayHideCrossing(double fa, double fb, double length, double reach) {
+  return inside(fa) == inside(fb) && std::min(std::abs(fa), reach) + std::min(std::abs(fb), reach) < length;
+}
+
 // The grid walk: the cells the surface crosses (corners of both signs), reached from the seeds'
 // cells across faces whose corners have both signs (the marching-tetrahedra surface leaves a
-// cube only through such faces), with the field's value at every corner of them.
+// cube only through such faces), with the field's value at every corner of them. The walk also
+// goes through the cells with an edge that may hide crossings (mayHideCrossing: the body, or
+// the solvent, thinner than the grid there) and across their faces that have such an edge, so
+// that a wall or gap between two grid vertices of one sign is reached too: those cells are
+// `near`, for refineHidden to look into.
 struct Walk {
   std::vector<Key> cells;
+  std::vector<Key> near;
   std::unordered_map<Key, double> values;
 };
 
-Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dvec3> seeds, Key limit) {
+Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dvec3> seeds, std::int64_t limit) {
   Walk w;
+  const double reach = field.reach();
   std::unordered_set<Key> visited;
   std::vector<Key> frontier;
   const auto cellOf = [&](const glm::dvec3& p, int di, int dj, int dk, Key& out) {
@@ -107,10 +162,8 @@ Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dve
     const std::int64_t i = static_cast<std::int64_t>(std::floor(g.x)) + di;
     const std::int64_t j = static_cast<std::int64_t>(std::floor(g.y)) + dj;
     const std::int64_t k = static_cast<std::int64_t>(std::floor(g.z)) + dk;
-    if (i < 0 || j < 0 || k < 0 || i + 1 >= static_cast<std::int64_t>(limit) || j + 1 >= static_cast<std::int64_t>(limit) ||
-        k + 1 >= static_cast<std::int64_t>(limit))
-      return false;
-    out = packKey(i, j, k);
+    if (i < 0 || j < 0 || k < 0 || i + 1 >= limit || j + 1 >= limit || k + 1 >= limit) return false;
+    out = packKey(i * kFine, j * kFine, k * kFine);
     return true;
   };
   for (const glm::dvec3& s : seeds)
@@ -120,6 +173,10 @@ Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dve
           Key cell;
           if (cellOf(s, di, dj, dk, cell) && visited.insert(cell).second) frontier.push_back(cell);
         }
+  // The length of the edge between corners u and v of a cell.
+  const auto cornerDistance = [&](int u, int v) {
+    return grid.h * std::sqrt(static_cast<double>(__builtin_popcount(static_cast<unsigned>(u ^ v))));
+  };
   std::vector<Key> need;
   std::vector<double> needValues;
   while (!frontier.empty()) {
@@ -132,36 +189,46 @@ Walk walkGrid(const SurfaceDistance& field, Grid& grid, std::span<const glm::dve
     needValues.resize(need.size());
     tbb::parallel_for(std::size_t{0}, need.size(),
                       [&](std::size_t n) { needValues[n] = field.signedDistance(grid.position(need[n])); });
-    for (std::size_t n = 0; n < need.size(); ++n) {
-      // A grid vertex on the surface would put the crossings of all its edges at one point
-      // (zero-area triangles): it is moved off the surface by a small step, outwards (0
-      // counts as outside), which keeps every tetrahedron's sign pattern and makes the
-      // crossings distinct.
-      for (double step = 1e-4; needValues[n] == 0.0 && step < 0.5; step *= 4.0)
-        for (double sign : {1.0, -1.0}) {
-          const glm::dvec3 moved =
-              grid.position(need[n]) + sign * step * grid.h * glm::normalize(glm::dvec3(0.53, 0.71, 0.46));
-          const double value = field.signedDistance(moved);
-          if (value > 0.0 && needValues[n] == 0.0) grid.moved[need[n]] = moved, needValues[n] = value;
-        }
-      w.values.emplace(need[n], needValues[n]);
-    }
+    for (std::size_t n = 0; n < need.size(); ++n)
+      w.values.emplace(need[n], settleZero(field, grid, need[n], needValues[n]));
     std::vector<Key> next;
     for (Key cell : frontier) {
       bool in[8];
+      double value[8];
       int count = 0;
-      for (int c = 0; c < 8; ++c) count += in[c] = inside(w.values.at(cornerKey(cell, c)));
-      if (count == 0 || count == 8) continue;
-      w.cells.push_back(cell);
+      for (int c = 0; c < 8; ++c) {
+        value[c] = w.values.at(cornerKey(cell, c));
+        count += in[c] = inside(value[c]);
+      }
+      bool hides[8][8] = {};
+      bool anyHidden = false;
+      for (int u = 0; u < 8; ++u)
+        for (int v = 0; v < 8; ++v)
+          if (kuhnEdge(u, v) && mayHideCrossing(value[u], value[v], cornerDistance(u, v), reach))
+            hides[u][v] = hides[v][u] = anyHidden = true;
+      // A corner nearer the surface than a face diagonal's half: a channel thinner than the
+      // grid may pierce a face of the cell between its edges (mayHideInFace).
+      double nearest = kInf;
+      for (int c = 0; c < 8; ++c) nearest = std::min(nearest, std::abs(value[c]));
+      anyHidden = anyHidden || nearest < kFaceCover * grid.h;
+      const bool crossed = count != 0 && count != 8;
+      if (!crossed && !anyHidden) continue;
+      (crossed ? w.cells : w.near).push_back(cell);
       const auto [i, j, k] = unpackKey(cell);
       for (int f = 0; f < 6; ++f) {
-        const int faceIn = in[kFaces[f][0]] + in[kFaces[f][1]] + in[kFaces[f][2]] + in[kFaces[f][3]];
-        if (faceIn == 0 || faceIn == 4) continue;
+        const int* q = kFaces[f];
+        const int faceIn = in[q[0]] + in[q[1]] + in[q[2]] + in[q[3]];
+        bool faceHides = false;
+        for (int x = 0; x < 4; ++x) {
+          faceHides = faceHides || std::abs(value[q[x]]) < kFaceCover * grid.h;
+          for (int y = 0; y < 4; ++y) faceHides = faceHides || hides[q[x]][q[y]];
+        }
+        if ((faceIn == 0 || faceIn == 4) && !faceHides) continue;
         const int axis = f / 2, step = f % 2 == 0 ? -1 : 1;
-        std::int64_t n[3] = {i, j, k};
+        std::int64_t n[3] = {i / kFine, j / kFine, k / kFine};
         n[axis] += step;
-        if (n[axis] < 0 || n[axis] + 1 >= static_cast<std::int64_t>(limit)) continue;
-        const Key neighbour = packKey(n[0], n[1], n[2]);
+        if (n[axis] < 0 || n[axis] + 1 >= limit) continue;
+        const Key neighbour = packKey(n[0] * kFine, n[1] * kFine, n[2] * kFine);
         if (visited.insert(neighbour).second) next.push_back(neighbour);
       }
     }
@@ -246,65 +313,309 @@ std::string coordinates(const glm::dvec3& p) {
   return text;
 }
 
-// Marching tetrahedra over the walked cells: vertices on the grid edges whose ends have
-// opposite signs (one per edge, shared by every tetrahedron around it), triangles oriented
-// from the inside corners towards the outside ones.
-TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, const Walk& walk) {
-  // An edge is its lower corner's key times 8 plus its direction (1..7).
-  std::unordered_map<Key, std::uint32_t> edgeVertex;
+// Where the body (or the solvent) is thinner than the grid, a grid edge can cross the surface
+// twice or more with both ends on one side, and marching tetrahedra on the grid's values opens a
+// hole through a wall or bridges a gap there, which no later split of triangles undoes (the
+// triangles spanning the hole stay as wide as the wall is thick). Those edges are found and
+// bisected, with every tetrahedron around them, until no edge hides a crossing.
+
+// Whether the field changes sign between a and b, whose values fa and fb have one sign: the
+// segment is halved wherever mayHideCrossing leaves room for a crossing, down to pieces of
+// `minLength`, with at most `budget` evaluations of the field.
+bool hiddenCrossing(const SurfaceDistance& field, const glm::dvec3& a, double fa, const glm::dvec3& b, double fb,
+                    double minLength, int& budget) {
+  const double length = glm::length(b - a);
+  if (!mayHideCrossing(fa, fb, length, field.reach()) || length < minLength || budget-- <= 0) return false;
+  const glm::dvec3 m = 0.5 * (a + b);
+  const double fm = field.signedDistance(m);
+  if (inside(fm) != inside(fa)) return true;
+  return hiddenCrossing(field, a, fa, m, fm, minLength, budget) || hiddenCrossing(field, m, fm, b, fb, minLength, budget);
+}
+// Whether the field changes sign inside the triangle (a, b, c), whose values have one sign: a
+// channel thinner than the grid (two probe balls' narrow neck) can pierce a face between its
+// edges. Where each corner's |f| covers the triangle (coverRadius) there is no crossing; else
+// the triangle is cut into four at its edges' midpoints, down to pieces of `minLength`, with
+// at most `budget` evaluations of the field.
+double coverRadius(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+bool hiddenInFace(const SurfaceDistance& field, const glm::dvec3& a, double fa, const glm::dvec3& b, double fb,
+                  const glm::dvec3& c, double fc, double minLength, int& budget) {
+  const double reach = field.reach();
+  const double cover = coverRadius(a, b, c);
+  if (std::min({std::abs(fa), std::abs(fb), std::abs(fc), reach}) >= cover) return false;
+  if (glm::length(b - a) + glm::length(c - b) + glm::length(a - c) < 3.0 * minLength || budget <= 0) return false;
+  budget -= 3;
+  const glm::dvec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  const double fab = field.signedDistance(ab), fbc = field.signedDistance(bc), fca = field.signedDistance(ca);
+  if (inside(fab) != inside(fa) || inside(fbc) != inside(fa) || inside(fca) != inside(fa)) return true;
+  return hiddenInFace(field, a, fa, ab, fab, ca, fca, minLength, budget) ||
+         hiddenInFace(field, ab, fab, b, fb, bc, fbc, minLength, budget) ||
+         hiddenInFace(field, ca, fca, bc, fbc, c, fc, minLength, budget) ||
+         hiddenInFace(field, ab, fab, bc, fbc, ca, fca, minLength, budget);
+}
+
+// Field evaluations per edge in hiddenCrossing, and rounds of bisection.
+constexpr int kHiddenBudget = 64;
+constexpr int kHiddenRounds = 3 * kFineBits;
+
+// A tetrahedron of the refined part of the grid: its four vertices' keys.
+using Tet = std::array<Key, 4>;
+struct Refined {
+  std::unordered_set<Key> cells;  // grid cells whose six Kuhn tetrahedra were replaced by `tets`
+  std::vector<Tet> tets;
+};
+
+// Finds the edges of the walked cells that hide crossings (hiddenCrossing) and bisects them:
+// the grid cells around such an edge become tetrahedra (Kuhn's six each), and every
+// tetrahedron with bisected edges is split at its greatest one (by length, then keys), its
+// halves again at theirs, until none is left; then the new edges are searched likewise. Both
+// tetrahedra on either side of a face split it at the same edges in the same order (a face's
+// first split is at its greatest bisected edge, whichever tetrahedron splits it), so the
+// tetrahedra stay face to face with each other and with the cells left whole: a cell keeps
+// its six tetrahedra only while none of its edges is bisected, and every new edge lies inside
+// the cells already replaced. The values of the new vertices go into walk.values.
+Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, double minLength) {
+  Refined r;
+  const double reach = field.reach();
+  const auto hides = [&](const EdgeKey& e) {
+    int budget = kHiddenBudget;
+    return hiddenCrossing(field, grid.position(e.a), walk.values.at(e.a), grid.position(e.b), walk.values.at(e.b),
+                          minLength, budget);
+  };
+  std::unordered_set<EdgeKey, EdgeHash> tested;
+  std::vector<EdgeKey> candidates;
+  for (const std::vector<Key>* list : {&walk.cells, &walk.near})
+    for (Key cell : *list) {
+      Key corner[8];
+      double value[8];
+      for (int c = 0; c < 8; ++c) corner[c] = cornerKey(cell, c), value[c] = walk.values.at(corner[c]);
+      for (int u = 0; u < 8; ++u)
+        for (int v = 0; v < 8; ++v)
+          if (kuhnEdge(u, v) &&
+              mayHideCrossing(value[u], value[v],
+                              grid.h * std::sqrt(static_cast<double>(__builtin_popcount(static_cast<unsigned>(u ^ v)))),
+                              reach))
+            candidates.emplace_back(corner[u], corner[v]);
+    }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  // The faces of the walked cells' tetrahedra, each with its keys in order.
+  using Face = std::array<Key, 3>;
+  const auto faceOf = [](Key p, Key q, Key s) {
+    Face f{p, q, s};
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  const auto facesOf = [&](const Tet& t, std::vector<Face>& out) {
+    out.push_back(faceOf(t[0], t[1], t[2])), out.push_back(faceOf(t[0], t[1], t[3]));
+    out.push_back(faceOf(t[0], t[2], t[3])), out.push_back(faceOf(t[1], t[2], t[3]));
+  };
+  std::vector<Face> faces;
+  for (const std::vector<Key>* list : {&walk.cells, &walk.near})
+    for (Key cell : *list)
+      for (const auto& tet : kTets)
+        facesOf({cornerKey(cell, tet[0]), cornerKey(cell, tet[1]), cornerKey(cell, tet[2]), cornerKey(cell, tet[3])},
+                faces);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  const auto faceHides = [&](const Face& f) {
+    const double fa = walk.values.at(f[0]), fb = walk.values.at(f[1]), fc = walk.values.at(f[2]);
+    if (inside(fa) != inside(fb) || inside(fa) != inside(fc)) return false;
+    int budget = kHiddenBudget;
+    return hiddenInFace(field, grid.position(f[0]), fa, grid.position(f[1]), fb, grid.position(f[2]), fc, minLength,
+                        budget);
+  };
+  const auto squaredLength = [](const EdgeKey& e) {
+    const auto a = unpackKey(e.a), b = unpackKey(e.b);
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+  };
+  // The order in which a tetrahedron's bisected edges are taken: longest first, then by keys.
+  const auto before = [&](const EdgeKey& x, const EdgeKey& y) {
+    const std::int64_t lx = squaredLength(x), ly = squaredLength(y);
+    return lx != ly ? lx > ly : y < x;
+  };
+  std::vector<EdgeKey> marked;
+  const auto mark = [&](const EdgeKey& e) {
+    const auto a = unpackKey(e.a), b = unpackKey(e.b);
+    // An edge whose midpoint is no vertex of the fine lattice is left as it is.
+    if ((a[0] + b[0]) % 2 == 0 && (a[1] + b[1]) % 2 == 0 && (a[2] + b[2]) % 2 == 0) marked.push_back(e);
+  };
+  std::set<Face> testedFaces;
+  const auto search = [&](const std::vector<EdgeKey>& edges, const std::vector<Face>& faceList) {
+    std::vector<char> hidden(edges.size(), 0), faceHidden(faceList.size(), 0);
+    tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t n) { hidden[n] = hides(edges[n]); });
+    tbb::parallel_for(std::size_t{0}, faceList.size(), [&](std::size_t n) { faceHidden[n] = faceHides(faceList[n]); });
+    marked.clear();
+    for (std::size_t n = 0; n < edges.size(); ++n)
+      if (hidden[n]) mark(edges[n]);
+    // A face that hides a crossing between its edges is bisected at its longest edge: the
+    // faces cut from it shrink until the crossing meets an edge.
+    for (std::size_t n = 0; n < faceList.size(); ++n) {
+      if (!faceHidden[n]) continue;
+      const Face& f = faceList[n];
+      EdgeKey longest(f[0], f[1]);
+      for (const EdgeKey& e : {EdgeKey(f[1], f[2]), EdgeKey(f[0], f[2])})
+        if (before(e, longest)) longest = e;
+      mark(longest);
+    }
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+  };
+  search(candidates, faces);
+  tested.insert(candidates.begin(), candidates.end());
+  testedFaces.insert(faces.begin(), faces.end());
+  const auto valueOf = [&](Key key) {
+    if (const auto it = walk.values.find(key); it != walk.values.end()) return it->second;
+    const double v = settleZero(field, grid, key, field.signedDistance(grid.position(key)));
+    walk.values.emplace(key, v);
+    return v;
+  };
+  const auto onGrid = [](const std::array<std::int64_t, 3>& p) {
+    return p[0] % kFine == 0 && p[1] % kFine == 0 && p[2] % kFine == 0;
+  };
+  for (int round = 0; !marked.empty() && round < kHiddenRounds; ++round) {
+    // The cells around a bisected grid edge: the cells whose lowest corner is its lower end
+    // less the corner offsets u that share no axis with the edge's direction.
+    for (const EdgeKey& e : marked) {
+      const auto a = unpackKey(e.a), b = unpackKey(e.b);
+      if (!onGrid(a) || !onGrid(b)) continue;
+      int dir = 0;
+      for (int axis = 0; axis < 3; ++axis) dir |= (b[axis] != a[axis]) << axis;
+      for (int u = 0; u < 8; ++u) {
+        if (u & dir) continue;
+        std::int64_t c[3];
+        for (int axis = 0; axis < 3; ++axis) c[axis] = a[axis] - (u >> axis & 1) * kFine;
+        if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+        const Key cell = packKey(c[0], c[1], c[2]);
+        if (!r.cells.insert(cell).second) continue;
+        for (int corner = 0; corner < 8; ++corner) valueOf(cornerKey(cell, corner));
+        for (const auto& tet : kTets)
+          r.tets.push_back({cornerKey(cell, tet[0]), cornerKey(cell, tet[1]), cornerKey(cell, tet[2]),
+                            cornerKey(cell, tet[3])});
+      }
+    }
+    std::sort(marked.begin(), marked.end());
+    std::vector<Key> mid(marked.size());
+    for (std::size_t n = 0; n < marked.size(); ++n) {
+      const auto a = unpackKey(marked[n].a), b = unpackKey(marked[n].b);
+      mid[n] = packKey((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
+    }
+    std::vector<double> midValue(marked.size());
+    tbb::parallel_for(std::size_t{0}, mid.size(),
+                      [&](std::size_t n) { midValue[n] = field.signedDistance(grid.position(mid[n])); });
+    for (std::size_t n = 0; n < mid.size(); ++n) walk.values.emplace(mid[n], settleZero(field, grid, mid[n], midValue[n]));
+    const auto midpointOf = [&](Key p, Key q) -> std::optional<Key> {
+      const EdgeKey e(p, q);
+      const auto it = std::lower_bound(marked.begin(), marked.end(), e);
+      if (it == marked.end() || !(*it == e)) return std::nullopt;
+      return mid[static_cast<std::size_t>(it - marked.begin())];
+    };
+    std::vector<Tet> tets, created, stack;
+    tets.reserve(r.tets.size() + 2 * marked.size());
+    for (const Tet& t : r.tets) {
+      stack.assign(1, t);
+      bool split = false;
+      while (!stack.empty()) {
+        const Tet tet = stack.back();
+        stack.pop_back();
+        int bestP = -1, bestQ = -1;
+        EdgeKey best;
+        for (int p = 0; p < 4; ++p)
+          for (int q = p + 1; q < 4; ++q) {
+            const EdgeKey e(tet[p], tet[q]);
+            if (!midpointOf(tet[p], tet[q])) continue;
+            if (bestP < 0 || before(e, best)) best = e, bestP = p, bestQ = q;
+          }
+        if (bestP < 0) {
+          tets.push_back(tet);
+          if (split) created.push_back(tet);
+          continue;
+        }
+        split = true;
+        const Key m = *midpointOf(tet[bestP], tet[bestQ]);
+        Tet first = tet, second = tet;
+        first[bestP] = m, second[bestQ] = m;
+        stack.push_back(first), stack.push_back(second);
+      }
+    }
+    r.tets = std::move(tets);
+    // The new tetrahedra's edges not searched yet, and the new cells'.
+    std::vector<EdgeKey> fresh;
+    std::vector<Face> freshFaces, tetFaces;
+    for (const Tet& t : created) {
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q)
+          if (tested.insert(EdgeKey(t[p], t[q])).second) fresh.emplace_back(t[p], t[q]);
+      tetFaces.clear();
+      facesOf(t, tetFaces);
+      for (const Face& f : tetFaces)
+        if (testedFaces.insert(f).second) freshFaces.push_back(f);
+    }
+    search(fresh, freshFaces);
+  }
+  return r;
+}
+
+// Marching tetrahedra over the walked cells and the refined tetrahedra: vertices on the edges
+// whose ends have opposite signs (one per edge, shared by every tetrahedron around it),
+// triangles oriented from the inside corners towards the outside ones.
+TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, const Walk& walk, const Refined& refined) {
+  std::unordered_map<EdgeKey, std::uint32_t, EdgeHash> edgeVertex;
   edgeVertex.reserve(walk.cells.size() * 4);
-  std::vector<Key> edges;
+  std::vector<EdgeKey> edges;
   TriangleMesh mesh;
   const auto vertexOn = [&](Key p, Key q) {
-    // p and q are corners of one cube, q with more bits set (Kuhn's edges are monotone).
-    if (p > q) std::swap(p, q);
-    const auto [pi, pj, pk] = unpackKey(p);
-    const auto [qi, qj, qk] = unpackKey(q);
-    const Key edge = p << 3 | static_cast<Key>((qi - pi) | (qj - pj) << 1 | (qk - pk) << 2);
-    const auto [it, added] = edgeVertex.emplace(edge, static_cast<std::uint32_t>(edges.size()));
-    if (added) edges.push_back(edge);
+    const auto [it, added] = edgeVertex.emplace(EdgeKey(p, q), static_cast<std::uint32_t>(edges.size()));
+    if (added) edges.push_back(EdgeKey(p, q));
     return it->second;
   };
+  const auto march = [&](const Key* corner, const double* value) {
+    int in[4], out[4], nIn = 0, nOut = 0;
+    for (int v = 0; v < 4; ++v) (inside(value[v]) ? in[nIn++] : out[nOut++]) = v;
+    if (nIn == 0 || nOut == 0) return;
+    // The cut's vertices; orientation is decided on the edges' midpoints, where the cut
+    // separates the tetrahedron's inside corners from its outside ones by construction.
+    std::pair<int, int> cut[4];
+    std::size_t cuts = 3;
+    if (nIn == 1) cut[0] = {in[0], out[0]}, cut[1] = {in[0], out[1]}, cut[2] = {in[0], out[2]};
+    else if (nIn == 3) cut[0] = {in[0], out[0]}, cut[1] = {in[1], out[0]}, cut[2] = {in[2], out[0]};
+    else cut[0] = {in[0], out[0]}, cut[1] = {in[0], out[1]}, cut[2] = {in[1], out[1]}, cut[3] = {in[1], out[0]}, cuts = 4;
+    glm::dvec3 mid[4], inC(0.0), outC(0.0);
+    for (std::size_t n = 0; n < cuts; ++n)
+      mid[n] = 0.5 * (grid.position(corner[cut[n].first]) + grid.position(corner[cut[n].second]));
+    for (int n = 0; n < nIn; ++n) inC += grid.position(corner[in[n]]) / double(nIn);
+    for (int n = 0; n < nOut; ++n) outC += grid.position(corner[out[n]]) / double(nOut);
+    const bool flip = glm::dot(glm::cross(mid[1] - mid[0], mid[2] - mid[0]), outC - inC) < 0.0;
+    std::uint32_t id[4];
+    for (std::size_t n = 0; n < cuts; ++n) id[n] = vertexOn(corner[cut[n].first], corner[cut[n].second]);
+    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      mesh.triangles.push_back(flip ? glm::uvec3(a, c, b) : glm::uvec3(a, b, c));
+    };
+    emit(id[0], id[1], id[2]);
+    // The quad's four points are coplanar at the midpoints, so both halves face alike.
+    if (cuts == 4) emit(id[0], id[2], id[3]);
+  };
   for (Key cell : walk.cells) {
+    if (refined.cells.count(cell)) continue;
     Key corner[8];
     double value[8];
     for (int c = 0; c < 8; ++c) corner[c] = cornerKey(cell, c), value[c] = walk.values.at(corner[c]);
     for (const auto& tet : kTets) {
-      int in[4], out[4], nIn = 0, nOut = 0;
-      for (int v : tet) (inside(value[v]) ? in[nIn++] : out[nOut++]) = v;
-      if (nIn == 0 || nOut == 0) continue;
-      // The cut's vertices; orientation is decided on the edges' midpoints, where the cut
-      // separates the tetrahedron's inside corners from its outside ones by construction.
-      std::vector<std::pair<int, int>> cut;
-      if (nIn == 1) cut = {{in[0], out[0]}, {in[0], out[1]}, {in[0], out[2]}};
-      else if (nIn == 3) cut = {{in[0], out[0]}, {in[1], out[0]}, {in[2], out[0]}};
-      else cut = {{in[0], out[0]}, {in[0], out[1]}, {in[1], out[1]}, {in[1], out[0]}};
-      glm::dvec3 mid[4], inC(0.0), outC(0.0);
-      for (std::size_t n = 0; n < cut.size(); ++n)
-        mid[n] = 0.5 * (grid.position(corner[cut[n].first]) + grid.position(corner[cut[n].second]));
-      for (int n = 0; n < nIn; ++n) inC += grid.position(corner[in[n]]) / double(nIn);
-      for (int n = 0; n < nOut; ++n) outC += grid.position(corner[out[n]]) / double(nOut);
-      const bool flip = glm::dot(glm::cross(mid[1] - mid[0], mid[2] - mid[0]), outC - inC) < 0.0;
-      std::uint32_t id[4];
-      for (std::size_t n = 0; n < cut.size(); ++n) id[n] = vertexOn(corner[cut[n].first], corner[cut[n].second]);
-      const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        mesh.triangles.push_back(flip ? glm::uvec3(a, c, b) : glm::uvec3(a, b, c));
-      };
-      emit(id[0], id[1], id[2]);
-      // The quad's four points are coplanar at the midpoints, so both halves face alike.
-      if (cut.size() == 4) emit(id[0], id[2], id[3]);
+      const Key k[4] = {corner[tet[0]], corner[tet[1]], corner[tet[2]], corner[tet[3]]};
+      const double v[4] = {value[tet[0]], value[tet[1]], value[tet[2]], value[tet[3]]};
+      march(k, v);
     }
+  }
+  for (const Tet& t : refined.tets) {
+    const double v[4] = {walk.values.at(t[0]), walk.values.at(t[1]), walk.values.at(t[2]), walk.values.at(t[3])};
+    march(t.data(), v);
   }
   const std::size_t n = edges.size();
   std::optional<std::string> broken;
   std::mutex brokenMutex;
   mesh.positions.resize(n), mesh.normals.resize(n), mesh.atom.resize(n), mesh.kind.resize(n), mesh.component.resize(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
-    const Key lower = edges[v] >> 3;
-    const Key dir = edges[v] & 7;
-    const Key upper = cornerKey(lower, static_cast<int>(dir));
-    double fa = walk.values.at(lower), fb = walk.values.at(upper);
-    glm::dvec3 a = grid.position(lower), b = grid.position(upper);
+    double fa = walk.values.at(edges[v].a), fb = walk.values.at(edges[v].b);
+    glm::dvec3 a = grid.position(edges[v].a), b = grid.position(edges[v].b);
     if (!inside(fa)) std::swap(a, b), std::swap(fa, fb);
     const glm::dvec3 root = edgeRoot(field, a, fa, b, fb);
     // The field is continuous, so the bracket closes on a zero; a value left over means it
@@ -514,7 +825,9 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
     const int k = n - i - j;
     const glm::dvec3 s = (double(i) * a + double(j) * b + double(k) * c) / double(n);
     const glm::dvec3 v = field.closest(s).point - s;
-    d = std::max(d, glm::length(v));
+    // A closest point that is not a number (a broken field) bounds nothing: d goes to +inf,
+    // where std::max would drop the NaN and keep the bound of the other samples.
+    d = std::isfinite(glm::length(v)) ? std::max(d, glm::length(v)) : kInf;
     t = std::max(t, crossLength > 0.0 ? glm::length(v - glm::dot(v, normal) * normal) : glm::length(v));
   };
   // A coarse pass first, so that most failing triangles are told after a few samples.
@@ -555,12 +868,15 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     throw std::invalid_argument("mesh: the surface's box spans " + std::to_string(cellsPerAxis) +
                                 " grid cells along an axis, more than " + std::to_string(kAxisLimit - 2) +
                                 "; use a larger grid spacing");
-  const Key limit = static_cast<Key>(std::ceil(cellsPerAxis)) + 2;
-  const Walk walk = walkGrid(field, grid, seeds, limit);
+  const std::int64_t limit = static_cast<std::int64_t>(std::ceil(cellsPerAxis)) + 2;
+  Walk walk = walkGrid(field, grid, seeds, limit);
+  // Hidden crossings are searched down to pieces that ε-sized triangles would cover anyway.
+  const Refined refined = refineHidden(field, grid, walk, std::max(h / static_cast<double>(kFine), std::min(h / 64.0, eps)));
   result.gridCells = walk.cells.size();
+  result.refinedCells = refined.cells.size();
   progress(0.1);
   TriangleMesh& mesh = result.mesh;
-  mesh = marchTetrahedra(field, grid, walk);
+  mesh = marchTetrahedra(field, grid, walk, refined);
   progress(0.2);
 
   // Refinement. Each triangle keeps its bound until it is split.

@@ -28,6 +28,9 @@ struct MeshResult {
   TriangleMesh mesh;
   double certifiedError = 0.0;  // max over triangles of the certified deviation bound (Å)
   std::size_t gridCells = 0;    // cells of the sparse grid the surface crosses
+  // Cells split into smaller tetrahedra because the body or the solvent is thinner than the
+  // grid there (an edge crosses the surface twice with both ends on one side).
+  std::size_t refinedCells = 0;
   int rounds = 0;               // refinement rounds taken
   // Triangles left facing against the surface's normals (or of no area) that no collapse
   // could remove: 0 in every mesh the tests have seen; the command reports any.
