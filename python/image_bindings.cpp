@@ -622,8 +622,9 @@ PyImage render(const PySurface& surface, const std::optional<Camera>& camera, py
   const PatchList& list = *keepPatches;
   q.render.camera = frameSurface(q.render.camera, q.framing, list, molecule);
   const glm::vec3 uniform(q.uniformColor);  // sRGB: atomColors decodes its colours, as here
-  const std::vector<glm::vec3> colors = keepMolecule ? atomColors(molecule, q.render.color, uniform)
-                                                     : std::vector<glm::vec3>(list.params.atomCount, view::srgbToLinear(uniform));
+  const std::vector<glm::vec3> colors =
+      keepMolecule ? atomColors(molecule, q.render.color, uniform)
+                   : std::vector<glm::vec3>(list.params.atomCount, view::srgbToLinear(uniform));
   std::vector<glm::uvec2> bonds;
   if (q.ballAndStick) bonds = surftrace::moleculeBonds(molecule);
   const BallStickModel model = q.ballAndStick

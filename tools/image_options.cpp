@@ -68,7 +68,8 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(numberIn(1e-6, 0.25))
       ->default_val(0.002)
       ->group(group);
-  cmd.add_option("--silhouette-color", o.silhouetteColor, "Silhouette and crease line colour r,g,b in [0,1] or #rrggbb (sRGB)")
+  cmd.add_option("--silhouette-color", o.silhouetteColor,
+                 "Silhouette and crease line colour r,g,b in [0,1] or #rrggbb (sRGB)")
       ->default_val("0,0,0")
       ->group(group);
   cmd.add_option("--silhouette-depth-jump", o.silhouetteJump,
