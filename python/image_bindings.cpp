@@ -537,7 +537,7 @@ RenderRequest requestOf(const PySurface& surface, const std::optional<Camera>& c
   ro.color = parseColorMode(q.colorName);
   if (auto v = k.take("uniform_color")) q.uniformColor = colorOf(*v, "uniform_color");
   if (auto v = k.take("background")) q.background = colorOf(*v, "background");
-  ro.background = glm::vec3(q.background);
+  ro.background = view::srgbToLinear(glm::vec3(q.background));  // given in sRGB, as the CLI's; shaded linear
   if (auto v = k.take("spp")) ro.samplesPerPixel = wholeIn(*v, "spp", 1, 1024);
   if (auto v = k.take("lighting"))
     ro.lighting = view::lightingFor(view::parseLightingPreset(choiceOf(*v, "lighting", {"headlight", "simple", "soft", "full"})));
@@ -621,9 +621,10 @@ PyImage render(const PySurface& surface, const std::optional<Camera>& camera, py
   const Molecule& molecule = keepMolecule ? *keepMolecule : none;
   const PatchList& list = *keepPatches;
   q.render.camera = frameSurface(q.render.camera, q.framing, list, molecule);
-  const glm::vec3 uniform(q.uniformColor);
-  const std::vector<glm::vec3> colors = keepMolecule ? atomColors(molecule, q.render.color, uniform)
-                                                     : std::vector<glm::vec3>(list.params.atomCount, uniform);
+  const glm::vec3 uniform(q.uniformColor);  // sRGB: atomColors decodes its colours, as here
+  const std::vector<glm::vec3> colors =
+      keepMolecule ? atomColors(molecule, q.render.color, uniform)
+                   : std::vector<glm::vec3>(list.params.atomCount, view::srgbToLinear(uniform));
   std::vector<glm::uvec2> bonds;
   if (q.ballAndStick) bonds = surftrace::moleculeBonds(molecule);
   const BallStickModel model = q.ballAndStick
@@ -840,7 +841,7 @@ as the CLI does, looking along `view` ("front", "back", "left", "right", "top", 
 as "x,y,z") with `fov` degrees (default 30) or `ortho`, then eye/look_at/up override the framing.
 size: (width, height), default (1024, 1024) or the camera's. engine: "embree" (exact) or "gl".
 Options, as the CLI's: color ("patch", "element", "chain", "bfactor", "uniform"), uniform_color,
-background ((r, g, b) in [0, 1]), spp, lighting ("headlight", "simple", "soft", "full"), shadows, ao, ao_distance, opacity, max_layers, ball_and_stick,
+background ((r, g, b) in [0, 1], sRGB as every colour given), spp, lighting ("headlight", "simple", "soft", "full"), shadows, ao, ao_distance, opacity, max_layers, ball_and_stick,
 ball_scale, stick_radius, silhouettes, silhouette_width, silhouette_color, silhouette_depth_jump,
 crease_angle, depth_darkening, depth_darkening_sigma (a fraction of the image height),
 depth_darkening_sigma_px, depth_darkening_strength, depth_darkening_range, depth_cue,

@@ -93,7 +93,7 @@ set(slow_tests
   "Output\\.(AClosedPipeStopsALongRunEarly|DashIsTheStandardOutput|DevicesAreWrittenInPlace|FilesOnAFullDiskAreErrorsAndLeaveNothing|ImageNamesAreCheckedBeforeTheWork|ParseErrorsExitOne|PathsAreCheckedBeforeTheWork|SymbolicLinksStayLinksAndTheirTargetIsReplaced|TrajectoryFramesAreWholeAndResumeChecksThem)"
   "Reference\\..*"
   "SelectCli\\.(InfoAtomsListsWhatMDAnalysisSelects|RenderOfASelectionIsTheRenderOfAFileOfItsAtoms|SelectionsThatCannotApplyAreErrorsNamingThem|TrajectoryOfASelectionIsTheTrajectoryOfAFileOfItsAtoms)"
-  "SrgbCli\\.EightBitImagesHoldTheSrgbEncodingOfTheExrColour"
+  "SrgbCli\\.(BackgroundComesOutAsTheSrgbBytesGiven|EightBitImagesHoldTheSrgbEncodingOfTheExrColour)"
   "Startup\\..*"
   "TrajectoryCli\\..*"
   "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"

@@ -15,17 +15,11 @@
 #include "option_checks.hpp"
 #include "view/color_map.hpp"
 #include "view/image_io.hpp"
+#include "view/srgb.hpp"
 #include "surftrace/files.hpp"
 
 namespace surftrace::tools {
 namespace {
-
-glm::vec3 parseColor(const std::string& option, const std::string& text) {
-  const glm::dvec3 c = parseVector(option, text);
-  if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > 1 || c.y > 1 || c.z > 1)
-    throw std::invalid_argument(option + " '" + text + "': colour components must be in [0, 1]");
-  return glm::vec3(c);
-}
 
 // --color-range LO:HI, both finite, LO < HI.
 std::array<double, 2> parseRange(const std::string& text) {
@@ -42,16 +36,13 @@ std::array<double, 2> parseRange(const std::string& text) {
 view::ColorOverride parseColorSelect(const std::string& text) {
   const auto eq = text.rfind('=');
   const std::string selection = eq == std::string::npos ? "" : text.substr(0, eq);
-  const std::string hex = eq == std::string::npos ? "" : text.substr(eq + 1);
-  const bool hexOk = hex.size() == 7 && hex[0] == '#' &&
-                     std::all_of(hex.begin() + 1, hex.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
-  if (selection.find_first_not_of(" \t") == std::string::npos || !hexOk)
+  const std::optional<glm::dvec3> color = parseHexColor(eq == std::string::npos ? "" : text.substr(eq + 1));
+  if (selection.find_first_not_of(" \t") == std::string::npos || !color)
     throw std::invalid_argument("--color-select '" + text + "': expected SELECTION=#rrggbb, e.g. 'resname HEM=#ff0000' "
                                 "(quote it for the shell)");
   view::ColorOverride o;
   o.selection = selection;
-  for (int c = 0; c < 3; ++c)
-    o.color[c] = static_cast<float>(std::stoi(hex.substr(1 + 2 * static_cast<std::size_t>(c), 2), nullptr, 16)) / 255.0f;
+  o.color = glm::vec3(*color);
   return o;
 }
 
@@ -77,7 +68,8 @@ void addEffectOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(numberIn(1e-6, 0.25))
       ->default_val(0.002)
       ->group(group);
-  cmd.add_option("--silhouette-color", o.silhouetteColor, "Silhouette and crease line colour r,g,b in [0,1]")
+  cmd.add_option("--silhouette-color", o.silhouetteColor,
+                 "Silhouette and crease line colour r,g,b in [0,1] or #rrggbb (sRGB)")
       ->default_val("0,0,0")
       ->group(group);
   cmd.add_option("--silhouette-depth-jump", o.silhouetteJump,
@@ -261,7 +253,29 @@ view::ImageEffects resolveEffects(const ImageOptions& o) {
   return e;
 }
 
+std::optional<glm::dvec3> parseHexColor(const std::string& text) {
+  if (text.size() != 7 || text[0] != '#' ||
+      !std::all_of(text.begin() + 1, text.end(), [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); }))
+    return std::nullopt;
+  glm::dvec3 c;
+  for (int k = 0; k < 3; ++k) c[k] = std::stoi(text.substr(1 + 2 * static_cast<std::size_t>(k), 2), nullptr, 16) / 255.0;
+  return c;
+}
+
+glm::vec3 parseColor(const std::string& option, const std::string& text) {
+  if (const auto hex = parseHexColor(text)) return glm::vec3(*hex);
+  std::istringstream in(text);
+  glm::dvec3 c;
+  char c1 = 0, c2 = 0;
+  if (!(in >> c.x >> c1 >> c.y >> c2 >> c.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !(c.x >= 0 && c.x <= 1) ||
+      !(c.y >= 0 && c.y <= 1) || !(c.z >= 0 && c.z <= 1))
+    throw std::invalid_argument(option + " '" + text + "': expected r,g,b, each in [0, 1], or #rrggbb (sRGB, as a "
+                                "picker or a web page gives them)");
+  return glm::vec3(c);
+}
+
 glm::dvec4 parseBackground(const std::string& text) {
+  if (const auto hex = parseHexColor(text)) return {*hex, 1.0};
   std::istringstream in(text);
   std::vector<double> v;
   std::string item;
@@ -273,7 +287,7 @@ glm::dvec4 parseBackground(const std::string& text) {
   }
   if ((v.size() != 3 && v.size() != 4) || std::any_of(v.begin(), v.end(), [](double x) { return x < 0.0 || x > 1.0; }))
     throw std::invalid_argument("--background '" + text + "': expected r,g,b or r,g,b,a, each in [0, 1] (a: the "
-                                "background's alpha, 0 transparent)");
+                                "background's alpha, 0 transparent), or #rrggbb");
   return {v[0], v[1], v[2], v.size() == 4 ? v[3] : 1.0};
 }
 
@@ -323,7 +337,7 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
       ->check(CLI::IsMember({"patch", "element", "chain", "residue", "hydrophobicity", "rainbow", "bfactor", "value",
                              "uniform"}))
       ->default_val("patch");
-  cmd.add_option("--uniform-color", o.uniformColor, "Colour r,g,b in [0,1] for --color uniform")
+  cmd.add_option("--uniform-color", o.uniformColor, "Colour r,g,b in [0,1] or #rrggbb (sRGB) for --color uniform")
       ->default_val("0.8,0.8,0.8");
   cmd.add_option("--color-map", o.colorMap,
                  "Colour map of bfactor, value, hydrophobicity and rainbow: viridis, magma, cividis (perceptually "
@@ -345,8 +359,8 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
                "Draw the colour map's legend (bar, range, label) into the bottom-right corner of the image");
   cmd.add_option("--legend-file", o.legendFile, "Write the colour map's legend as its own PNG");
   cmd.add_option("--background", o.background,
-                 "Background colour r,g,b in [0,1], or r,g,b,a with a the background's alpha (below 1: a PNG with an "
-                 "alpha channel; the EXR's A)")
+                 "Background colour r,g,b in [0,1] or #rrggbb (sRGB, as every colour given: a PNG shows these bytes), "
+                 "or r,g,b,a with a the background's alpha (below 1: a PNG with an alpha channel; the EXR's A)")
       ->default_val("1,1,1");
   cmd.add_option("--spp", o.spp,
                  "Anti-aliasing: colour samples per pixel, rounded up to a k×k grid (2 to 4 take 2×2 = 4 samples, 5 "
@@ -405,7 +419,7 @@ ImageSetup resolveImageOptions(const ImageOptions& o) {
   ro.camera.fovY = o.fov;
   ro.color = view::parseColorMode(o.color);
   const glm::dvec4 background = parseBackground(o.background);
-  ro.background = glm::vec3(background);
+  ro.background = view::srgbToLinear(glm::vec3(background));  // given in sRGB; the renderers' is linear
   ro.backgroundAlpha = static_cast<float>(background.w);
   setup.uniformColor = parseColor("--uniform-color", o.uniformColor);
   resolveColorOptions(o, setup);

@@ -128,7 +128,12 @@ void writeLegendFile(const ImageSetup& setup);
 void writeCameraOut(const ImageSetup& setup);
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text);
-// --background: r,g,b (alpha 1) or r,g,b,a, each in [0, 1].
+// Colours as given: sRGB numbers in [0, 1] (decoded to linear where they enter the frame).
+// '#rrggbb' as three numbers, or nothing when `text` is not of that form.
+std::optional<glm::dvec3> parseHexColor(const std::string& text);
+// r,g,b, each in [0, 1], or #rrggbb; std::invalid_argument naming `option`.
+glm::vec3 parseColor(const std::string& option, const std::string& text);
+// --background: r,g,b or #rrggbb (alpha 1), or r,g,b,a, each in [0, 1].
 glm::dvec4 parseBackground(const std::string& text);
 
 // ImageRecord and imageMetadata: surftrace/image.hpp.

@@ -72,7 +72,7 @@ ImageRecord recordOf(const SurfaceOptions& surface, const std::string& input, co
   if (build::parseSurfaceKind(surface.surface) == build::SurfaceKind::Mss) record.shrinkFactor = surface.shrink;
   record.input = input;
   record.color = image.color;
-  record.uniformColor = parseVector("--uniform-color", image.uniformColor);
+  record.uniformColor = parseColor("--uniform-color", image.uniformColor);
   record.background = glm::dvec3(parseBackground(image.background));
   record.lighting = view::lightingFor(view::parseLightingPreset(image.lighting));
   record.shadows = image.shadows;

@@ -203,8 +203,9 @@ void runRender(const RenderCommandOptions& o) {
   }
   // An EXR is what `compare` takes as a reference: it records where its masks belong.
   setup.render.referenceMasks = !o.exr.empty();
-  const auto colors = fromPatchList ? std::vector<glm::vec3>(list.params.atomCount, setup.uniformColor)
-                                    : colorAtoms(setup, molecule);
+  const auto colors = fromPatchList
+                          ? std::vector<glm::vec3>(list.params.atomCount, view::srgbToLinear(setup.uniformColor))
+                          : colorAtoms(setup, molecule);
   const BallAndStick ballAndStick = BallAndStick::of(o.image, molecule);
   const build::BallStickModel model =
       ballAndStick.on ? ballAndStick.model(molecule.centers, molecule.radii) : build::BallStickModel();

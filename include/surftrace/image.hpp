@@ -22,6 +22,7 @@
 #include "view/patch_kind.hpp"
 #include "view/render_options.hpp"
 #include "view/shading.hpp"
+#include "view/srgb.hpp"
 
 namespace surftrace {
 
@@ -37,7 +38,9 @@ using view::LightingPreset;
 using view::lightingFor;  // a --lighting preset (headlight, simple, soft, full) -> its numbers
 using view::RenderOptions;
 using view::applyImageEffects;  // silhouettes, creases, depth darkening and cueing, on any engine's buffers
-using view::atomColors;         // (molecule, scheme, uniform colour) -> one colour per atom
+using view::atomColors;         // (molecule, scheme, uniform colour) -> one colour per atom, linear
+using view::srgbToLinear;       // a colour as given (sRGB) -> the linear one RenderOptions::background and engines take
+using view::linearToSrgb;
 using view::colorAtoms;         // (molecule, ColorScheme) -> colours, legend; maps, ranges, values, selections
 using view::ColorScheme;
 using view::ColorLegend;

@@ -116,7 +116,7 @@ GpuFrame frameBlock(const view::RenderOptions& o, const GlOptions& gl, std::size
   f.background = glm::vec4(o.background, 0.0f);
   for (std::size_t row = 0; row < view::kPatchKindCount; ++row) {
     const view::PatchKind kind = view::kPatchKinds[row].kind;
-    f.kinds[row].color = glm::vec4(view::kPatchKinds[row].color, 1.0f);
+    f.kinds[row].color = glm::vec4(view::kindColor(kind), 1.0f);  // linear, as Embree's
     f.kinds[row].first = glm::uvec4(ids.first(kind), 0u, 0u, 0u);
   }
   f.shading = glm::uvec4(o.color == view::ColorMode::Patch ? 0u : 1u, static_cast<unsigned>(atomColorCount),

@@ -12,6 +12,7 @@
 #include "build/io/atom_selection.hpp"
 #include "build/io/radii.hpp"
 #include "view/color_map.hpp"
+#include "view/srgb.hpp"
 
 namespace surftrace::view {
 
@@ -263,6 +264,8 @@ AtomColoring colorAtoms(const build::Molecule& m, const ColorScheme& s) {
     for (std::uint32_t i : picked) colors[i] = o.color;
     out.overridden.push_back(picked.size());
   }
+  // Every colour above is sRGB (the tables, the maps, the user's); the renderers shade linear ones.
+  for (glm::vec3& c : colors) c = srgbToLinear(c);
   return out;
 }
 

@@ -18,7 +18,7 @@
 namespace surftrace::view {
 
 // The colour of an atom that a scheme has no number for (a ligand under hydrophobicity, an
-// atom the values file leaves out, a water under rainbow).
+// atom the values file leaves out, a water under rainbow); sRGB, as every colour given here.
 inline constexpr glm::vec3 kMissingColor{0.5f, 0.5f, 0.5f};
 
 // `selection` (the selection language of build/io/atom_selection.hpp) painted `color`.
@@ -29,7 +29,7 @@ struct ColorOverride {
 
 struct ColorScheme {
   ColorMode mode = ColorMode::Uniform;
-  glm::vec3 uniform{0.8f};
+  glm::vec3 uniform{0.8f};                     // sRGB, as the overrides' colours
   std::string map;                             // empty: defaultColorMap(mode)
   std::optional<std::array<double, 2>> range;  // lo, hi; default: the data's min..max
   const AtomValues* values = nullptr;          // the `value` scheme's numbers
@@ -37,7 +37,7 @@ struct ColorScheme {
 };
 
 struct AtomColoring {
-  std::vector<glm::vec3> colors;         // one per atom
+  std::vector<glm::vec3> colors;         // one per atom, linear
   std::optional<ColorLegend> legend;     // for bfactor, value, hydrophobicity and rainbow
   std::vector<std::size_t> overridden;   // atoms each override painted
 };
@@ -56,15 +56,18 @@ bool usesColorMap(ColorMode mode);
 //   PyMOL's `spectrum` and ChimeraX's `rainbow` do; hetero groups and water are missing;
 // - bfactor, value: the atom's B-factor or its --values number through the map.
 // A number v takes the map at (v − lo)/(hi − lo), clipped to [0, 1].
+// The tables, the maps and the scheme's own colours (uniform, overrides) are sRGB, as published
+// and as given; the colours returned are their linear values (view/srgb.hpp), what the renderers
+// shade and an EXR holds, so that an 8-bit image shows the sRGB colour again where unshaded.
 // Throws std::invalid_argument when the molecule has no data for the scheme (no B-factors, no
 // residue names, no amino acids, no values), when the range is empty, and for a selection that
 // selects nothing.
 AtomColoring colorAtoms(const build::Molecule& molecule, const ColorScheme& scheme);
 
-// colorAtoms with the scheme's defaults: `mode`, `uniform`, no map, range or overrides.
+// colorAtoms with the scheme's defaults: `mode`, `uniform` (sRGB), no map, range or overrides; linear colours.
 std::vector<glm::vec3> atomColors(const build::Molecule& molecule, ColorMode mode, const glm::vec3& uniform);
 
-// The colour of the chain that appears `order`-th (from 0) in the file: the first 24 chains get
+// The sRGB colour of the chain that appears `order`-th (from 0) in the file: the first 24 chains get
 // 24 distinct colours (tab10, then Glasbey's), the next 24 the same darkened to kChainDarker, the
 // next 24 lightened kChainLighter of the way to white, and so on in turn (README, `render`).
 inline constexpr std::size_t kChainPaletteSize = 24;

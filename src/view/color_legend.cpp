@@ -6,15 +6,18 @@
 
 #include "view/bitmap_font.hpp"
 #include "view/color_map.hpp"
+#include "view/srgb.hpp"
 
 namespace surftrace::view {
 namespace {
 
 constexpr int kPad = 4, kGap = 3, kBarHeight = 10, kBarWidth = 128, kMargin = 4;
 
-// Black on a light background, white on a dark one (Rec. 709 luma).
+// Black on a light background, white on a dark one (Rec. 709 luma of the sRGB-encoded colour,
+// as the image shows it; `background` is linear, as RenderOptions holds it).
 glm::vec3 inkFor(const glm::vec3& background) {
-  const float luma = 0.2126f * background.r + 0.7152f * background.g + 0.0722f * background.b;
+  const glm::vec3 shown = linearToSrgb(background);
+  const float luma = 0.2126f * shown.r + 0.7152f * shown.g + 0.0722f * shown.b;
   return luma > 0.5f ? glm::vec3(0.0f) : glm::vec3(1.0f);
 }
 
@@ -42,7 +45,7 @@ void paint(FrameBuffers& f, int x0, int y0, const ColorLegend& legend, const glm
   for (int y = -scale; y < l.barHeight + scale; ++y)
     for (int x = -scale; x < l.barWidth + scale; ++x) set(l.barX + x, l.barY + y, ink);
   for (int x = 0; x < l.barWidth; ++x) {
-    const glm::vec3 c = map.at((x + 0.5) / l.barWidth);
+    const glm::vec3 c = srgbToLinear(map.at((x + 0.5) / l.barWidth));  // the map's sRGB bytes in a PNG
     for (int y = 0; y < l.barHeight; ++y) set(l.barX + x, l.barY + y, c);
   }
   const int labelsY = l.barY + l.barHeight + (1 + kGap) * scale;

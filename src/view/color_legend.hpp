@@ -23,7 +23,8 @@ struct ColorLegend {
 
 // The legend's layout at `scale` image pixels per font pixel: the label on top, the bar (the
 // map from lo at its left to hi at its right, pixel column i taking the map at (i + 0.5)/width),
-// and the end labels under it, on a panel of the background colour with text in black or white
+// and the end labels under it, on a panel of the background colour (linear, as
+// RenderOptions::background; the map's sRGB colours are decoded to it) with text in black or white
 // (whichever stands out from it).
 struct LegendLayout {
   int scale = 1;

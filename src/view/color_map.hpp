@@ -15,6 +15,7 @@ namespace surftrace::view {
 // interpolated to 256 entries as matplotlib's LinearSegmentedColormap does, and `rainbow`
 // sampled from gnuplot's formulas (33, 13, 10) as matplotlib's `rainbow` is; so a colour
 // equals matplotlib.colormaps[name](t) to float precision (tests/view/color_map_test.cpp).
+// Those are sRGB colours: whoever draws one decodes it first (view/srgb.hpp).
 class ColorMap {
  public:
   // viridis, magma, cividis, coolwarm, rainbow; std::invalid_argument naming the others.

@@ -27,7 +27,7 @@ struct Frame {
   // fewer than the list's atomCount, a transparent frame clips the spheres by one another alone.
   std::span<const glm::dvec3> centers;
   std::span<const double> radii;
-  std::span<const glm::vec3> atomColors;  // per atom, for the colour schemes that colour by atom
+  std::span<const glm::vec3> atomColors;  // per atom, linear, for the colour schemes that colour by atom
   const build::BallStickModel* model = nullptr;  // drawn opaque with the surface when given
   RenderOptions options;  // options.progress, when set, hears how far the frame is (Embree)
 };

@@ -12,6 +12,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "view/srgb.hpp"
+
 namespace surftrace::view {
 namespace {
 
@@ -447,11 +449,12 @@ void applyImageEffects(FrameBuffers& f, const ImageEffects& e, const Camera& cam
           creaseCoverage(f, widthPx, e.silhouetteJump, e.creaseAngle, creaseMinLengthPixels(e, f.height));
       for (std::size_t p = 0; p < n; ++p) cover[p] = std::max(cover[p], crease[p]);
     }
-    // The line lies over the pixel by its coverage (Porter and Duff's "over").
+    // The line lies over the pixel by its coverage (Porter and Duff's "over"), in linear colour.
+    const glm::vec3 line = srgbToLinear(e.lineColor);
     forPixels(n, [&](std::size_t p) {
       const float c = cover[p];
       if (c <= 0.0f) return;
-      for (int k = 0; k < 3; ++k) f.rgba[4 * p + k] = c * e.lineColor[k] + (1.0f - c) * f.rgba[4 * p + k];
+      for (int k = 0; k < 3; ++k) f.rgba[4 * p + k] = c * line[k] + (1.0f - c) * f.rgba[4 * p + k];
       f.rgba[4 * p + 3] = c + (1.0f - c) * f.rgba[4 * p + 3];
     });
   }

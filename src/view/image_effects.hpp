@@ -26,7 +26,7 @@ struct ImageEffects {
   // Line width as a fraction of the image height, so that a preview and a large figure of the
   // same view look alike (0.002: 1 px at 512 px, 4.3 px at 2160 px).
   double lineWidth = 0.002;
-  glm::vec3 lineColor{0.0f};
+  glm::vec3 lineColor{0.0f};  // sRGB, as given; drawn decoded (view/srgb.hpp)
   double silhouetteJump = 2.0;         // Å of view depth
   // Crease lines: where the normal turns by more than creaseAngle degrees within the line width
   // on one surface (|viewZ(q) − viewZ(p)| <= silhouetteJump), kept only in connected pieces at

@@ -22,6 +22,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "build/io/output_file.hpp"
+#include "view/srgb.hpp"
 
 namespace surftrace::view {
 namespace {
@@ -134,15 +135,9 @@ std::string readFailure(const std::string& path, oiio::ImageInput& in) {
   return path + ": " + why;
 }
 
-// The inverse of the standard sRGB transfer function (IEC 61966-2-1:1999, section 5.2), whose
-// forward form, linear to encoded, is 12.92·v up to 0.0031308 and 1.055·v^(1/2.4) − 0.055 above.
-double linearFromSrgb(double encoded) {
-  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
-}
-
 // round(255 · sRGB(clamp(v, 0, 1))), exactly and without a pow per channel (a 4K frame has 25
 // million): code k is reached where the encoded value passes (k − ½)/255, so the code is the
-// count of the 255 linear thresholds linearFromSrgb((k + ½)/255) that v reaches. A table of that
+// count of the 255 linear thresholds srgbToLinear((k + ½)/255) that v reaches. A table of that
 // count at every 1/4096 gives the start; no bucket of 1/4096 holds more than two thresholds
 // (their narrowest gap, near 0, is 1/(255 · 12.92)). NaN, which no clamp orders, is black.
 unsigned char srgbByte(float v) {
@@ -154,7 +149,7 @@ unsigned char srgbByte(float v) {
   static const Tables tables = [] {
     Tables t;
     for (std::size_t k = 0; k < t.thresholds.size(); ++k)
-      t.thresholds[k] = linearFromSrgb((static_cast<double>(k) + 0.5) / 255.0);
+      t.thresholds[k] = srgbToLinear((static_cast<double>(k) + 0.5) / 255.0);
     for (std::size_t i = 0; i < t.start.size(); ++i)
       t.start[i] = static_cast<unsigned char>(
           std::upper_bound(t.thresholds.begin(), t.thresholds.end(), static_cast<double>(i) / kBuckets) - t.thresholds.begin());

@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "view/srgb.hpp"
+
 namespace surftrace::view {
 
 const char* patchKindName(PatchKind kind) {
@@ -13,8 +15,14 @@ const char* patchKindName(PatchKind kind) {
 }
 
 glm::vec3 kindColor(PatchKind kind) {
+  // Decoded once: Embree asks at every hit.
+  static const std::array<glm::vec3, kPatchKindCount> linear = [] {
+    std::array<glm::vec3, kPatchKindCount> c{};
+    for (std::size_t k = 0; k < kPatchKindCount; ++k) c[k] = srgbToLinear(kPatchKinds[k].color);
+    return c;
+  }();
   const std::size_t row = kindRow(kind);
-  return kind != PatchKind::None && row < kPatchKindCount ? kPatchKinds[row].color : glm::vec3(0.0f);
+  return kind != PatchKind::None && row < kPatchKindCount ? linear[row] : glm::vec3(0.0f);
 }
 
 std::size_t patchCount(const build::PatchList& list, PatchKind kind) {

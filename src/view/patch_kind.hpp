@@ -36,7 +36,7 @@ enum class PatchKind : std::uint32_t {
 struct PatchKindInfo {
   PatchKind kind;
   const char* name;
-  glm::vec3 color;  // Lindow et al. 2010's colours: SES convex green, toroidal yellow, concave red;
+  glm::vec3 color;  // sRGB; Lindow et al. 2010's colours: SES convex green, toroidal yellow, concave red;
                     // MSS (Fig. 7) convex green, edge hyperboloids red, face ones yellow, concave blue
 };
 inline constexpr PatchKindInfo kPatchKinds[] = {
@@ -96,7 +96,8 @@ static_assert(kindTableInOrder(), "view::kPatchKinds: row k is kind k + 1, the s
                                   "and the model's rows come last");
 
 const char* patchKindName(PatchKind kind);  // "none" for None
-glm::vec3 kindColor(PatchKind kind);         // black for None
+// The kind's colour decoded to linear (view/srgb.hpp), as the renderers shade it; black for None.
+glm::vec3 kindColor(PatchKind kind);
 // How many patches of `kind` the list holds (0 for the model's kinds).
 std::size_t patchCount(const build::PatchList& list, PatchKind kind);
 

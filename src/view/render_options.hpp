@@ -20,7 +20,7 @@ struct RenderOptions {
   Camera camera;
   ColorMode color = ColorMode::Patch;
   Lighting lighting;
-  glm::vec3 background{1.0f, 1.0f, 1.0f};
+  glm::vec3 background{1.0f, 1.0f, 1.0f};  // linear (srgbToLinear of a colour given in sRGB)
   // Below 1, the background is transparent to this degree in the frame's alpha (PNG RGBA, EXR
   // A): applyBackgroundAlpha, run by Engine::render for every engine alike.
   float backgroundAlpha = 1.0f;

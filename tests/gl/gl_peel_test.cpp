@@ -125,8 +125,9 @@ INSTANTIATE_TEST_SUITE_P(Surfaces, GlPeel,
 // The outer SES of 1VIS (--drop-cavities: some of its whole spheres also line a dropped cavity)
 // at 256², opacity 0.4: the layer count equals Embree's on >= 99.99 % of the pixels (measured
 // 99.9985 %: 1 px of 65536 with two more layers in GL), no pixel crosses the closed surface an
-// odd number of times, and the colour differs by at most 0.1 on the compared pixels (measured
-// 0.085: a seam point whose layer GL and Embree give to patches of different kinds). With the
+// odd number of times, and the colour differs by at most 0.12 on the compared pixels (measured
+// 0.101: a seam point whose layer GL and Embree give to patches of different kinds, so the
+// difference of two kind colours, wider decoded to linear than as the sRGB numbers were: 0.085). With the
 // torus roots polished as before (2 Newton steps within 1e-3 of the float quartic's root) GL
 // peeled an extra layer on 110 px, 12 px fewer (99.81 %), colour up to 0.135; and without the
 // saddle arcs both engines drew the cavity side of those spheres: 140 px odd in GL.
@@ -152,7 +153,7 @@ TEST(GlPeelSes, OuterSurfaceOf1visHasEmbreesLayersOnEveryPixel) {
               100.0 * layers, where.c_str());
   for (const std::string& v : view::CompareThresholds::preset("transparency").violations(a)) ADD_FAILURE() << v;
   EXPECT_GE(layers, 0.9999) << where;
-  EXPECT_LE(a.colorMax, 0.1);
+  EXPECT_LE(a.colorMax, 0.12);
   EXPECT_GT(*std::max_element(ref.layers.begin(), ref.layers.end()), 6u);
   std::size_t odd = 0;
   for (const std::uint32_t n : f.layers) odd += n % 2;

@@ -2,7 +2,8 @@
 // --color-range, --color-select, --legend and --background r,g,b,a through the program: each
 // covered pixel's colour, undone from the headlight's shading, is matplotlib's colour (the
 // oracle, tests/oracles/mpl_colormap.py) of its atom's number, read here from the PDB's own
-// columns; selections paint exactly their atoms' pixels; GL agrees with Embree (compare); the
+// columns, decoded from sRGB to the linear colour that is shaded; the legend's swatches are
+// matplotlib's sRGB bytes in the PNG; selections paint exactly their atoms' pixels; GL agrees with Embree (compare); the
 // alpha channel of the PNG and the EXR; and the errors for data a file does not have.
 #include <algorithm>
 #include <cmath>
@@ -83,7 +84,14 @@ std::optional<glm::dvec3> baseColor(const Image& im, std::size_t p) {
   return base;
 }
 
-// Every covered pixel whose atom has a wanted colour shows it; returns how many were compared.
+// The linear colour the renderer shades for a colour given or tabled in sRGB.
+glm::dvec3 linearOf(const glm::dvec3& srgb) {
+  using ::surftrace::test::linearFromSrgb;
+  return {linearFromSrgb(srgb.r), linearFromSrgb(srgb.g), linearFromSrgb(srgb.b)};
+}
+
+// Every covered pixel whose atom has a wanted colour (sRGB, as matplotlib's and any given)
+// shows its linear value; returns how many were compared.
 std::size_t expectPixelsShow(const Image& im, const std::vector<glm::dvec3>& want, const std::string& what) {
   std::size_t compared = 0, bad = 0;
   for (std::size_t p = 0; p < im.f.pixels(); ++p) {
@@ -91,7 +99,7 @@ std::size_t expectPixelsShow(const Image& im, const std::vector<glm::dvec3>& wan
     const auto base = baseColor(im, p);
     if (!base) continue;
     ++compared;
-    const glm::dvec3 w = want[im.f.atomId[p]];
+    const glm::dvec3 w = linearOf(want[im.f.atomId[p]]);
     if (glm::length(*base - w) > 2e-4 && bad++ < 5)
       ADD_FAILURE() << what << ": pixel " << p << " of atom " << im.f.atomId[p] << " shows " << base->r << ","
                     << base->g << "," << base->b << ", want " << w.r << "," << w.g << "," << w.b;
@@ -126,7 +134,7 @@ TEST(ColorsCli, BfactorPixelsAreTheMapAtTheirAtomsBfactor) {
   std::size_t differ = 0;
   for (std::size_t p = 0; p < im.f.pixels(); ++p)
     if (im.f.kind[p] != 0 && im.f.atomId[p] < atoms.size())
-      if (const auto base = baseColor(im, p)) differ += glm::length(*base - viridis[im.f.atomId[p]]) > 2e-4;
+      if (const auto base = baseColor(im, p)) differ += glm::length(*base - linearOf(viridis[im.f.atomId[p]])) > 2e-4;
   EXPECT_GT(differ, 1000u);
 }
 
@@ -185,7 +193,7 @@ TEST(ColorsCli, ColorSelectPaintsExactlyTheSelectedAtomsPixels) {
       for (int c = 0; c < 4; ++c) ASSERT_EQ(a.f.rgba[4 * p + c], b.f.rgba[4 * p + c]) << "pixel " << p << " of atom " << atom;
       continue;
     }
-    const glm::dvec3 want = ca ? glm::dvec3(0, 1, 0) : glm::dvec3(1.0, 128.0 / 255.0, 0.0);
+    const glm::dvec3 want = linearOf(ca ? glm::dvec3(0, 1, 0) : glm::dvec3(1.0, 128.0 / 255.0, 0.0));
     if (const auto base = baseColor(b, p)) {
       ++selected;
       EXPECT_LT(glm::length(*base - want), 2e-4) << "pixel " << p << " of atom " << atom;
@@ -194,6 +202,38 @@ TEST(ColorsCli, ColorSelectPaintsExactlyTheSelectedAtomsPixels) {
   EXPECT_GT(selected, 200u);
   EXPECT_EQ(nlohmann::json::parse(b.meta.at("surftrace:color_select")),
             nlohmann::json({"resid 10-20=#ff8000", "name CA=#00ff00"}));
+}
+
+// Every map's legend file (--legend-file, the bar alone) shows matplotlib's sRGB colours as its
+// bytes: column i of the bar is the map at (i + 0.5)/width, rounded to 8 bits, on every row.
+TEST(ColorsCli, LegendSwatchesAreTheMapsSrgbBytes) {
+  const fs::path dir = ::surftrace::test::testTempDir();
+  for (const std::string map : {"viridis", "magma", "coolwarm", "rainbow"}) {
+    const fs::path file = dir / (map + "_legend.png");
+    const Result r = render("--size 200x160 --color bfactor --color-map " + map + " --legend-file " + file.string() +
+                            " -o " + (dir / "image.png").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const view::ImageChannels f = view::readImageChannels(file.string());
+    view::ColorLegend legend;
+    legend.label = "B-factor";
+    legend.loText = "x", legend.hiText = "x";
+    const view::LegendLayout l = view::legendLayout(legend, 1);
+    std::vector<double> t;
+    for (int i = 0; i < l.barWidth; ++i) t.push_back((i + 0.5) / l.barWidth);
+    const std::vector<glm::dvec3> want = matplotlibColors(map, t, dir);
+    ASSERT_EQ(want.size(), t.size());
+    std::size_t wrong = 0, compared = 0;
+    for (int y = l.barY; y < l.barY + l.barHeight; ++y)
+      for (int i = 0; i < l.barWidth; ++i) {
+        const std::size_t at = static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(l.barX + i);
+        for (int c = 0; c < 3; ++c, ++compared)
+          if (std::abs(f.at(at, c) * 255.0 - 255.0 * want[static_cast<std::size_t>(i)][c]) > 0.5 + 1e-3 && wrong++ < 3)
+            ADD_FAILURE() << map << " column " << i << " channel " << c << ": byte " << f.at(at, c) * 255.0
+                          << ", matplotlib's " << 255.0 * want[static_cast<std::size_t>(i)][c];
+      }
+    EXPECT_EQ(wrong, 0u) << map;
+    EXPECT_EQ(compared, 3u * static_cast<std::size_t>(l.barWidth * l.barHeight)) << map;
+  }
 }
 
 TEST(ColorsCli, ASchemeWithoutDataAndBadOptionsAreErrors) {
@@ -289,7 +329,8 @@ TEST(ColorsCli, TransparentBackgroundIsTheAlphaOfThePngAndTheExr) {
     if (im.f.kind[i] == 0) {
       ++background;
       EXPECT_EQ(im.f.rgba[4 * i + 3], 0.25f) << i;
-      EXPECT_NEAR(im.f.rgba[4 * i], 0.25f * 0.2f, 1e-7) << "the EXR's colour is premultiplied";
+      EXPECT_NEAR(im.f.rgba[4 * i], 0.25 * ::surftrace::test::linearFromSrgb(0.2), 1e-7)
+          << "the EXR's colour is linear and premultiplied";
       EXPECT_NEAR(p.at(i, 3), 0.25, 0.5 / 255) << i;
     } else {
       ++covered;
@@ -346,9 +387,11 @@ TEST(ColorsCli, LegendIsTheMapsBarWithItsRangeInTheCornerOrItsOwnFile) {
     const std::size_t inFile = static_cast<std::size_t>(row) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(l.barX + i);
     const std::size_t inImage = static_cast<std::size_t>(y0 + row) * 200 + static_cast<std::size_t>(x0 + l.barX + i);
     for (int c = 0; c < 3; ++c) {
-      EXPECT_NEAR(f.at(inFile, c) * 255.0, ::surftrace::test::srgbCode(want[static_cast<std::size_t>(i)][c]), 1.0)
-          << "column " << i << ": the file's 8-bit code is the sRGB encoding of the map's colour";
-      EXPECT_NEAR(b.f.rgba[4 * inImage + static_cast<std::size_t>(c)], want[static_cast<std::size_t>(i)][c], 1e-6) << "column " << i;
+      const double srgb = want[static_cast<std::size_t>(i)][c];
+      EXPECT_NEAR(f.at(inFile, c) * 255.0, 255.0 * srgb, 0.5 + 1e-3)
+          << "column " << i << ": the file's 8-bit code is matplotlib's sRGB colour, rounded";
+      EXPECT_NEAR(b.f.rgba[4 * inImage + static_cast<std::size_t>(c)], ::surftrace::test::linearFromSrgb(srgb), 1e-6)
+          << "column " << i << ": the EXR holds the map's colour decoded to linear";
     }
   }
 }

@@ -85,6 +85,44 @@ TEST(SrgbCli, EightBitImagesHoldTheSrgbEncodingOfTheExrColour) {
   EXPECT_EQ(spec.get_string_attribute("surftrace:encoding"), std::string(view::kSrgbEncoding));
 }
 
+// Colours are given in sRGB and decoded where they enter, so an unshaded one comes out of the
+// 8-bit image as the bytes it went in as: the background, as #rrggbb or as r,g,b numbers (k/255
+// gives code k), and in the EXR as its linear value (the standard's decoding).
+TEST(SrgbCli, BackgroundComesOutAsTheSrgbBytesGiven) {
+  const fs::path dir = ::surftrace::test::testTempDir();
+  struct Case {
+    std::string given;
+    int bytes[3];
+  };
+  const std::vector<Case> cases = {{"'#808080'", {128, 128, 128}},
+                                   {"'#1a7fe6'", {26, 127, 230}},
+                                   {"0.2,0.4,0.6", {51, 102, 153}},
+                                   {"0.003921569,0.5019608,0.9960785", {1, 128, 254}}};
+  for (const Case& c : cases) {
+    const fs::path png = dir / "bg.png", exr = dir / "bg.exr";
+    const Result r = runTool("render " + kCrambin + " --size 64x48 --quiet --background " + c.given + " --exr " +
+                             exr.string() + " -o " + png.string());
+    ASSERT_EQ(r.status, 0) << c.given << ": " << r.output;
+    const view::FrameBuffers f = view::readExr(exr.string());
+    OIIO::ImageSpec spec;
+    const std::vector<unsigned char> px = codes(png, 3, &spec);
+    ASSERT_EQ(px.size(), 3 * f.pixels());
+    std::size_t background = 0, wrong = 0, wrongLinear = 0;
+    for (std::size_t p = 0; p < f.pixels(); ++p) {
+      if (f.kind[p] != 0) continue;
+      ++background;
+      for (std::size_t k = 0; k < 3; ++k) {
+        wrong += px[3 * p + k] != c.bytes[k];
+        wrongLinear += std::abs(f.rgba[4 * p + k] - ::surftrace::test::linearFromSrgb(c.bytes[k] / 255.0)) > 1e-6;
+      }
+    }
+    EXPECT_GT(background, 500u) << c.given;
+    EXPECT_EQ(wrong, 0u) << c.given << ": background pixels not the bytes given (first: " << int(px[0]) << ","
+                         << int(px[1]) << "," << int(px[2]) << ")";
+    EXPECT_EQ(wrongLinear, 0u) << c.given << ": the EXR's background is not the linear value of the colour given";
+  }
+}
+
 // `-o NAME.exr` writes the colour alone, as floats: the linear values of the --exr buffers.
 TEST(SrgbCli, FloatColourImageKeepsTheLinearColour) {
   const fs::path dir = ::surftrace::test::testTempDir();

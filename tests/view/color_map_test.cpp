@@ -13,9 +13,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "oracles/mpl_colormap.hpp"
+#include "oracles/srgb.hpp"
 #include "temp_dir.hpp"
 #include "view/atom_colors.hpp"
 #include "view/atom_values.hpp"
@@ -26,6 +28,13 @@ namespace {
 // matplotlib's colours of `t` under `map`, one per number.
 std::vector<glm::dvec3> matplotlibColors(const std::string& map, const std::vector<double>& t) {
   return ::surftrace::test::matplotlibColors(map, t, ::surftrace::test::testTempDir());
+}
+
+// The sRGB colour an image shows for an atom's colour: colorAtoms gives linear colours (what the
+// renderers shade), the maps and tables are sRGB, so a test compares after encoding.
+glm::dvec3 shown(const glm::vec3& linear) {
+  using ::surftrace::test::srgbFromLinear;
+  return {srgbFromLinear(linear.r), srgbFromLinear(linear.g), srgbFromLinear(linear.b)};
 }
 
 TEST(ColorMap, EveryMapEqualsMatplotlibs) {
@@ -113,7 +122,7 @@ TEST(AtomColors, NumbersGoThroughTheMapBetweenTheRangesEnds) {
   std::vector<glm::dvec3> want = matplotlibColors("magma", t);
   ASSERT_EQ(want.size(), t.size());
   for (std::size_t i = 0; i < t.size(); ++i)
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.colors[i][k], want[i][k], 1e-6) << "atom " << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[i])[k], want[i][k], 1e-6) << "atom " << i;
   // A range of one's own clips: 40 and below take the first entry, 80 and above the last.
   s.range = std::array<double, 2>{40.0, 80.0};
   c = colorAtoms(m, s);
@@ -122,7 +131,7 @@ TEST(AtomColors, NumbersGoThroughTheMapBetweenTheRangesEnds) {
   for (int i = 0; i < 12; ++i) t.push_back((10.0 * (i + 1) - 40.0) / 40.0);
   want = matplotlibColors("magma", t);
   for (std::size_t i = 0; i < t.size(); ++i)
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.colors[i][k], want[i][k], 1e-6) << "atom " << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[i])[k], want[i][k], 1e-6) << "atom " << i;
 }
 
 TEST(AtomColors, HydrophobicityAndRainbowLeaveOtherResiduesMissing) {
@@ -134,16 +143,16 @@ TEST(AtomColors, HydrophobicityAndRainbowLeaveOtherResiduesMissing) {
   EXPECT_EQ(c.legend->lo, -4.5);
   EXPECT_EQ(c.legend->hi, 3.8);
   EXPECT_EQ(c.legend->missing, 4u);
-  for (int i : {6, 7, 10, 11}) EXPECT_EQ(c.colors[static_cast<std::size_t>(i)], kMissingColor) << i;
+  for (int i : {6, 7, 10, 11})
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[static_cast<std::size_t>(i)])[k], kMissingColor[k], 1e-6) << i;
   s.mode = ColorMode::Rainbow;
   c = colorAtoms(m, s);
   // Chain A: ALA, ARG, GLY at 0, 1/2, 1; chain B: LEU alone at 0; HOH and HEM are hetero groups.
   const ColorMap& rainbow = ColorMap::named("rainbow");
-  EXPECT_EQ(c.colors[0], rainbow.at(0.0));
-  EXPECT_EQ(c.colors[3], rainbow.at(0.5));
-  EXPECT_EQ(c.colors[5], rainbow.at(1.0));
-  EXPECT_EQ(c.colors[8], rainbow.at(0.0));
-  EXPECT_EQ(c.colors[6], kMissingColor);
+  const std::pair<std::size_t, double> at[] = {{0, 0.0}, {3, 0.5}, {5, 1.0}, {8, 0.0}};
+  for (const auto& [atom, t] : at)
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[atom])[k], rainbow.at(t)[k], 1e-6) << atom;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[6])[k], kMissingColor[k], 1e-6);
   EXPECT_EQ(c.legend->missing, 4u);
 }
 
@@ -155,7 +164,7 @@ TEST(AtomColors, SelectionsPaintInOrderOverTheScheme) {
   const AtomColoring c = colorAtoms(m, s);
   for (std::size_t i = 0; i < m.size(); ++i) {
     const glm::vec3 want = i % 2 ? glm::vec3(0, 1, 0) : i < 6 ? glm::vec3(1, 0, 0) : glm::vec3(0.8f);
-    EXPECT_EQ(c.colors[i], want) << "atom " << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(shown(c.colors[i])[k], want[k], 1e-6) << "atom " << i;
   }
   EXPECT_EQ(c.overridden, (std::vector<std::size_t>{6, 6}));
   s.overrides = {{"resname TRP", {1.0f, 0.0f, 0.0f}}};
@@ -181,7 +190,8 @@ TEST(AtomColors, ASchemeWithoutDataIsAnError) {
   s.mode = ColorMode::BFactor;
   EXPECT_NE(errorOf(flat, s).find("every atom's B-factor is 20, so the colour map has no range: give --color-range"), std::string::npos) << errorOf(flat, s);
   s.range = std::array<double, 2>{0.0, 40.0};
-  EXPECT_EQ(colorAtoms(flat, s).colors[0], ColorMap::named("coolwarm").at(0.5));
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(shown(colorAtoms(flat, s).colors[0])[k], ColorMap::named("coolwarm").at(0.5)[k], 1e-6);
 }
 
 std::string writeValues(const std::string& name, const std::string& text) {

@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "oracles/srgb.hpp"
+
 namespace surftrace::view {
 namespace {
 
@@ -558,12 +560,15 @@ TEST(ImageEffects, LinesTakeTheirColourAndNoEffectLeavesTheFrameAlone) {
   e.lineColor = {0.2f, 0.4f, 0.6f};
   applyImageEffects(f, e, Camera{}, glm::vec3(1.0f));
   const std::vector<float> cover = silhouetteCoverage(before, Camera{}, 2.5, e.silhouetteJump);
+  // The line colour is given in sRGB, as every colour; the frame holds its linear value.
+  double line[3];
+  for (int k = 0; k < 3; ++k) line[k] = ::surftrace::test::linearFromSrgb(e.lineColor[k]);
   std::size_t full = 0;
   for (std::size_t p = 0; p < f.pixels(); ++p) {
     const float c = cover[p];
     full += c == 1.0f;
     for (int k = 0; k < 3; ++k)
-      ASSERT_NEAR(f.rgba[4 * p + k], c * e.lineColor[k] + (1 - c) * before.rgba[4 * p + k], 1e-6) << p;
+      ASSERT_NEAR(f.rgba[4 * p + k], c * line[k] + (1 - c) * before.rgba[4 * p + k], 1e-6) << p;
     ASSERT_NEAR(f.rgba[4 * p + 3], c + (1 - c) * before.rgba[4 * p + 3], 1e-6) << p;
   }
   EXPECT_GT(full, 20u);
