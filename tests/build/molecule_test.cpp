@@ -676,6 +676,31 @@ TEST(MoleculeLineEnds, ALineLongerThanTheLimitIsRefusedWithItsNumber) {
     EXPECT_EQ(m.atoms[0].line, 2);
     EXPECT_EQ(readMoleculeBytes(zlibGzip(text), "limit.xyzr.gz").size(), 1u);
   }
+  // Behind many short lines, at every offset around the 1 MiB steps in which the text is
+  // looked at: a line of the limit is read, one byte more refused with its number.
+  for (const std::size_t shift : {0, 1, 2, 3, 9, 10, 11, 5000}) {
+    std::string before;
+    int lines = 0;
+    while (before.size() + 10 < text::kMaxLineBytes - shift) before += "0 0 0 1.5\n", ++lines;
+    before.append(text::kMaxLineBytes - shift - before.size(), '#');  // a comment line up to the step
+    before += "\n";
+    ++lines;
+    for (const bool gzipped : {false, true}) {
+      const std::string atLimit = before + "#" + mib.substr(1) + "\n1 1 1 1.5\n";
+      EXPECT_EQ(readMoleculeBytes(gzipped ? zlibGzip(atLimit) : atLimit, gzipped ? "at.xyzr.gz" : "at.xyzr").size(), 2u)
+          << shift;
+      const std::string over = before + "#" + mib + "\n";
+      expectRefused(gzipped ? zlibGzip(over) : over, gzipped ? "over.xyzr.gz" : "over.xyzr", lines + 1);
+    }
+    const fs::path file = tempDir() / "over.xyzr";
+    writeText(file, before + "1 1 1 1.5\n#" + mib + "\n");
+    try {
+      readMolecule(file);
+      ADD_FAILURE() << "over.xyzr was read, shift " << shift;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), lines + 2) << e.what();
+    }
+  }
   // From a file, and in a radius table.
   const fs::path dir = tempDir();
   writeText(dir / "long.gro", "title\n1\n" + mib + mib + "\n");
@@ -693,6 +718,28 @@ TEST(MoleculeLineEnds, ALineLongerThanTheLimitIsRefusedWithItsNumber) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 2) << e.what();
     EXPECT_THAT(e.what(), HasSubstr("radii.txt:2: the line runs past 1048576 bytes"));
+  }
+}
+
+// A control byte anywhere (the check looks at 64-byte blocks first) is refused with its line
+// and offset; tabs, form feeds and a DOS end-of-file byte are text.
+TEST(MoleculeLineEnds, AControlByteIsRefusedWithItsLineAndOffset) {
+  std::string xyzr;
+  for (int i = 0; i < 100; ++i) xyzr += std::to_string(i) + "\t0 0\f 1.5\n";
+  xyzr += "# \x1a";
+  EXPECT_EQ(readMoleculeBytes(xyzr, "text.xyzr").size(), 100u);
+  for (const std::size_t offset : {std::size_t{0}, std::size_t{5}, std::size_t{63}, std::size_t{64}, std::size_t{65},
+                                   std::size_t{127}, std::size_t{128}, std::size_t{1000}, xyzr.size() - 1}) {
+    std::string bad = xyzr;
+    bad[offset] = '\x01';
+    const int line = 1 + static_cast<int>(std::count(xyzr.begin(), xyzr.begin() + static_cast<long>(offset), '\n'));
+    try {
+      readMoleculeBytes(bad, "bad.xyzr");
+      ADD_FAILURE() << "read with a control byte at " << offset;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_THAT(e.what(), HasSubstr("byte 0x01 at offset " + std::to_string(offset) + ")")) << offset;
+    }
   }
 }
 
@@ -855,6 +902,74 @@ TEST(Molecule, ExactDuplicatesAreLeftOutWithANote) {
   // PDB: the same atom record twice (same name, residue, element and centre).
   const std::string atom = "ATOM      1  CA  ALA A   1      11.639   6.071  -5.147  1.00  0.00           C\n";
   EXPECT_EQ(readMoleculeBytes(atom + atom + atom + "END\n", "thrice.pdb").size(), 1u);
+}
+
+// The duplicate search against a plain oracle (a std::map from each atom's text to the first
+// line that has it), on files large enough that the search partitions its atoms: atoms repeat
+// earlier ones near and far back, some at the same centre with another radius (kept), PDB
+// atoms at the same centre with another name (kept), and -0 against 0 (one coordinate).
+TEST(Molecule, ExactDuplicatesMatchAPlainOracle) {
+  for (const int atoms : {1, 3, 5000, 60000}) {
+    std::string xyzr;
+    std::map<std::string, int> firstLine;   // "x y z r" -> the line that has it first
+    std::vector<std::string> lineKeys;       // the key of every line
+    std::vector<int> wantKeptLines;
+    int wantDropped = 0, wantFirstDroppedLine = 0, wantItsOriginal = 0;
+    for (int i = 0; i < atoms; ++i) {
+      const int line = i + 1;
+      std::string key;
+      const unsigned h = static_cast<unsigned>(i) * 2654435761u;
+      if (i > 0 && h % 5 == 0) {
+        key = lineKeys[h / 5 % static_cast<unsigned>(i)];  // an earlier atom, near or far
+      } else if (i > 0 && h % 7 == 0) {
+        key = lineKeys[h / 7 % static_cast<unsigned>(i)];  // an earlier centre, another radius
+        key = key.substr(0, key.rfind(' ')) + " 1.99";
+      } else {
+        key = std::to_string(i % 97) + "." + std::to_string(i % 1000) + " " + std::to_string(i / 97) + " " +
+              (i % 11 == 0 ? "0" : std::to_string(i % 13)) + " 1." + std::to_string(10 + i % 7);
+      }
+      lineKeys.push_back(key);
+      const auto [it, fresh] = firstLine.try_emplace(key, line);
+      if (fresh) {
+        wantKeptLines.push_back(line);
+      } else if (wantDropped++ == 0) {
+        wantFirstDroppedLine = line;
+        wantItsOriginal = it->second;
+      }
+      // Zero spelt "-0" on every other line that has it: the same coordinate.
+      std::string spelt = key;
+      if (i % 2 == 0 && spelt.size() > 2 && spelt.compare(spelt.size() - 7, 3, " 0 ") == 0)
+        spelt.replace(spelt.size() - 6, 1, "-0");
+      xyzr += spelt + "\n";
+    }
+    const Molecule m = readMoleculeBytes(xyzr, "dups.xyzr");
+    ASSERT_EQ(m.size(), wantKeptLines.size()) << atoms;
+    for (std::size_t k = 0; k < m.size(); ++k) ASSERT_EQ(m.atoms[k].line, wantKeptLines[k]) << atoms << ", atom " << k;
+    EXPECT_EQ(m.skipped.duplicates, static_cast<std::size_t>(wantDropped)) << atoms;
+    if (wantDropped == 0) {
+      EXPECT_TRUE(m.notes.empty()) << atoms;
+      continue;
+    }
+    ASSERT_EQ(m.notes.size(), 1u) << atoms;
+    EXPECT_THAT(m.notes[0], HasSubstr("line " + std::to_string(wantFirstDroppedLine) + " repeats line " +
+                                      std::to_string(wantItsOriginal)));
+  }
+  // PDB: one centre, the names decide.
+  std::string pdb;
+  for (int i = 0; i < 3000; ++i) {
+    char line[100];
+    std::snprintf(line, sizeof line, "ATOM  %5d  %-3s ALA A%4d    %8.3f%8.3f%8.3f  1.00  0.00           %c\n", i + 1,
+                  i % 3 == 0 ? "N" : i % 3 == 1 ? "CA" : "C", 1 + i / 3, 1.0 + 0.01 * (i % 1800 / 3), 2.0, 3.0,
+                  i % 3 == 0 ? 'N' : 'C');
+    pdb += line;
+  }
+  // N, CA and C of a residue share a centre but not a name (kept); atom i repeats atom i - 1800
+  // (same name, residue name and centre) from i = 1800 on.
+  const Molecule m = readMoleculeBytes(pdb + "END\n", "dups.pdb");
+  EXPECT_EQ(m.size(), 1800u);
+  EXPECT_EQ(m.skipped.duplicates, 1200u);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_THAT(m.notes[0], HasSubstr("line 1801 repeats line 1"));
 }
 
 // The decimal text of m / 1000 (m an integer): "-12.345", "0.007". Its double is m / 1000.0,

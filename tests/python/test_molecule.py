@@ -207,3 +207,57 @@ def test_select_errors_are_value_errors_with_a_caret(data):
         mol.select("resname HOH")  # selects nothing
     with pytest.raises(TypeError):
         mol.select(3)
+
+
+def _tiled_1aon(data, tmp_path):
+    """1AON's atom records three times over: as read, moved 500 Å along x, and as read again
+    (every atom of the third copy exactly on one of the first: a duplicate)."""
+    import gzip
+    with gzip.open(data / "paper/1aon.pdb.gz", "rt") as f:
+        atoms = [line.rstrip("\n") for line in f if line.startswith(("ATOM", "HETATM"))]
+    moved = [a[:30] + "%8.3f" % (float(a[30:38]) + 500.0) + a[38:] for a in atoms]
+    copies = [atoms, moved, atoms]
+    pdb = tmp_path / "tiled.pdb"
+    pdb.write_text("".join("\n".join(c) + "\nTER\n" for c in copies) + "END\n")
+    gro = tmp_path / "tiled.gro"
+    lines = ["1AON three times", "%5d" % (3 * len(atoms))]
+    for c in copies:
+        for a in c:
+            x, y, z = (float(a[30 + 8 * k:38 + 8 * k]) / 10 for k in range(3))
+            lines.append("%5d%-5s%5s%5d%8.3f%8.3f%8.3f" % (int(a[22:26]) % 100000, a[17:20].strip(), a[12:16].strip(),
+                                                      int(a[6:11]) % 100000, x, y, z))
+    lines.append("%10.5f%10.5f%10.5f" % (100.0, 100.0, 100.0))
+    gro.write_text("\n".join(lines) + "\n")
+    return pdb, gro, len(atoms)
+
+
+def test_large_files_equal_mdanalysis(data, tmp_path):
+    """Files of 177k atoms (several MB, read in pieces, their duplicates searched in partitions)
+    read as MDAnalysis reads them: the same atoms in file order, names, residues and coordinates;
+    the third copy left out as duplicates, and the XYZR of them as numpy's loadtxt reads it."""
+    MDAnalysis = pytest.importorskip("MDAnalysis")
+    warnings.simplefilter("ignore")
+    pdb, gro, n = _tiled_1aon(data, tmp_path)
+    for path in (pdb, gro):
+        mol = surftrace.read(path, water=True)
+        u = MDAnalysis.Universe(str(path))
+        assert len(u.atoms) == 3 * n
+        assert mol.indices.tolist() == list(range(2 * n)), path
+        assert any("%d atoms lie exactly on an earlier atom" % n in note for note in mol.notes), mol.notes
+        theirs = u.atoms[:2 * n]
+        assert mol.names == list(theirs.names)
+        assert mol.resnames == list(theirs.resnames)
+        assert mol.resids.tolist() == [int(r) for r in theirs.resids]
+        # MDAnalysis holds float32 coordinates.
+        np.testing.assert_allclose(mol.centres, theirs.positions.astype(np.float64), rtol=0, atol=2e-5 * 500)
+        if path == pdb:
+            assert mol.chains == list(theirs.chainIDs)
+            assert mol.serials.tolist() == [int(s) for s in theirs.ids]
+    xyzr = tmp_path / "tiled.xyzr"
+    want = surftrace.read(pdb)
+    rows = ["%.3f %.3f %.3f %.2f" % (c[0], c[1], c[2], r) for c, r in zip(want.centres, want.radii)]
+    xyzr.write_text("\n".join(rows + rows[:n]) + "\n")
+    mol = surftrace.read(xyzr)
+    oracle = np.loadtxt(xyzr)
+    assert len(mol) == 2 * n
+    assert np.array_equal(mol.centres, oracle[:2 * n, :3]) and np.array_equal(mol.radii, oracle[:2 * n, 3])

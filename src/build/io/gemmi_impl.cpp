@@ -89,23 +89,24 @@ double pdbNumber(std::string_view line, std::size_t firstColumn, std::size_t las
   std::string_view field;
   if (line.size() >= firstColumn)
     field = line.substr(firstColumn - 1, std::min(lastColumn, line.size()) - (firstColumn - 1));
-  const std::string columns = std::to_string(firstColumn) + "-" + std::to_string(lastColumn);
+  // (Spelt out only for a message: three per atom were a tenth of reading a large file.)
+  const auto columns = [&] { return std::to_string(firstColumn) + "-" + std::to_string(lastColumn); };
   const std::string_view text = trim(field);
   if (text.empty()) {
     if (blank) return *blank;
     throw InputError(path, lineNumber,
-                     std::string("expected a number for ") + what + " in columns " + columns +
+                     std::string("expected a number for ") + what + " in columns " + columns() +
                          ", got a blank field");
   }
   double value = 0.0;
   if (!parseWhole(text, value))
     throw InputError(path, lineNumber,
-                     std::string("expected a number for ") + what + " in columns " + columns +
+                     std::string("expected a number for ") + what + " in columns " + columns() +
                          ", got " + inQuotes(field));
   if (!std::isfinite(value))
     throw InputError(
         path, lineNumber,
-        std::string(what) + " in columns " + columns + " is not finite: " + inQuotes(text));
+        std::string(what) + " in columns " + columns() + " is not finite: " + inQuotes(text));
   return value;
 }
 
@@ -226,6 +227,8 @@ void countMoreElementNotes(Molecule& molecule, std::size_t count) {
 // ("MODEL 1" twice in incomplete.pdb), and models are chosen by position anyway, so the
 // rewritten records are numbered in order of appearance.
 static void normalizeModelRecords(std::string& text) {
+  // Most files have no such record: they are not copied line by line.
+  if (text.compare(0, 5, "MODEL") != 0 && text.find("\nMODEL") == std::string::npos) return;
   std::string out;
   bool changed = false;
   int models = 0;
@@ -260,6 +263,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   // record's index, so every atom gemmi returns leads back to its line. The charge columns
   // 79-80 are blanked too: gemmi throws on the line serials old entries keep there.
   std::vector<PdbAtomLine> records;
+  records.reserve(text.size() / 81 + 1);  // about one an 80-column line
   std::vector<std::array<int, 2>> bondRecords;
   int lineNumber = 0;
   std::size_t pos = 0;
@@ -342,6 +346,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
     const gemmi::Atom* atom;
   };
   std::vector<Found> found;
+  found.reserve(records.size());
   std::vector<char> seen(records.size(), 0);
   for (std::size_t m = 0; m < structure.models.size(); ++m) {
     for (const gemmi::Chain& chain : structure.models[m].chains)
@@ -357,8 +362,8 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
         }
   }
   if (found.empty()) throw InputError(path, 0, "model " + std::to_string(model) + " has no atoms");
-  std::sort(found.begin(), found.end(),
-            [](const Found& a, const Found& b) { return a.index < b.index; });
+  const auto byIndex = [](const Found& a, const Found& b) { return a.index < b.index; };
+  if (!std::is_sorted(found.begin(), found.end(), byIndex)) std::sort(found.begin(), found.end(), byIndex);
 
   molecule.centers.reserve(found.size());
   molecule.atoms.reserve(found.size());

@@ -67,7 +67,37 @@ class LineLengthGuard {
  public:
   explicit LineLengthGuard(const std::string& name) : name_(name) {}
 
+  // Byte by byte this was a tenth of reading a large file. Text without a CR is taken in
+  // windows of at most kMaxLineBytes bytes: no line can end inside a window and run past the
+  // limit, so only the window's first and last line ends matter, and its lines are counted
+  // by std::count. A window with a CR, or one in which the limit may be passed, goes byte by
+  // byte (which throws with the line).
   void feed(const char* data, std::size_t size) {
+    while (size > 0) {
+      const std::size_t window = std::min(size, kMaxLineBytes);
+      if (!feedWithoutCr(data, window)) feedBytes(data, window);
+      data += window;
+      size -= window;
+    }
+  }
+
+ private:
+  bool feedWithoutCr(const char* data, std::size_t size) {
+    if (afterCr_ || std::memchr(data, '\r', size)) return false;
+    const void* first = std::memchr(data, '\n', size);
+    if (!first) {
+      if (length_ + size > kMaxLineBytes) return false;
+      length_ += size;
+      return true;
+    }
+    if (length_ + static_cast<std::size_t>(static_cast<const char*>(first) - data) > kMaxLineBytes) return false;
+    const char* last = static_cast<const char*>(memrchr(data, '\n', size));
+    line_ += static_cast<int>(std::count(data, data + size, '\n'));
+    length_ = static_cast<std::size_t>(data + size - (last + 1));
+    return true;
+  }
+
+  void feedBytes(const char* data, std::size_t size) {
     for (std::size_t i = 0; i < size; ++i) {
       const char c = data[i];
       if (c == '\n' || c == '\r') {
@@ -86,7 +116,6 @@ class LineLengthGuard {
     }
   }
 
- private:
   const std::string& name_;
   int line_ = 1;
   std::size_t length_ = 0;
@@ -184,16 +213,34 @@ void checkText(const std::string& text, const std::string& name, bool wasGzipped
   if (text.empty())
     throw InputError(name, 0,
                      wasGzipped ? "the file decompresses to nothing" : "the file is empty");
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' && c != 0x1a) {
+  // Blocks of 64 bytes are first tested without a branch for any byte below 0x20 but '\n'
+  // (the compiler vectorises it); only a block with one, a tab or a CR mostly, is looked at
+  // byte by byte. Byte by byte throughout, this was a twentieth of reading a large file.
+  const auto control = [](unsigned char c) {
+    return c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' && c != 0x1a;
+  };
+  const auto check = [&](std::size_t from, std::size_t to) {
+    for (std::size_t i = from; i < to; ++i) {
+      const auto c = static_cast<unsigned char>(text[i]);
+      if (!control(c)) continue;
       char hex[8];
       std::snprintf(hex, sizeof hex, "0x%02x", c);
       throw InputError(name, lineOfOffset(text, i),
                        std::string("binary data (byte ") + hex + " at offset " + std::to_string(i) +
                            "); expected a text file");
     }
+  };
+  constexpr std::size_t kBlock = 64;
+  std::size_t at = 0;
+  for (; at + kBlock <= text.size(); at += kBlock) {
+    unsigned char suspicious = 0;
+    for (std::size_t k = 0; k < kBlock; ++k) {
+      const auto c = static_cast<unsigned char>(text[at + k]);
+      suspicious |= static_cast<unsigned char>((c < 0x20) & (c != '\n'));
+    }
+    if (suspicious != 0) check(at, at + kBlock);
   }
+  check(at, text.size());
 }
 
 MoleculeFormat formatFromPath(const fs::path& path, const std::string& name) {
@@ -475,14 +522,13 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
       ++molecule.skipped.zeroRadius;
       continue;
     }
-    AtomRecord atom;
+    AtomRecord& atom = molecule.atoms.emplace_back();  // in place, not built aside and moved in
     atom.serial = serial;
     atom.segid = "SYSTEM";
     atom.line = lineNumber;
     if (xyzrn) atom.name = std::string(f[5]);
     molecule.centers.emplace_back(v[0], v[1], v[2]);
     molecule.radii.push_back(v[3]);
-    molecule.atoms.push_back(std::move(atom));
   }
   if (serial == 0) throw InputError(name, 0, "no atoms (no 'x y z r' lines)");
   if (molecule.atoms.empty())
@@ -571,6 +617,31 @@ Molecule parseXyz(const std::string& text, const std::string& name, int model) {
 
 // ---------------------------------------------------------------------------------------------
 // Selection and radii
+
+// What the per-atom loops ask of a residue name, looked up again only when the name differs
+// from the previous atom's: atoms come residue by residue, and the table searches (ten per
+// atom) were a tenth of reading a million-atom GRO file.
+struct ResidueKind {
+  bool water = false;         // isWaterResidue
+  bool standard = false;      // isStandardResidue (waters included)
+  bool martiniWater = false;  // isMartiniWaterResidue
+};
+class ResidueKinds {
+ public:
+  const ResidueKind& operator()(const std::string& residue) {
+    if (!known_ || residue != name_) {
+      name_ = residue;
+      known_ = true;
+      kind_ = {isWaterResidue(residue), isStandardResidue(residue), isMartiniWaterResidue(residue)};
+    }
+    return kind_;
+  }
+
+ private:
+  std::string name_;
+  bool known_ = false;
+  ResidueKind kind_;
+};
 
 std::string describe(const AtomRecord& atom) {
   std::string text =
@@ -708,9 +779,10 @@ void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::stri
 
   // MARTINI's W, WF and PW are water only where the system is read as beads: in an atomistic
   // file a residue W is a tungsten ion.
+  ResidueKinds kinds;
   const auto isWater = [&](const AtomRecord& atom) {
-    return isWaterResidue(atom.residue) ||
-           (options.beadRadius && isMartiniWaterResidue(atom.residue));
+    const ResidueKind& kind = kinds(atom.residue);
+    return kind.water || (options.beadRadius && kind.martiniWater);
   };
   if (!options.keepWater && hasResidues) {
     std::vector<char> keep(molecule.size(), 1);
@@ -727,7 +799,7 @@ void selectAtoms(Molecule& molecule, const ReadOptions& options, const std::stri
     std::vector<char> keep(molecule.size(), 1);
     for (std::size_t i = 0; i < molecule.size(); ++i) {
       const AtomRecord& atom = molecule.atoms[i];
-      if (isWaterResidue(atom.residue) &&
+      if (kinds(atom.residue).water &&
           (isWaterVirtualSite(atom.name) ||
            (molecule.format == MoleculeFormat::Psf && atom.element.empty()))) {
         keep[i] = 0;
@@ -810,18 +882,18 @@ std::string waysOut(const AtomRecord& atom, const std::string& element) {
 // sterol beads ROH and R1-R5 of CHOL. No atomistic force field names an atom so (CHARMM36's
 // POPE has N, P, C1-C3 and O11-O14; its cholesterol is CHL1), and a tail bead (C1A, D2A) alone
 // would not do: heme has atoms C1A-C4A.
-bool isMartiniBead(const AtomRecord& atom) {
+bool isMartiniBead(const AtomRecord& atom, const ResidueKind& kind) {
   const std::string name = upperCase(trim(atom.name));
-  if (isMartiniWaterResidue(atom.residue))
+  if (kind.martiniWater)
     return name == "W" || name == "WF" || name == "PW" || name == "WP" || name == "WM";
-  if (!isStandardResidue(atom.residue)) {
+  if (!kind.standard) {
     if (name == "NC3" || name == "NH3" || name == "CNO" || name == "PO4" || name == "GL0" || name == "GL1" ||
         name == "GL2")
       return true;
     return upperCase(trim(atom.residue)) == "CHOL" &&
            (name == "ROH" || (name.size() == 2 && name[0] == 'R' && name[1] >= '1' && name[1] <= '5'));
   }
-  if (isWaterResidue(atom.residue)) return false;
+  if (kind.water) return false;
   if (name == "BB") return true;
   const auto numbered = [&](std::string_view prefix, char last) {
     return name.size() == prefix.size() + 1 && name.compare(0, prefix.size(), prefix) == 0 &&
@@ -837,8 +909,9 @@ void recogniseCoarseGrained(Molecule& molecule, const ReadOptions& options,
                             const std::string& name) {
   auto bead = molecule.atoms.end();
   std::size_t tungstenLike = 0;
+  ResidueKinds kinds;
   for (auto it = molecule.atoms.begin(); it != molecule.atoms.end(); ++it) {
-    if (!isMartiniBead(*it)) continue;
+    if (!isMartiniBead(*it, kinds(it->residue))) continue;
     const bool w = upperCase(trim(it->residue)) == "W";
     if (w && ++tungstenLike < 2) continue;
     bead = it;
@@ -925,7 +998,10 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     }
     // An ion's residue is named like its atom (iodide I, uranium U), even where the name is
     // also a nucleotide's.
-    const bool ion = upperCase(trim(atom.name)) == upperCase(trim(atom.residue));
+    const std::string_view atomName = trim(atom.name), residueName = trim(atom.residue);
+    const bool ion = atomName.size() == residueName.size() &&
+                     std::equal(atomName.begin(), atomName.end(), residueName.begin(),
+                                [](char a, char b) { return upper(a) == upper(b); });
     // A classifier that names the atom decides its radius whatever its element reads as.
     if (options.radiiPreset)
       if (const std::optional<double> r = presetRadius(*options.radiiPreset, trim(atom.residue), trim(atom.name)))
@@ -986,7 +1062,8 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
 // others left out, counted and noted. Before the radii are assigned, so the radius sources
 // count only the atoms kept.
 void dropExactDuplicates(Molecule& molecule) {
-  const bool fileRadii = molecule.radii.size() == molecule.size();
+  const std::size_t n = molecule.size();
+  const bool fileRadii = molecule.radii.size() == n;
   struct Key {
     std::array<std::uint64_t, 4> bits;
     std::string_view element, residue, name;
@@ -1000,8 +1077,8 @@ void dropExactDuplicates(Molecule& molecule) {
     return Key{{bitsOf(c.x), bitsOf(c.y), bitsOf(c.z), fileRadii ? bitsOf(molecule.radii[i]) : 0},
                a.element, a.residue, a.name};
   };
-  // The table's slots are indexed by the low bits, so every bit of the key is mixed into them
-  // (MurmurHash3's finaliser after each word).
+  // Every bit of the key is mixed into the hash (MurmurHash3's finaliser after each word): its
+  // top bits choose the partition, its low bits the slot.
   const auto mix = [](std::uint64_t h) {
     h ^= h >> 33;
     h *= 0xff51afd7ed558ccdull;
@@ -1009,70 +1086,85 @@ void dropExactDuplicates(Molecule& molecule) {
     h *= 0xc4ceb9fe1a85ec53ull;
     return h ^ (h >> 33);
   };
+  const auto mixText = [&](std::uint64_t h, std::string_view s) {
+    std::uint64_t word = s.size();
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      word = word << 8 | static_cast<unsigned char>(s[k]);
+      if (k % 8 == 7) h = mix(h ^ word), word = 0;
+    }
+    return mix(h ^ word);
+  };
   const auto hashOf = [&](const Key& k) {
     std::uint64_t h = 0;
     for (std::uint64_t b : k.bits) h = mix(h ^ b);
-    h = mix(h ^ std::hash<std::string_view>{}(k.name));
-    h = mix(h ^ std::hash<std::string_view>{}(k.residue));
-    return mix(h ^ std::hash<std::string_view>{}(k.element));
+    return mixText(mixText(mixText(h, k.name), k.residue), k.element);
   };
-  // Where an atom's probing starts: the 256 slots (a 4 KB page) of its 8 Å block (the block
-  // hashed, the atom's hash choosing among them), so that atoms read one after the other, which
-  // lie near each other, share the table's cache lines and page. A protein puts about 60
-  // atoms in 8 Å³. Equal keys have equal centres, so one block.
-  const auto startOf = [&](std::size_t i, std::uint64_t hash) {
-    const auto block = [](double x) {
-      const double q = std::floor(x * 0.125);
-      return q >= -0x1p60 && q <= 0x1p60 ? static_cast<std::uint64_t>(static_cast<std::int64_t>(q)) : 0;
-    };
-    const glm::dvec3& c = molecule.centers[i];
-    const std::uint64_t b = mix(mix(mix(block(c.x)) ^ block(c.y)) ^ block(c.z));
-    return static_cast<std::size_t>(b << 8 | (hash & 255));
-  };
-  // Open addressing over the atoms' indices (a power-of-two table at most half full, linear
-  // probing, the hash kept beside the index). A node-based std::unordered_map made this the
-  // largest share of reading a million-atom file (a third of `info` on an XYZR file, a cache
-  // miss or two per atom) and held 100 bytes per atom.
-  struct Slot {
+  // Partitioned by the hash's top bits into runs of about 2,048 atoms, each searched with its
+  // own small open-addressing table (a power of two at most half full, linear probing) that
+  // stays in the cache. One table over all atoms made this a fifth of reading a million-atom
+  // XYZR file: a cache and TLB miss per atom in a 64 MB table (a node-based
+  // std::unordered_map before it, a third, and 100 bytes per atom). The partitions keep each
+  // atom's file order, so the first atom of a key to be seen is the earliest in the file.
+  struct Entry {
     std::uint64_t hash;
-    std::size_t index;  // + 1; 0 is an empty slot
+    std::size_t index;
   };
-  std::size_t slots = 16;
-  while (slots < 2 * molecule.size()) slots *= 2;
-  std::vector<Slot> table(slots, Slot{0, 0});
-  std::vector<std::size_t> kept;
-  kept.reserve(molecule.size());
+  int partitionBits = 0;
+  while (partitionBits < 16 && (n >> partitionBits) > 2048) ++partitionBits;
+  const int shift = 64 - partitionBits;
+  const auto partitionOf = [&](std::uint64_t hash) {
+    return partitionBits == 0 ? std::size_t{0} : static_cast<std::size_t>(hash >> shift);
+  };
+  std::vector<std::uint64_t> hashes(n);
+  std::vector<std::size_t> starts((std::size_t{1} << partitionBits) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    hashes[i] = hashOf(keyOf(i));
+    ++starts[partitionOf(hashes[i]) + 1];
+  }
+  for (std::size_t p = 1; p < starts.size(); ++p) starts[p] += starts[p - 1];
+  std::vector<Entry> entries(n);
+  {
+    std::vector<std::size_t> next(starts.begin(), starts.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) entries[next[partitionOf(hashes[i])]++] = Entry{hashes[i], i};
+  }
+  hashes = {};
+
+  std::vector<char> keep(n, 1);
   std::size_t dropped = 0;
-  std::string example;
-  for (std::size_t i = 0; i < molecule.size(); ++i) {
-    const Key key = keyOf(i);
-    const std::uint64_t hash = hashOf(key);
-    std::size_t s = startOf(i, hash) & (slots - 1);
-    while (table[s].index != 0 && !(table[s].hash == hash && keyOf(table[s].index - 1) == key))
-      s = (s + 1) & (slots - 1);
-    if (table[s].index == 0) {
-      table[s] = Slot{hash, i + 1};
-      kept.push_back(i);
-    } else if (dropped++ == 0) {
-      const std::size_t first = table[s].index - 1;
-      const AtomRecord& a = molecule.atoms[i];
-      const AtomRecord& earlier = molecule.atoms[first];
-      example = " (the first: " + (a.line > 0 ? "line " + std::to_string(a.line) : "atom " + std::to_string(i + 1)) +
-                " repeats " + (earlier.line > 0 ? "line " + std::to_string(earlier.line) : "atom " + std::to_string(first + 1)) +
-                ")";
+  std::size_t firstDropped = n, itsOriginal = n;  // the earliest duplicate in the file, and whom it repeats
+  std::vector<std::uint32_t> table;                // a position in the partition + 1; 0 is empty
+  for (std::size_t p = 0; p + 1 < starts.size(); ++p) {
+    const std::size_t begin = starts[p], count = starts[p + 1] - begin;
+    if (count < 2) continue;
+    std::size_t slots = 16;
+    while (slots < 2 * count) slots *= 2;
+    table.assign(slots, 0);
+    for (std::size_t k = 0; k < count; ++k) {
+      const Entry& e = entries[begin + k];
+      std::size_t s = static_cast<std::size_t>(e.hash) & (slots - 1);
+      std::uint32_t held = 0;
+      for (; (held = table[s]) != 0; s = (s + 1) & (slots - 1)) {
+        const Entry& other = entries[begin + held - 1];
+        if (other.hash == e.hash && keyOf(other.index) == keyOf(e.index)) break;
+      }
+      if (held == 0) {
+        table[s] = static_cast<std::uint32_t>(k + 1);
+        continue;
+      }
+      keep[e.index] = 0;
+      ++dropped;
+      if (e.index < firstDropped) firstDropped = e.index, itsOriginal = entries[begin + held - 1].index;
     }
   }
+  entries = {};
   table = {};
   if (dropped == 0) return;
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    if (kept[k] == k) continue;  // (a self-move would empty the record's strings)
-    molecule.centers[k] = molecule.centers[kept[k]];
-    if (fileRadii) molecule.radii[k] = molecule.radii[kept[k]];
-    molecule.atoms[k] = std::move(molecule.atoms[kept[k]]);
-  }
-  molecule.centers.resize(kept.size());
-  if (fileRadii) molecule.radii.resize(kept.size());
-  molecule.atoms.resize(kept.size());
+  const auto where = [&](std::size_t i) {
+    const int line = molecule.atoms[i].line;
+    return line > 0 ? "line " + std::to_string(line) : "atom " + std::to_string(i + 1);
+  };
+  const std::string example = " (the first: " + where(firstDropped) + " repeats " + where(itsOriginal) + ")";
+  compact(molecule, keep);
   molecule.skipped.duplicates = dropped;
   molecule.notes.push_back(std::to_string(dropped) + (dropped == 1 ? " atom lies" : " atoms lie") +
                            " exactly on an earlier atom of the same radius and " + (dropped == 1 ? "was" : "were") +
@@ -1154,7 +1246,8 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
   const MoleculeFormat format =
       options.format == MoleculeFormat::Auto ? formatFromPath(path, name) : options.format;
 
-  const std::string text = text::textOfBytes(std::move(bytes), name);
+  // Not const: the PDB reader takes it over (std::move of a const string copied 100 MB).
+  std::string text = text::textOfBytes(std::move(bytes), name);
   const auto crc = static_cast<std::uint32_t>(
       crc32_z(crc32_z(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()), text.size()));
 
@@ -1194,6 +1287,7 @@ Molecule readMoleculeBytes(std::string bytes, const std::string& name, const Rea
       SURFTRACE_ASSERT(false);
       break;
   }
+  std::string().swap(text);  // not held through the choices below (the text of a million atoms: 50-130 MB)
   molecule.source = name;
   molecule.format = format;
   molecule.modelUsed = options.model;

@@ -180,6 +180,11 @@ void SesBuilder::State::fullBuild() {
   // Vertex pass over every atom: the fresh arrays are the patch list's.
   vertexPassOf(pass.selection);
   forEachVertexArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshVertices.*member); });
+  // The threads' buffers of a full pass, once gathered, would hold its output a second time
+  // through the passes after it: the vertex buffers through the contour pass, where a large
+  // molecule's build peaks (a sixth of that peak), the contour buffers through the planes. A
+  // partial update reserves its own, smaller ones.
+  for (Scratch& s : pass.threadScratch) s.vertexOut = VertexBuf{};
   prefix(pass.freshVertices.concaveCount, vertices.concaveBegin);
   prefix(pass.freshVertices.freeCount, vertices.freeCircleBegin);
 
@@ -191,6 +196,7 @@ void SesBuilder::State::fullBuild() {
 
   contourPassOf(pass.selection);
   forEachContourArray([&](auto member, auto& kept, std::size_t) { kept.swap(pass.freshContours.*member); });
+  for (Scratch& s : pass.threadScratch) s.contourOut = ContourBuf{};
   prefix(pass.freshContours.convexCount, contours.convexBegin);
   prefix(pass.freshContours.toriCount, contours.toriBegin);
 
