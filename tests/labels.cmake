@@ -98,6 +98,7 @@ set(slow_tests
   "TrajectoryCli\\..*"
   "Usability\\.(BritishSpellingsAreTheSameOptions|DashCapitalVIsTheVersion|MistypedOptionsAndCommandsGetASuggestion|OutputNamesAreCheckedBeforeTheWork|SppCountsTheSamplesItTakes)"
   # trace_tests
+  "LightingSoft\\.FilteredImageIsNearerTheBruteForceOracleThanTheFormerRays"
   "Molecules/RenderOnSkin\\.HitsAreCertifiedAndNoRayCrossesTheBody(/.*)?"
   "Molecules/SesCrossings\\..*"
   "Crossings\\.EveryPixelCrossesTheOuterSesAnEvenNumberOfTimes"

@@ -69,6 +69,7 @@ ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
     lighting["shadow_rays"] = r.lighting.shadowRays;
     lighting["key_radius_degrees"] = r.lighting.keyRadius * 180.0 / 3.14159265358979323846;
     lighting["occlusion_rays"] = r.lighting.occlusionRays;
+    lighting["filter_passes"] = r.lighting.filterPasses;
   }
   meta["surftrace:lighting"] = lighting.dump();
   meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);

@@ -40,6 +40,10 @@ struct Lighting {
   double keyRadius = 0.0;
   // Ambient-occlusion rays when RenderOptions::aoSamples is 0 (0: none).
   int occlusionRays = 0;
+  // Embree: S and A traced with these few rays per hit, then smoothed over each smooth piece of
+  // surface by this many edge-aware filter passes (trace/visibility_filter.hpp) before shading;
+  // 0: each hit's own rays alone.
+  int filterPasses = 0;
 
   bool keyFill() const { return preset != LightingPreset::Headlight; }
 };

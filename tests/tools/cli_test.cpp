@@ -326,7 +326,7 @@ TEST(Cli, OpacityIsRecordedAndGlPeelsIt) {
   EXPECT_NE(run("render " + data("structures/1crn.pdb") + " --opacity 1.5 --exr " + clear).status, 0);
 }
 
-// --lighting: recorded in the metadata (model, rays); the GL engine draws `simple` and refuses
+// --lighting: recorded in the metadata (model, rays, filter passes); the GL engine draws `simple` and refuses
 // `soft` (shadow and occlusion rays) before any work, naming the Embree engine; an unknown
 // preset is refused with the list.
 TEST(Cli, LightingPresetsAreRecordedAndGlRefusesSoft) {
@@ -337,7 +337,8 @@ TEST(Cli, LightingPresetsAreRecordedAndGlRefusesSoft) {
   surftrace::view::ImageMetadata meta;
   surftrace::view::readExr(soft, &meta);
   EXPECT_NE(meta.at("surftrace:lighting").find("\"model\":\"key-fill soft\""), std::string::npos) << meta.at("surftrace:lighting");
-  EXPECT_NE(meta.at("surftrace:lighting").find("\"shadow_rays\":32"), std::string::npos) << meta.at("surftrace:lighting");
+  EXPECT_NE(meta.at("surftrace:lighting").find("\"shadow_rays\":4"), std::string::npos) << meta.at("surftrace:lighting");
+  EXPECT_NE(meta.at("surftrace:lighting").find("\"filter_passes\":4"), std::string::npos) << meta.at("surftrace:lighting");
   const Result gl = run("render " + data("structures/1crn.pdb") + " --size 24x24 --quiet --engine gl --lighting simple --exr " + simple);
   ASSERT_EQ(gl.status, 0) << gl.output;
   const Result refused = run("render " + data("structures/1crn.pdb") + " --size 24x24 --engine gl --lighting soft --exr " + simple);
