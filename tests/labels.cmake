@@ -40,6 +40,7 @@ set(slow_tests
   "GlPeelOpaque\\..*"
   "GlPeelSes\\..*"
   "GlPrimitive\\.EyeInsideAndBesideCylinders"
+  "GlSoftLighting\\..*"
   "Surfaces/GlPeel\\..*"
   "Views/GlPrimitiveViews\\..*"
   "Views/GlVsEmbree\\..*"
@@ -74,7 +75,7 @@ set(slow_tests
   "CameraCli\\..*"
   "ColorsCli\\..*"
   "Cases/Reference\\..*"
-  "Cli\\.(CompareDefaultsToTheStrictPresetOfItsEngines|DropCavitiesChangesNoPixel|HelpTeachesTheCommands|HemeProteinWorksOutOfTheBox|OpacityIsRecordedAndGlPeelsIt|OptionErrorsAreReadable|PatchListRendersAsTheStructureDoes|RenderRejectsImpossibleOptionsClearly|RenderWritesImagesWithTheirCamera|SkinAreaBuildAndShrinkErrors|SkinPatchListRendersAsTheStructureDoes|SliverPatchesDoNotMoveTheSkinsFraming|WideSkinFillsThePicture)"
+  "Cli\\.(CompareDefaultsToTheStrictPresetOfItsEngines|DropCavitiesChangesNoPixel|HelpTeachesTheCommands|HemeProteinWorksOutOfTheBox|LightingPresetsAreRecordedAndGlDrawsSoft|OpacityIsRecordedAndGlPeelsIt|OptionErrorsAreReadable|PatchListRendersAsTheStructureDoes|RenderRejectsImpossibleOptionsClearly|RenderWritesImagesWithTheirCamera|SkinAreaBuildAndShrinkErrors|SkinPatchListRendersAsTheStructureDoes|SliverPatchesDoNotMoveTheSkinsFraming|WideSkinFillsThePicture)"
   "CompareDiff\\..*"
   "CompareExample\\..*"
   "CompareForeign\\..*"
@@ -111,7 +112,7 @@ set(slow_tests
 # The tests outside gl_tests that render with --engine gl (found by their code, helpers included).
 set(gl_tests
   "BallStickCli\\.Gl.*"
-  "Cli\\.(OpacityIsRecordedAndGlPeelsIt|PatchListRendersAsTheStructureDoes|SkinPatchListRendersAsTheStructureDoes|CompareDefaultsToTheStrictPresetOfItsEngines)"
+  "Cli\\.(LightingPresetsAreRecordedAndGlDrawsSoft|OpacityIsRecordedAndGlPeelsIt|PatchListRendersAsTheStructureDoes|SkinPatchListRendersAsTheStructureDoes|CompareDefaultsToTheStrictPresetOfItsEngines)"
   "CompareMasks\\.(TheKindCheckCoversMostHitsOf1aonAt256|AReferenceWithoutSeamDistancesFallsBackToTheNeighbourhoodRule)"
   "CompareDiff\\.GlWithinTheLimitsLooksQuiet"
   "CompareVerdict\\.ColourIsJudgedBetweenEnginesByDefault"

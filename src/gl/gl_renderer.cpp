@@ -151,6 +151,17 @@ Primitive parsePrimitive(const std::string& name) {
 
 const char* primitiveName(Primitive primitive) { return primitive == Primitive::Cylinder ? "cylinder" : "box"; }
 
+LightMaps lightMapsFor(const view::Lighting& lighting) {
+  if (!lighting.keyFill() || (lighting.shadowRays == 0 && lighting.occlusionRays == 0)) return {};
+  // Measured against Embree's expected values on 1CRN (tests/gl/gl_lighting_test.cpp): finer
+  // texels let less light into contact shadows (the key light alone, 16 maps: colour p95 0.018
+  // at 0.08 Å, 0.028 at 0.16 Å); more key maps shorten the steps of a penumbra (1/key of the
+  // key light each) and more ambient maps the banding of the occlusion. Full costs about 3
+  // times soft.
+  if (lighting.preset == view::LightingPreset::Full) return LightMaps{32, 128, 0.12, 0};
+  return LightMaps{16, 64, 0.16, 0};
+}
+
 namespace {
 
 // Runs f(row, Kind{}) for each row of GpuKinds (gpu_kinds.hpp), in order.
@@ -207,6 +218,10 @@ struct GlRenderer::Impl {
   // Render targets: colour, (t, viewZ), normal, (kind, patch id, atom, flags), depth.
   GLuint fbo = 0, targets[4] = {}, depth = 0;
   int width = 0, height = 0;
+  // The light maps (LightMaps): a depth texture array of `lightLayers` layers of lightSize²,
+  // the framebuffer that draws into one layer, the maps' records (GpuLightMap).
+  GLuint lightTexture = 0, lightFbo = 0, lightBuffer = 0;
+  int lightSize = 0, lightLayers = 0;
 
   ~Impl() {
     for (GLuint p : programs)
@@ -230,7 +245,150 @@ struct GlRenderer::Impl {
     glDeleteBuffers(1, &blockerBuffer);
     glDeleteBuffers(1, &blockerListBuffer);
     glDeleteQueries(1, &query);
+    glDeleteBuffers(1, &lightBuffer);
+    releaseLightTargets();
     releaseTargets();
+  }
+
+  void releaseLightTargets() {
+    glDeleteTextures(1, &lightTexture);
+    glDeleteFramebuffers(1, &lightFbo);
+    lightTexture = lightFbo = 0;
+    lightSize = lightLayers = 0;
+  }
+
+  // One draw per kind, its records and atoms bound to the two slots every kind's program reads.
+  void drawPatches() {
+    for (std::size_t row = 0; row < kGpuKindCount; ++row) {
+      if (counts[row] == 0) continue;
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, records[row]);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, atoms[row]);
+      glUseProgram(programs[row]);
+      glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(counts[row]));
+    }
+  }
+
+  // The depth texture array of `layers` maps of size², compared (LEQUAL) and filtered
+  // bilinearly when read: a lookup is the lit fraction of the four texels around it
+  // (percentage-closer filtering), which smooths the texel steps of a shadow's edge.
+  void ensureLightTargets(int size, int layers) {
+    if (size == lightSize && layers == lightLayers) return;
+    releaseLightTargets();
+    GLint maxSize = 0, maxLayers = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    if (size > maxSize || layers > maxLayers)
+      throw std::invalid_argument("gl engine: " + std::to_string(layers) + " light maps of " + std::to_string(size) +
+                                  "² exceed the driver's limits (" + std::to_string(maxLayers) +
+                                  " layers of at most " + std::to_string(maxSize) + "²): use --engine embree");
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &lightTexture);
+    glTextureStorage3D(lightTexture, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
+    glTextureParameteri(lightTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(lightTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(lightTexture, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(lightTexture, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    // Outside a map (nothing drawn there) is lit: depth 1, the far end.
+    glTextureParameteri(lightTexture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTextureParameteri(lightTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    const float far[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+    glTextureParameterfv(lightTexture, GL_TEXTURE_BORDER_COLOR, far);
+    glCreateFramebuffers(1, &lightFbo);
+    glNamedFramebufferDrawBuffer(lightFbo, GL_NONE);
+    glNamedFramebufferReadBuffer(lightFbo, GL_NONE);
+    checkGlError("creating the light maps");
+    lightSize = size;
+    lightLayers = layers;
+  }
+
+  // Draws the light maps of `o` (lightMapsFor, or gl.lightMaps) and binds them for the shading;
+  // sets f.lightMaps and f.lightMapScale (both zero: none). Each map is the scene (patches and
+  // ball-and-stick model) drawn by the kinds' own programs with a frame block of its own: an
+  // orthographic camera looking at the bounding ball's centre along −d from outside the ball,
+  // its square window the ball's width, writing the ray distance t times the frame's depth
+  // scale (writeHit's gl_FragDepth) as depth. The key light's maps follow the camera; all share
+  // one window size and depth scale.
+  void drawLightMaps(const view::RenderOptions& o, const GlOptions& gl, GpuFrame& f) {
+    glBindTextureUnit(kLightMapUnit, 0);  // never read while drawn into
+    f.lightMaps = glm::uvec4(0u);
+    f.lightMapScale = glm::vec4(0.0f);
+    const LightMaps maps = gl.lightMaps ? *gl.lightMaps : lightMapsFor(o.lighting);
+    if (!o.lighting.keyFill() || maps.key + maps.ambient == 0) return;
+    // The window holds the ball with a texel to spare on each side (the bilinear footprint).
+    const double radius = std::max(boundsRadius, 1e-3);
+    const int side = maps.size > 0 ? maps.size
+                     : maps.texel > 0.0
+                         ? static_cast<int>(std::min<double>(kMaxLightMapSize, std::ceil(2.0 * radius / maps.texel) + 2.0))
+                         : 0;
+    if (maps.key < 0 || maps.ambient < 0 || maps.key > 4096 || maps.ambient > 4096 || side < 8 ||
+        side > kMaxLightMapSize)
+      throw std::invalid_argument("gl engine: light maps " + std::to_string(maps.key) + " key, " +
+                                  std::to_string(maps.ambient) + " ambient of " + std::to_string(side) +
+                                  "²: the counts must be in [0, 4096], the side in [8, " +
+                                  std::to_string(kMaxLightMapSize) + "]");
+    const int layers = maps.key + maps.ambient;
+    ensureLightTargets(side, layers);
+
+    std::vector<glm::dvec3> directions;
+    directions.reserve(static_cast<std::size_t>(layers));
+    const view::Camera& cam = o.camera;
+    const view::LightDirections lights = view::lightDirections(cam.right(), cam.trueUp(), cam.forward());
+    // The key light's disc: the lattice of trace/render.cpp's keyVisibility without its
+    // per-pixel rotation (a map serves every pixel), uniform in area on the disc.
+    const glm::dvec3 t = glm::normalize(glm::cross(lights.key, std::abs(lights.key.x) < 0.9 ? glm::dvec3(1, 0, 0)
+                                                                                         : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 b = glm::cross(lights.key, t);
+    constexpr double kGoldenFraction = 0.6180339887498948482;
+    for (int i = 0; i < maps.key; ++i) {
+      const double u = (i + 0.5) / maps.key, v = i * kGoldenFraction - std::floor(i * kGoldenFraction);
+      const double r = std::tan(o.lighting.keyRadius) * std::sqrt(u), phi = 2.0 * kPi * v;
+      directions.push_back(glm::normalize(lights.key + r * std::cos(phi) * t + r * std::sin(phi) * b));
+    }
+    // The ambient maps: a Fibonacci sphere, equal areas, the same in every frame.
+    for (int i = 0; i < maps.ambient; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / maps.ambient, rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+      const double phi = 2.0 * kPi * (i * kGoldenFraction - std::floor(i * kGoldenFraction));
+      directions.emplace_back(rho * std::cos(phi), rho * std::sin(phi), z);
+    }
+
+    const double half = radius * (1.0 + 2.0 / side), distance = radius + std::max(1.0, 0.01 * radius);
+    view::RenderOptions mapOptions;
+    mapOptions.camera.projection = view::Projection::Orthographic;
+    mapOptions.camera.width = mapOptions.camera.height = side;
+    mapOptions.camera.orthoHeight = 2.0 * half;
+    mapOptions.camera.lookAt = boundsCenter;
+    GlOptions mapGl = gl;
+    mapGl.countFragments = false;
+    std::vector<GpuLightMap> mapRecords(directions.size());
+    float depthScale = 0.0f;
+    const float farDepth = 1.0f;
+    glBindFramebuffer(GL_FRAMEBUFFER, lightFbo);
+    glViewport(0, 0, side, side);
+    for (std::size_t i = 0; i < directions.size(); ++i) {
+      const glm::dvec3& d = directions[i];
+      view::Camera& c = mapOptions.camera;
+      c.eye = boundsCenter + distance * d;
+      c.up = std::abs(d.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+      const GpuFrame mf = frameBlock(mapOptions, mapGl, 0, origin, boundsCenter, boundsRadius, ids);
+      glNamedBufferData(frameBuffer, sizeof(mf), &mf, GL_STREAM_DRAW);
+      glNamedFramebufferTextureLayer(lightFbo, GL_DEPTH_ATTACHMENT, lightTexture, 0, static_cast<GLint>(i));
+      glClearNamedFramebufferfv(lightFbo, GL_DEPTH, 0, &farDepth);
+      drawModel();
+      drawPatches();
+      // (u, v, depth) of a point, as the map's camera rays see it (Camera::ray, writeHit).
+      depthScale = mf.viewport.w;
+      const glm::dvec3 eye = c.eye - origin, right = c.right(), up = c.trueUp(), forward = c.forward();
+      const double toTexel = 1.0 / (2.0 * half);
+      mapRecords[i].toMapX = vec4Of(right * toTexel, 0.5 - glm::dot(eye, right) * toTexel);
+      mapRecords[i].toMapY = vec4Of(up * toTexel, 0.5 - glm::dot(eye, up) * toTexel);
+      mapRecords[i].toMapZ = vec4Of(forward * static_cast<double>(depthScale), -glm::dot(eye, forward) * depthScale);
+      mapRecords[i].direction = vec4Of(d, 0.0);
+    }
+    bufferData(lightBuffer, mapRecords);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightMapBinding, lightBuffer);
+    glBindTextureUnit(kLightMapUnit, lightTexture);
+    checkGlError("drawing the light maps");
+    f.lightMaps = glm::uvec4(static_cast<unsigned>(maps.key), static_cast<unsigned>(maps.ambient), 0u, 0u);
+    f.lightMapScale = glm::vec4(static_cast<float>(2.0 * half / side), depthScale, 0.0f, 0.0f);
   }
 
   // The model's records in float, shifted by −origin in double first (as packPatches does), and
@@ -457,6 +615,7 @@ GlRenderer::GlRenderer(const GlContext& context) : impl_(std::make_unique<Impl>(
   glCreateBuffers(1, &m.blockerBuffer);
   glCreateBuffers(1, &m.blockerListBuffer);
   glCreateQueries(GL_ANY_SAMPLES_PASSED, 1, &m.query);
+  glCreateBuffers(1, &m.lightBuffer);
   checkGlError("creating the GL renderer");
 }
 
@@ -515,12 +674,8 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
         "projection matrix): use --engine embree");
   if (o.samplesPerPixel != 1 || o.shadows || o.aoSamples != 0)
     throw std::invalid_argument(
-        "gl engine: renders one sample per pixel without shadows or ambient occlusion; "
-        "drop --spp/--shadows/--ao or use --engine embree");
-  if (o.lighting.shadowRays != 0 || o.lighting.occlusionRays != 0)
-    throw std::invalid_argument(std::string("gl engine: lighting '") + view::lightingPresetName(o.lighting.preset) +
-                                "' needs shadow and ambient-occlusion rays, which only the Embree engine casts: use "
-                                "--lighting simple or headlight with --engine gl, or --engine embree");
+        "gl engine: renders one sample per pixel, and shadows and ambient occlusion only as --lighting soft or "
+        "full (from light maps); drop --spp/--shadows/--ao or use --engine embree");
   if (!(o.opacity > 0.0 && o.opacity <= 1.0))
     throw std::invalid_argument("gl engine: opacity " + std::to_string(o.opacity) + " must be in (0, 1]");
   if (o.maxLayers < 1 || o.maxLayers > kMaxPeelLayers)
@@ -535,7 +690,7 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   m.ensureTargets(cam.width, cam.height);
   const bool transparent = o.opacity < 1.0;
 
-  const GpuFrame f = frameBlock(o, gl, atomColors.size(), m.origin, m.boundsCenter, m.boundsRadius, m.ids);
+  GpuFrame f = frameBlock(o, gl, atomColors.size(), m.origin, m.boundsCenter, m.boundsRadius, m.ids);
   glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
   std::vector<glm::vec4> colors;
   colors.reserve(atomColors.size());
@@ -577,6 +732,12 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCountBinding, m.countBuffer);
   m.transparent = transparent;
   m.passes = 1;
+  // The light maps first (soft shadows, occlusion), each into its own target with a frame block
+  // of its own; then the camera's block again, with the maps' counts and scales.
+  m.drawLightMaps(o, gl, f);
+  glNamedBufferData(m.frameBuffer, sizeof(f), &f, GL_STREAM_DRAW);
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+  glViewport(0, 0, cam.width, cam.height);
   // The ball-and-stick model first, opaque, into the main targets and the depth buffer the
   // surface is then tested against.
   const bool model = m.drawModel();
@@ -602,17 +763,7 @@ void GlRenderer::draw(const view::RenderOptions& o, std::span<const glm::vec3> a
   checkGlError("drawing the patches");
 }
 
-void GlRenderer::drawPatches() {
-  Impl& m = *impl_;
-  // One draw per kind, its records and atoms bound to the two slots every kind's program reads.
-  for (std::size_t row = 0; row < kGpuKindCount; ++row) {
-    if (m.counts[row] == 0) continue;
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, m.records[row]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAtomBinding, m.atoms[row]);
-    glUseProgram(m.programs[row]);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(m.counts[row]));
-  }
-}
+void GlRenderer::drawPatches() { impl_->drawPatches(); }
 
 // Depth peeling (Everitt 2001, "Interactive order-independent transparency"): pass k draws
 // every patch into a cleared layer target and keeps, per pixel, the nearest hit beyond layer

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,6 +54,23 @@ struct OpaqueLayer {
   unsigned depth = 0;
 };
 
+// GL's soft shadows and ambient occlusion (--lighting soft and full): depth maps of the whole
+// scene, orthographic along directions over the key light's disc (key) and over the sphere
+// (ambient), drawn once per frame before it (gl_renderer.cpp, drawLightMaps) and read by the
+// shading (fragment_common.glsl, lightVisibility). Their side covers the scene's bounding ball
+// with texels `texel` Å wide (at most kMaxLightMapSize), so that a large molecule's shadows are
+// as sharp as a small one's; `size` > 0 sets the side instead.
+struct LightMaps {
+  int key = 0;
+  int ambient = 0;
+  double texel = 0.0;
+  int size = 0;
+};
+inline constexpr int kMaxLightMapSize = 2048;
+// The maps of a lighting preset: none for headlight and simple (the Lighting has no shadow or
+// occlusion rays); soft and full: see gl_renderer.cpp.
+LightMaps lightMapsFor(const view::Lighting& lighting);
+
 struct GlOptions {
   TorusMethod torus = TorusMethod::Quartic;
   int maxSteps = 30;             // sphere tracing: steps per ray (Lindow et al. 2010: 30)
@@ -76,6 +94,9 @@ struct GlOptions {
   // true crossings that close are a grazing ray, inside the silhouette band.
   double mergeDistance = kDefaultMergeDistance;
   double mergeRelative = kDefaultMergeRelative;
+  // The light maps to draw instead of the lighting preset's (lightMapsFor), when given: tests
+  // and benchmarks trade their number and size against time.
+  std::optional<LightMaps> lightMaps;
 };
 
 // Holds the compiled programs, the uploaded patches and the render targets of one context.
@@ -98,8 +119,9 @@ class GlRenderer {
   void upload(const build::PatchList& patches, const glm::dvec3& origin, const build::SphereBlockers* blockers = nullptr,
               const build::BallStickModel* model = nullptr);
   // Draws the uploaded patches as `options.camera` sees them and waits for the GPU.
-  // Supports the centre sample only: samplesPerPixel > 1, shadows and ambient occlusion (and
-  // the soft and full lighting presets, which need them) are rejected with std::invalid_argument (the Embree path renders those). With
+  // Supports the centre sample only: samplesPerPixel > 1, --shadows and --ao are rejected with
+  // std::invalid_argument (the Embree path renders those); the soft and full lighting presets'
+  // shadows and occlusion come from light maps (LightMaps) instead of rays. With
   // options.opacity < 1 it peels up to options.maxLayers layers, the transparency of
   // trace::render, over `opaque` when given (peel()).
   void draw(const view::RenderOptions& options, std::span<const glm::vec3> atomColors, const GlOptions& gl = {},

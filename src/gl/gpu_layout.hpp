@@ -20,6 +20,7 @@ using uint = std::uint32_t;
 using shared::GpuConcave;
 using shared::GpuFrame;
 using shared::GpuKind;
+using shared::GpuLightMap;
 using shared::GpuPeel;
 using shared::GpuSkin;
 using shared::GpuTorus;
@@ -35,6 +36,8 @@ using shared::kBlockerBinding;
 using shared::kBlockerListBinding;
 using shared::kLayerColorUnit;
 using shared::kLayerDepthUnit;
+using shared::kLightMapBinding;
+using shared::kLightMapUnit;
 using shared::kOpaqueColorUnit;
 using shared::kOpaqueDepthUnit;
 using shared::kPeelBinding;
@@ -54,9 +57,12 @@ static_assert(sizeof(GpuSkin) == 64 && offsetof(GpuSkin, axisConstant) == 16 && 
               offsetof(GpuSkin, cell) == 48);
 static_assert(sizeof(GpuPeel) == 32 && offsetof(GpuPeel, merge) == 16);
 static_assert(sizeof(GpuKind) == 32 && offsetof(GpuKind, first) == 16);
-static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 5 * 16);
+static_assert(sizeof(GpuFrame) == 7 * 16 + kKindCount * 32 + 7 * 16);
+static_assert(sizeof(GpuLightMap) == 64 && offsetof(GpuLightMap, toMapZ) == 32 && offsetof(GpuLightMap, direction) == 48);
 static_assert(offsetof(GpuFrame, kinds) == 112 && offsetof(GpuFrame, shading) == 112 + kKindCount * 32 &&
               offsetof(GpuFrame, torusTrace) == 128 + kKindCount * 32 &&
-              offsetof(GpuFrame, traceParams) == 144 + kKindCount * 32);
+              offsetof(GpuFrame, traceParams) == 144 + kKindCount * 32 &&
+              offsetof(GpuFrame, lightMaps) == 192 + kKindCount * 32 &&
+              offsetof(GpuFrame, lightMapScale) == 208 + kKindCount * 32);
 
 }  // namespace surftrace::gl

@@ -47,11 +47,8 @@ const char* engineKindName(EngineKind kind) { return kind == EngineKind::Gl ? "g
 void checkEngineCanDraw(const EngineOptions& engine, const RenderOptions& options) {
   if (engine.kind == EngineKind::Gl && (options.samplesPerPixel > 1 || options.shadows || options.aoSamples > 0))
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
-                                "--spp/--shadows/--ao or use --engine embree");
-  if (engine.kind == EngineKind::Gl && (options.lighting.shadowRays > 0 || options.lighting.occlusionRays > 0))
-    throw std::invalid_argument(std::string("--engine gl has no soft shadows or ambient occlusion, which --lighting ") +
-                                lightingPresetName(options.lighting.preset) +
-                                " needs: use --lighting simple with --engine gl, or --engine embree");
+                                "--spp/--shadows/--ao (--lighting soft and full give GL soft shadows and occlusion "
+                                "from light maps) or use --engine embree");
 }
 
 }  // namespace surftrace::view

@@ -88,7 +88,8 @@ struct EngineOptions {
 };
 
 // std::invalid_argument when the engine cannot draw what the options ask for (GL: one sample
-// per pixel, no shadows, no ambient occlusion), before any slow work.
+// per pixel, no --shadows or --ao; the soft and full lighting presets from light maps), before
+// any slow work.
 void checkEngineCanDraw(const EngineOptions& engine, const RenderOptions& options);
 
 }  // namespace surftrace::view

@@ -15,7 +15,8 @@
 namespace surftrace::view {
 
 // The Embree path renders everything; the GL path renders the centre sample only and rejects
-// samplesPerPixel > 1, shadows and ambient occlusion (so also the soft and full lighting presets).
+// samplesPerPixel > 1, shadows and aoSamples (the soft and full lighting presets it draws with
+// light maps instead of rays).
 struct RenderOptions {
   Camera camera;
   ColorMode color = ColorMode::Patch;

@@ -14,8 +14,8 @@ const char* colorModeName(ColorMode mode);
 // `--lighting`: Headlight (the default) is Blinn–Phong with a white light at the eye, so a
 // concave pocket is brightest at its deepest point. The others light from a key light 45°
 // above left of the eye, a weaker fill light below right and an ambient term (the key-fill model):
-// Simple has nothing else (both engines); Soft adds soft shadows from an area key light and
-// ambient occlusion (Embree), Full the same with more rays.
+// Simple has nothing else; Soft adds soft shadows from an area key light and ambient occlusion
+// (Embree by rays, GL by light maps: gl/gl_renderer.hpp, LightMaps), Full the same with more.
 enum class LightingPreset { Headlight, Simple, Soft, Full };
 LightingPreset parseLightingPreset(const std::string& name);  // throws std::invalid_argument
 const char* lightingPresetName(LightingPreset preset);

@@ -120,7 +120,9 @@ TEST(GlLayout, FrameBlockMatchesStd140) {
                             {"frame.torusTrace", offsetof(GpuFrame, torusTrace)},
                             {"frame.traceParams", offsetof(GpuFrame, traceParams)},
                             {"frame.keyLight", offsetof(GpuFrame, keyLight)},
-                            {"frame.fillLight", offsetof(GpuFrame, fillLight)}};
+                            {"frame.fillLight", offsetof(GpuFrame, fillLight)},
+                            {"frame.lightMaps", offsetof(GpuFrame, lightMaps)},
+                            {"frame.lightMapScale", offsetof(GpuFrame, lightMapScale)}};
   for (const Member& m : members) EXPECT_EQ(resourceProperty(program, GL_UNIFORM, m.name, GL_OFFSET), m.offset) << m.name;
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_DATA_SIZE), static_cast<GLint>(sizeof(GpuFrame)));
   EXPECT_EQ(resourceProperty(program, GL_UNIFORM_BLOCK, "Frame", GL_BUFFER_BINDING), static_cast<GLint>(kFrameBinding));

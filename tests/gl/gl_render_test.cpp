@@ -247,8 +247,7 @@ TEST(GlBallAndStick, ModelUnderTheOpaqueSesMeetsTheGlVsEmbreePreset) {
 }
 
 // The key-fill model of --lighting simple: GL's shader against Embree's view::shade, to the
-// gl-vs-embree preset (colour p99 <= 1e-3), in every view; the presets with shadow and
-// occlusion rays are refused with a message that names the Embree engine.
+// gl-vs-embree preset (colour p99 <= 1e-3), in every view (soft and full: gl_lighting_test.cpp).
 TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
   const GlContext context;
   // GL's frame against Embree's exact one (with its masks) under the same options.
@@ -280,16 +279,6 @@ TEST(GlLighting, SimplePresetMeetsTheGlVsEmbreePreset) {
     std::printf("%s, lighting simple, opacity 0.5: %s\n", kViews[0].name, a.summary().c_str());
     const std::vector<std::string> bad = view::CompareThresholds::preset("transparency").violations(a);
     EXPECT_TRUE(bad.empty()) << a.summary();
-  }
-  for (const view::LightingPreset preset : {view::LightingPreset::Soft, view::LightingPreset::Full}) {
-    view::RenderOptions o = viewOptions(s, kViews[0]);
-    o.lighting = view::lightingFor(preset);
-    try {
-      renderGl(context, s.patches, o, {}, GlOptions{});
-      ADD_FAILURE() << "GL drew --lighting " << view::lightingPresetName(preset);
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("Embree engine"), std::string::npos) << e.what();
-    }
   }
 }
 
