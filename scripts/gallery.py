@@ -1,18 +1,20 @@
 #!/usr/bin/env python3
 """Renders the README's lighting gallery: 1VIS and 1AON, SES and skin, under each --lighting
 preset, at 1024x1024 with the Embree engine, timing each render (the whole `surftrace render`
-process, wall clock), and writes the images (JPEG) and a Markdown table of them with their
-times and commands.
+process: wall clock and CPU), and writes the images (JPEG), their times (OUT/times.json), a
+page with every image, time and command (OUT/README.md), and the grid in README.md between
+<!-- gallery:begin --> and <!-- gallery:end -->.
 
     python3 scripts/gallery.py [--surftrace build/ci/tools/surftrace] [--size 1024]
-                               [--out docs/images/gallery] [--table docs/images/gallery/README.md]
-                               [--threads N] [--only SUBSTRING]
+                               [--out docs/images/gallery] [--threads N] [--only SUBSTRING]
+    python3 scripts/gallery.py --tables-only     # the page and the grid again, from times.json
 
 Needs the `surftrace` program (build it first, e.g. `bash scripts/demo.sh` or
 `cmake --preset ci && cmake --build --preset ci`) and `oiiotool` (Debian: openimageio-tools,
 installed with the demo's packages) to write the JPEGs. Standard library only.
 """
 import argparse
+import json
 import os
 import platform
 import resource
@@ -48,8 +50,17 @@ def main() -> int:
     parser.add_argument("--threads", type=int, default=None, help="surftrace --threads (default: all cores)")
     parser.add_argument("--only", default="", help="render only images whose name contains this")
     parser.add_argument("--quality", type=int, default=88, help="JPEG quality (default 88)")
+    parser.add_argument("--readme", default=str(ROOT / "README.md"),
+                        help="README whose grid (between <!-- gallery:begin --> and <!-- gallery:end -->) to rewrite")
+    parser.add_argument("--tables-only", action="store_true",
+                        help="render nothing: rewrite the page and the README's grid from OUT/times.json")
     args = parser.parse_args()
 
+    out = Path(args.out)
+    table = Path(args.table) if args.table else out / "README.md"
+    if args.tables_only:
+        write_tables(out, table, Path(args.readme))
+        return 0
     surftrace = Path(args.surftrace)
     if not surftrace.is_file() or not os.access(surftrace, os.X_OK):
         sys.exit(f"gallery: {surftrace} is not an executable surftrace program; build it first "
@@ -59,9 +70,7 @@ def main() -> int:
         sys.exit("gallery: oiiotool not found (Debian: apt-get install openimageio-tools)")
     if args.size < 16 or args.size > 8192:
         sys.exit(f"gallery: --size {args.size} is outside [16, 8192]")
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    table = Path(args.table) if args.table else out / "README.md"
 
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -94,25 +103,65 @@ def main() -> int:
                                       "--size", f"{args.size}x{args.size}", "-o", f"{name}.png"])
                     rows.append((mol, surface, preset, jpg.name, seconds, cpu, shown))
 
-    threads = args.threads or os.cpu_count()
-    lines = [
-        f"# Lighting gallery",
-        "",
-        f"Made by `python3 scripts/gallery.py` at {args.size}×{args.size} with the Embree engine, "
-        f"{threads} threads, on {platform.machine()} with {os.cpu_count()} cores (load average "
-        f"{os.getloadavg()[0]:.1f} at the end). Each time is the whole `surftrace render` process "
-        "(reading, building the surface, tracing, writing), one run: its wall-clock time, and its CPU time "
-        "(user + system, all threads), which other work on the machine disturbs less.",
-        "",
-        "| molecule | surface | lighting | image | wall | CPU | command |",
-        "| --- | --- | --- | --- | --- | --- | --- |",
-    ]
-    for mol, surface, preset, image, seconds, cpu, shown in rows:
-        lines.append(f'| {mol.upper()} | {surface} | `{preset}` | <a href="{image}"><img src="{image}" width="200" alt="{mol} {surface} {preset}"></a> '
-                     f"| {seconds:.1f} s | {cpu:.1f} s | `{shown}` |")
-    table.write_text("\n".join(lines) + "\n")
-    print(f"gallery: {len(rows)} images in {out}, table {table}")
+    if rows:
+        threads = args.threads or os.cpu_count()
+        record = {"size": args.size, "threads": threads, "machine": platform.machine(), "cores": os.cpu_count(),
+                  "load": round(os.getloadavg()[0], 1), "images": {}}
+        times_file = out / "times.json"
+        if args.only and times_file.exists():
+            record["images"] = json.loads(times_file.read_text())["images"]
+        for mol, surface, preset, image, seconds, cpu, shown in rows:
+            record["images"][image] = {"wall": round(seconds, 2), "cpu": round(cpu, 2), "command": shown}
+        times_file.write_text(json.dumps(record, indent=1) + "\n")
+    write_tables(out, table, Path(args.readme))
     return 0
+
+
+def write_tables(out: Path, table: Path, readme: Path) -> None:
+    """The gallery page (OUT/README.md: a grid, then every image's times and command) and the
+    grid in the README between its gallery markers, both from OUT/times.json."""
+    times_file = out / "times.json"
+    if not times_file.exists():
+        sys.exit(f"gallery: {times_file} is missing; render the gallery first")
+    record = json.loads(times_file.read_text())
+    images = record["images"]
+
+    def grid(prefix: str, width: int) -> list:
+        lines = ["| | " + " | ".join(f"`{p}`" for p in PRESETS) + " |", "|---" * (len(PRESETS) + 1) + "|"]
+        for mol, _, _ in MOLECULES:
+            for surface, _ in SURFACES:
+                cells = []
+                for preset in PRESETS:
+                    image = f"{mol}-{surface}-{preset}.jpg"
+                    if image not in images:
+                        cells.append("")
+                        continue
+                    cells.append(f'<a href="{prefix}{image}"><img src="{prefix}{image}" width="{width}" '
+                                 f'alt="{mol.upper()} {surface} {preset}"></a><br>{images[image]["cpu"]:.1f} s CPU')
+                lines.append(f"| {mol.upper()} {surface} | " + " | ".join(cells) + " |")
+        return lines
+
+    about = (f"{record['size']}×{record['size']}, Embree, {record['threads']} threads on {record['cores']} "
+             f"{record['machine']} cores (load average {record['load']}). A time is the CPU time (user + system, "
+             "all threads) of the whole `surftrace render` process: reading, building the surface, tracing, "
+             "writing; it is what other work on the machine disturbs least.")
+    page = ["# Lighting gallery", "", f"Made by `python3 scripts/gallery.py`: {about}", "", *grid("", 180), "",
+            "| image | wall | CPU | command |", "| --- | --- | --- | --- |"]
+    for image, t in images.items():
+        page.append(f"| [{image}]({image}) | {t['wall']:.1f} s | {t['cpu']:.1f} s | `{t['command']}` |")
+    table.write_text("\n".join(page) + "\n")
+
+    begin, end = "<!-- gallery:begin -->", "<!-- gallery:end -->"
+    text = readme.read_text()
+    if begin in text and end in text:
+        rel = os.path.relpath(out, readme.parent).replace(os.sep, "/") + "/"
+        block = [begin, "", *grid(rel, 150), "", f"{about} Every image's command: [{rel}README.md]({rel}README.md).",
+                 "", end]
+        head, rest = text.split(begin, 1)
+        text = head + "\n".join(block) + rest.split(end, 1)[1]
+        readme.write_text(text)
+        print(f"gallery: the grid in {readme} is rewritten")
+    print(f"gallery: {len(images)} images in {out}, page {table}")
 
 
 if __name__ == "__main__":
