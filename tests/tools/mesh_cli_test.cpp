@@ -98,6 +98,18 @@ std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
   return i;
 }
 
+// How many directed edges of the mesh miss their one reverse, or repeat (0: closed, every edge
+// shared by exactly two triangles, consistently oriented).
+std::size_t unmatchedEdges(const PlyMesh& m) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  std::size_t unmatched = 0;
+  for (const auto& [e, n] : directed)
+    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  return unmatched;
+}
+
 TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1crn");
   const std::string pdb = data("structures/1crn.pdb");
@@ -117,12 +129,7 @@ TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   EXPECT_LT(worst, 1e-9) << "a vertex off the SES";
 
   // Closed and consistently oriented: every directed edge once, and its reverse once.
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-  std::size_t unmatched = 0;
-  for (const auto& [e, n] : directed)
-    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  const std::size_t unmatched = unmatchedEdges(m);
   EXPECT_EQ(unmatched, 0u) << "edges not shared by exactly two triangles in opposite directions";
 
   // Connected components (by shared vertices), each with its Euler characteristic, signed volume
@@ -193,12 +200,7 @@ struct MeshPiece {
   double volume = 0.0;
 };
 std::vector<MeshPiece> piecesOf(const PlyMesh& m, std::size_t& unmatched) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-  unmatched = 0;
-  for (const auto& [e, n] : directed)
-    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  unmatched = unmatchedEdges(m);
   std::vector<std::uint32_t> parent(m.positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
   for (const auto& t : m.triangles) {
@@ -356,12 +358,7 @@ TEST(MeshCli, GramicidinSkinIsClosedOnTheSkinAndWithinItsBound) {
   EXPECT_EQ(wrongKind, 0u);
 
   // Closed and consistently oriented: every directed edge once, and its reverse once.
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
-  std::size_t unmatched = 0;
-  for (const auto& [e, n] : directed)
-    if (n != 1 || directed.count({e.second, e.first}) == 0 || directed.at({e.second, e.first}) != 1) ++unmatched;
+  const std::size_t unmatched = unmatchedEdges(m);
   EXPECT_EQ(unmatched, 0u) << "edges not shared by exactly two triangles in opposite directions";
 
   // Components: each closed orientable, so V − E + F = 2 − 2g is even and at most 2; the pieces
