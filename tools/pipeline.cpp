@@ -40,7 +40,8 @@ void addEngineOptions(CLI::App& cmd, view::EngineOptions& o) {
   cmd.add_option_function<std::string>(
          "--engine", [&o](const std::string& name) { o.kind = view::parseEngineKind(name); },
          "embree: exact double-precision CPU ray tracing (the reference); gl: the headless OpenGL "
-         "geometry-shader ray caster (llvmpipe without a GPU), one sample per pixel, no shadows or AO")
+         "geometry-shader ray caster (llvmpipe without a GPU), one sample per pixel; --lighting soft and full "
+         "from light maps, no --shadows or --ao")
       ->check(CLI::IsMember({"embree", "gl"}))
       ->default_str("embree");
   cmd.add_option("--gl-torus", o.glTorus, "GL saddle intersection: quartic (analytic) or sphere-tracing")

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build/io/output_file.hpp"
+#include "gl/gl_renderer.hpp"
 #include "surftrace/version.hpp"
 
 namespace surftrace {
@@ -70,6 +71,18 @@ ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
     lighting["key_radius_degrees"] = r.lighting.keyRadius * 180.0 / 3.14159265358979323846;
     lighting["occlusion_rays"] = r.lighting.occlusionRays;
     lighting["filter_passes"] = r.lighting.filterPasses;
+    // GL takes its shadows and occlusion from light maps, not rays (gl/gl_renderer.hpp): the
+    // record names the maps it drew in place of the rays, the filter and the occlusion
+    // distance, none of which it uses.
+    if (r.engine == "gl") {
+      const gl::LightMaps maps = gl::lightMapsFor(r.lighting);
+      lighting.erase("shadow_rays");
+      lighting.erase("occlusion_rays");
+      lighting.erase("filter_passes");
+      lighting.erase("ao_distance");
+      if (maps.key + maps.ambient > 0)
+        lighting["light_maps"] = {{"key", maps.key}, {"ambient", maps.ambient}, {"texel_angstrom", maps.texel}};
+    }
   }
   meta["surftrace:lighting"] = lighting.dump();
   meta["surftrace:samples_per_pixel"] = std::to_string(r.samplesPerPixel);

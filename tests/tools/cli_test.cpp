@@ -343,6 +343,16 @@ TEST(Cli, LightingPresetsAreRecordedAndGlDrawsSoft) {
   ASSERT_EQ(gl.status, 0) << gl.output;
   const Result glSoft = run("render " + data("structures/1crn.pdb") + " --size 24x24 --quiet --engine gl --lighting soft --exr " + simple);
   ASSERT_EQ(glSoft.status, 0) << glSoft.output;
+  // Its record names the light maps GL drew, not rays it did not trace.
+  surftrace::view::ImageMetadata glMeta;
+  surftrace::view::readExr(simple, &glMeta);
+  const auto glLighting = nlohmann::json::parse(glMeta.at("surftrace:lighting"));
+  EXPECT_EQ(glLighting.at("model"), "key-fill soft") << glLighting;
+  EXPECT_EQ(glLighting.at("light_maps").at("key"), 16) << glLighting;
+  EXPECT_EQ(glLighting.at("light_maps").at("ambient"), 64) << glLighting;
+  EXPECT_FALSE(glLighting.contains("shadow_rays") || glLighting.contains("occlusion_rays") ||
+               glLighting.contains("filter_passes") || glLighting.contains("ao_distance"))
+      << glLighting;
   // GL's soft frame is as bright as Embree's over the pixels both cover, to 5 %.
   const auto softFrame = surftrace::view::readExr(simple), softEmbree = surftrace::view::readExr(soft);
   double glSum = 0.0, embreeSum = 0.0;
