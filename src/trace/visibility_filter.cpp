@@ -39,7 +39,7 @@ constexpr float kLeastReach = 1.5f;
 float normalWeight(float c) {
   if (c <= 0.0f) return 0.0f;
   float w = c;
-  for (int i = 1; i < kNormalPower; i *= 2) w *= w;  // c^16
+  for (int i = 1; i < kNormalPower; i *= 2) w *= w;  // squared log2(kNormalPower) times: c^64
   return w;
 }
 
