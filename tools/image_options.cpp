@@ -262,16 +262,26 @@ std::optional<glm::dvec3> parseHexColor(const std::string& text) {
   return c;
 }
 
+namespace {
+// "x,y,z": three finite numbers and nothing else; parseVector and parseColor word their own errors.
+std::optional<glm::dvec3> parseTriple(const std::string& text) {
+  std::istringstream in(text);
+  glm::dvec3 v;
+  char c1 = 0, c2 = 0;
+  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
+      !std::isfinite(v.y) || !std::isfinite(v.z))
+    return std::nullopt;
+  return v;
+}
+}  // namespace
+
 glm::vec3 parseColor(const std::string& option, const std::string& text) {
   if (const auto hex = parseHexColor(text)) return glm::vec3(*hex);
-  std::istringstream in(text);
-  glm::dvec3 c;
-  char c1 = 0, c2 = 0;
-  if (!(in >> c.x >> c1 >> c.y >> c2 >> c.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !(c.x >= 0 && c.x <= 1) ||
-      !(c.y >= 0 && c.y <= 1) || !(c.z >= 0 && c.z <= 1))
+  const auto c = parseTriple(text);
+  if (!c || !(c->x >= 0 && c->x <= 1) || !(c->y >= 0 && c->y <= 1) || !(c->z >= 0 && c->z <= 1))
     throw std::invalid_argument(option + " '" + text + "': expected r,g,b, each in [0, 1], or #rrggbb (sRGB, as a "
                                 "picker or a web page gives them)");
-  return glm::vec3(c);
+  return glm::vec3(*c);
 }
 
 glm::dvec4 parseBackground(const std::string& text) {
@@ -292,13 +302,8 @@ glm::dvec4 parseBackground(const std::string& text) {
 }
 
 glm::dvec3 parseVector(const std::string& option, const std::string& text) {
-  std::istringstream in(text);
-  glm::dvec3 v;
-  char c1 = 0, c2 = 0;
-  if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || in.peek() != EOF || !std::isfinite(v.x) ||
-      !std::isfinite(v.y) || !std::isfinite(v.z))
-    throw std::invalid_argument(option + " '" + text + "': expected three finite numbers x,y,z");
-  return v;
+  if (const auto v = parseTriple(text)) return *v;
+  throw std::invalid_argument(option + " '" + text + "': expected three finite numbers x,y,z");
 }
 
 namespace {
