@@ -18,6 +18,7 @@
 #include "build/ses/contour_buildup.hpp"
 #include "gl/gl_context.hpp"
 #include "gl/gl_renderer.hpp"
+#include "oracles/floor_noise.hpp"
 #include "trace/patch_scene.hpp"
 #include "trace/render.hpp"
 #include "view/image_compare.hpp"
@@ -216,26 +217,6 @@ TEST(GlSoftLighting, SoftShadowsAndOcclusionAreSmoothOnAFlatFloor) {
   o.camera.width = o.camera.height = 96;
   o.color = view::ColorMode::Uniform;
   const std::vector<glm::vec3> white(2, glm::vec3(1.0f));
-  const auto noise = [](const view::FrameBuffers& fb, const std::vector<double>& q) {
-    double sum2 = 0.0;
-    std::size_t pixels = 0;
-    for (int y = 1; y + 1 < fb.height; ++y)
-      for (int x = 1; x + 1 < fb.width; ++x) {
-        double mean = 0.0;
-        bool onFloor = true;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const std::size_t p = static_cast<std::size_t>(y + dy) * fb.width + (x + dx);
-            onFloor = onFloor && fb.kind[p] != 0 && fb.atomId[p] == 0;
-            mean += q[p] / 9.0;
-          }
-        if (!onFloor || !(mean > 0.02 && mean < 0.98)) continue;
-        const double d = q[static_cast<std::size_t>(y) * fb.width + x] - mean;
-        sum2 += d * d;
-        ++pixels;
-      }
-    return std::make_pair(pixels ? std::sqrt(sum2 / pixels * 81.0 / 72.0) : 0.0, pixels);
-  };
   for (const view::LightingPreset preset : {view::LightingPreset::Soft, view::LightingPreset::Full}) {
     // Ambient alone: the colour is A.
     view::Lighting l = view::lightingFor(preset);
@@ -245,7 +226,7 @@ TEST(GlSoftLighting, SoftShadowsAndOcclusionAreSmoothOnAFlatFloor) {
     view::FrameBuffers fb = renderGl(context, floor, o, white);
     std::vector<double> q(fb.pixels());
     for (std::size_t p = 0; p < q.size(); ++p) q[p] = fb.rgba[4 * p];
-    const auto [ambientSigma, ambientPixels] = noise(fb, q);
+    const auto [ambientSigma, ambientPixels] = test::floorNoise(fb, q, 0.02, 0.98);
     // The key light alone: the colour over n·k is S.
     l = view::lightingFor(preset);
     l.ambient = l.fill = l.specular = 0.0f;
@@ -258,7 +239,7 @@ TEST(GlSoftLighting, SoftShadowsAndOcclusionAreSmoothOnAFlatFloor) {
       const double nk = glm::dot(glm::dvec3(fb.normal[3 * p], fb.normal[3 * p + 1], fb.normal[3 * p + 2]), lights.key);
       q[p] = fb.kind[p] != 0 && nk > 0.1 ? fb.rgba[4 * p] / nk : 0.0;
     }
-    const auto [keySigma, keyPixels] = noise(fb, q);
+    const auto [keySigma, keyPixels] = test::floorNoise(fb, q, 0.02, 0.98);
     if (const char* folder = std::getenv("SURFTRACE_GL_TEST_IMAGES"))
       view::writePng(std::string(folder) + "/floor_key_" + view::lightingPresetName(preset) + ".png", fb, {});
     std::printf("%s: occlusion σ = %.4f over %zu px, penumbra σ = %.4f over %zu px\n",
