@@ -84,7 +84,7 @@ set(slow_tests
   "CompareMesh(OneView|Views)\\..*"
   "MeshCli\\.(CrambinSesIsClosedOnTheSurfaceAndWithinItsBound|GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound)"
   "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
-  "EngineCli\\.(TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
+  "EngineCli\\.(GlRefusesAnOcclusionDistance|TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
   "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"
   "DepthEffectsCli\\..*"
   "InputCli\\.(EveryReadingCommandTakesBeadRadius|MartiniTrajectoryDrawsWithBeadRadius)"
@@ -118,6 +118,7 @@ set(gl_tests
   "CompareVerdict\\.ColourIsJudgedBetweenEnginesByDefault"
   "EffectsCli\\.Gl.*"
   "EngineCli\\.TrajectoryGl.*Frames.*"
+  "EngineCli\\.GlRefusesAnOcclusionDistance"
   "Install\\.InstalledProgramsRenderFromTheirPrefix"
   "(Cases/)?Reference\\.Gl.*"
 )

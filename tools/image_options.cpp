@@ -385,7 +385,8 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--ao", o.ao, "Ambient-occlusion rays per pixel (0 = off, or the --lighting preset's)")
       ->check(wholeIn(0, 4096))
       ->default_val(0);
-  cmd.add_option("--ao-distance", o.aoDistance, "Ambient-occlusion ray length in Å")
+  cmd.add_option("--ao-distance", o.aoDistance,
+                 "Ambient-occlusion ray length in Å (Embree; --engine gl's light maps count occluders at any distance)")
       ->check(positive())
       ->default_val(8.0);
   cmd.add_option("--opacity", o.opacity,

@@ -334,21 +334,12 @@ struct GlRenderer::Impl {
     const view::LightDirections lights = view::lightDirections(cam.right(), cam.trueUp(), cam.forward());
     // The key light's disc: the lattice of trace/render.cpp's keyVisibility without its
     // per-pixel rotation (a map serves every pixel), uniform in area on the disc.
-    const glm::dvec3 t = glm::normalize(glm::cross(lights.key, std::abs(lights.key.x) < 0.9 ? glm::dvec3(1, 0, 0)
-                                                                                         : glm::dvec3(0, 1, 0)));
-    const glm::dvec3 b = glm::cross(lights.key, t);
-    constexpr double kGoldenFraction = 0.6180339887498948482;
-    for (int i = 0; i < maps.key; ++i) {
-      const double u = (i + 0.5) / maps.key, v = i * kGoldenFraction - std::floor(i * kGoldenFraction);
-      const double r = std::tan(o.lighting.keyRadius) * std::sqrt(u), phi = 2.0 * kPi * v;
-      directions.push_back(glm::normalize(lights.key + r * std::cos(phi) * t + r * std::sin(phi) * b));
-    }
+    glm::dvec3 t, b;
+    view::tangentFrame(lights.key, t, b);
+    for (int i = 0; i < maps.key; ++i)
+      directions.push_back(view::keyDiscDirection(lights.key, t, b, o.lighting.keyRadius, view::latticePoint(i, maps.key)));
     // The ambient maps: a Fibonacci sphere, equal areas, the same in every frame.
-    for (int i = 0; i < maps.ambient; ++i) {
-      const double z = 1.0 - (2.0 * i + 1.0) / maps.ambient, rho = std::sqrt(std::max(0.0, 1.0 - z * z));
-      const double phi = 2.0 * kPi * (i * kGoldenFraction - std::floor(i * kGoldenFraction));
-      directions.emplace_back(rho * std::cos(phi), rho * std::sin(phi), z);
-    }
+    for (int i = 0; i < maps.ambient; ++i) directions.push_back(view::fibonacciSphere(i, maps.ambient));
 
     const double half = radius * (1.0 + 2.0 / side), distance = radius + std::max(1.0, 0.01 * radius);
     view::RenderOptions mapOptions;

@@ -48,20 +48,8 @@ struct PixelRng {
   }
 };
 
-// Point i of n of a rank-1 (Fibonacci) lattice in the unit square, shifted by `rotation`
-// modulo 1 (a Cranley–Patterson rotation): stratified in u, low-discrepancy in (u, v).
-glm::dvec2 latticePoint(int i, int n, const glm::dvec2& rotation) {
-  constexpr double kGoldenFraction = 0.6180339887498948482;
-  const double u = (i + 0.5) / n + rotation.x, v = i * kGoldenFraction + rotation.y;
-  return {u - std::floor(u), v - std::floor(v)};
-}
-
-// A unit vector perpendicular to unit n, and the third of the right-handed frame.
-void tangentFrame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
-  t = std::abs(n.x) < 0.9 ? glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0)))
-                          : glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0)));
-  b = glm::cross(n, t);
-}
+using view::latticePoint;
+using view::tangentFrame;
 
 class Shader {
  public:
@@ -167,9 +155,8 @@ class Shader {
     const glm::dvec2 rotation(rng.next(), rng.next());
     int open = 0;
     for (int s = 0; s < rays; ++s) {
-      const glm::dvec2 q = latticePoint(s, rays, rotation);
-      const double r = std::tan(o_.lighting.keyRadius) * std::sqrt(q.x), phi = 2.0 * kPi * q.y;
-      const glm::dvec3 d = glm::normalize(lights_.key + r * std::cos(phi) * keyT_ + r * std::sin(phi) * keyB_);
+      const glm::dvec3 d =
+          view::keyDiscDirection(lights_.key, keyT_, keyB_, o_.lighting.keyRadius, latticePoint(s, rays, rotation));
       if (glm::dot(d, n) > 0.0 && !scene_.occluded(Ray{x, d}, 0.0, inf)) ++open;
     }
     return static_cast<double>(open) / rays;

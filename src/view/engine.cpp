@@ -1,6 +1,7 @@
 // The rules every engine follows (engine.hpp).
 #include "view/engine.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "view/image_effects.hpp"
@@ -49,6 +50,16 @@ void checkEngineCanDraw(const EngineOptions& engine, const RenderOptions& option
     throw std::invalid_argument("--engine gl draws one sample per pixel without shadows or ambient occlusion: drop "
                                 "--spp/--shadows/--ao (--lighting soft and full give GL soft shadows and occlusion "
                                 "from light maps) or use --engine embree");
+  // A light map holds only the surface nearest its light, so GL's occlusion counts occluders at
+  // any distance: a reach other than the default would be silently ignored.
+  if (engine.kind == EngineKind::Gl && options.lighting.keyFill() && options.lighting.occlusionRays > 0 &&
+      options.aoDistance != RenderOptions{}.aoDistance) {
+    char given[32];
+    std::snprintf(given, sizeof given, "%g", options.aoDistance);
+    throw std::invalid_argument(std::string("--ao-distance ") + given +
+                                ": --engine gl's light maps count occluders at any distance, so the occlusion's "
+                                "reach cannot be set there: drop --ao-distance or use --engine embree");
+  }
 }
 
 }  // namespace surftrace::view

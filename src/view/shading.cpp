@@ -125,4 +125,32 @@ glm::vec3 shade(const glm::vec3& base, const glm::dvec3& normal, const glm::dvec
   return glm::min(base * diffuse + glm::vec3(spec), glm::vec3(1.0f));
 }
 
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kGoldenFraction = 0.6180339887498948482;
+}  // namespace
+
+glm::dvec2 latticePoint(int i, int n, const glm::dvec2& rotation) {
+  const double u = (i + 0.5) / n + rotation.x, v = i * kGoldenFraction + rotation.y;
+  return {u - std::floor(u), v - std::floor(v)};
+}
+
+void tangentFrame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
+  t = std::abs(n.x) < 0.9 ? glm::normalize(glm::cross(n, glm::dvec3(1, 0, 0)))
+                          : glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0)));
+  b = glm::cross(n, t);
+}
+
+glm::dvec3 keyDiscDirection(const glm::dvec3& key, const glm::dvec3& t, const glm::dvec3& b, double radius,
+                            const glm::dvec2& q) {
+  const double r = std::tan(radius) * std::sqrt(q.x), phi = 2.0 * kPi * q.y;
+  return glm::normalize(key + r * std::cos(phi) * t + r * std::sin(phi) * b);
+}
+
+glm::dvec3 fibonacciSphere(int i, int n) {
+  const double z = 1.0 - (2.0 * i + 1.0) / n, rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = 2.0 * kPi * (i * kGoldenFraction - std::floor(i * kGoldenFraction));
+  return {rho * std::cos(phi), rho * std::sin(phi), z};
+}
+
 }  // namespace surftrace::view

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace surftrace::view {
@@ -68,5 +69,19 @@ glm::vec3 shade(const glm::vec3& base, const glm::dvec3& normal, const glm::dvec
 // Either model: keyVisibility is S and ambientVisibility A above (the headlight model ignores both).
 glm::vec3 shade(const glm::vec3& base, const glm::dvec3& normal, const glm::dvec3& towardsEye, const Lighting& light,
                 const LightDirections& lights, float keyVisibility = 1.0f, float ambientVisibility = 1.0f);
+
+// The directions both engines sample S and A along (Embree's rays, GL's light maps), so that the
+// two estimate the same integrals:
+// point i of n of a rank-1 (Fibonacci) lattice in the unit square, shifted by `rotation` modulo 1
+// (a Cranley–Patterson rotation): stratified in u, low-discrepancy in (u, v);
+glm::dvec2 latticePoint(int i, int n, const glm::dvec2& rotation = glm::dvec2(0.0));
+// a unit vector t perpendicular to unit n, and b = n × t, the third of the right-handed frame;
+void tangentFrame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b);
+// the direction towards the point of the key light's disc (angular radius `radius` around the
+// unit key direction, t and b its tangentFrame) that lattice point q maps to, uniform in area;
+glm::dvec3 keyDiscDirection(const glm::dvec3& key, const glm::dvec3& t, const glm::dvec3& b, double radius,
+                            const glm::dvec2& q);
+// direction i of n spread evenly over the unit sphere, equal areas (a Fibonacci sphere).
+glm::dvec3 fibonacciSphere(int i, int n);
 
 }  // namespace surftrace::view

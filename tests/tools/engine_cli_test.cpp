@@ -123,5 +123,26 @@ TEST(EngineCli, TrajectoryGlRefusesWhatGlCannotDraw) {
   EXPECT_FALSE(fs::exists(frameFile(dir.path, 0)));
 }
 
+// GL's light maps count occluders at any distance: an occlusion reach is refused with the value
+// and what to do, not ignored (render and trajectory alike); Embree takes it; without occlusion
+// (simple) the reach is moot and GL draws.
+TEST(EngineCli, GlRefusesAnOcclusionDistance) {
+  const TempDir dir;
+  const std::string mol = kData + "/structures/1crn.pdb", png = (dir.path / "x.png").string();
+  for (const std::string& command :
+       {"render " + mol + " -o " + png, "trajectory " + kPsf + " " + kDcd + kFrames + " -o " + (dir.path / "%05d.png").string()}) {
+    const Result r = runTool(command + " --size 16x16 --quiet --engine gl --lighting soft --ao-distance 4");
+    EXPECT_EQ(r.status, 1) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("--ao-distance 4: --engine gl's light maps count occluders at any distance"),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_EQ(runTool("render " + mol + " -o " + png + " --size 16x16 --quiet --lighting soft --ao-distance 4").status, 0);
+  EXPECT_EQ(runTool("render " + mol + " -o " + png + " --size 16x16 --quiet --engine gl --lighting simple --ao-distance 4")
+                .status,
+            0);
+}
+
 }  // namespace
 }  // namespace surftrace::tools::test

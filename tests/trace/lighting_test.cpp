@@ -14,6 +14,7 @@
 #include "build/atom_spheres.hpp"
 #include "build/io/molecule.hpp"
 #include "build/ses/contour_buildup.hpp"
+#include "oracles/floor_noise.hpp"
 #include "trace/render.hpp"
 #include "view/shading.hpp"
 
@@ -177,39 +178,11 @@ TEST(LightingPocket, ThePocketDoesNotBrightenWithDepth) {
   EXPECT_LT(soft, -0.3);
 }
 
+using test::floorNoise;
+
 // A flat region: a sphere of radius 100 Å (its top at z = 0) with a ball of 4 Å hovering 0.5 Å
 // above it, seen from above (orthographic). The floor's ambient visibility and the ball's
 // penumbra vary smoothly; what a pixel adds to its neighbours' mean is the sampling noise.
-struct Noise {
-  double sigma = 0.0;
-  std::size_t pixels = 0;
-};
-
-// The noise of a per-pixel quantity q over the pixels whose 3×3 neighbourhood is all floor and
-// whose neighbourhood mean is in (lo, hi) (where q is neither all open nor all blocked): the
-// standard deviation of q − mean3×3(q), scaled by √(81/72) to that of q's noise alone.
-Noise floorNoise(const FrameBuffers& fb, const std::vector<double>& q, double lo, double hi) {
-  Noise r;
-  double sum2 = 0.0;
-  for (int y = 1; y + 1 < fb.height; ++y)
-    for (int x = 1; x + 1 < fb.width; ++x) {
-      double mean = 0.0;
-      bool floor = true;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const std::size_t p = static_cast<std::size_t>(y + dy) * fb.width + (x + dx);
-          floor = floor && fb.kind[p] != 0 && fb.atomId[p] == 0;
-          mean += q[p] / 9.0;
-        }
-      if (!floor || !(mean > lo && mean < hi)) continue;
-      const double d = q[static_cast<std::size_t>(y) * fb.width + x] - mean;
-      sum2 += d * d;
-      ++r.pixels;
-    }
-  r.sigma = r.pixels ? std::sqrt(sum2 / r.pixels * 81.0 / 72.0) : 0.0;
-  return r;
-}
-
 struct Floor {
   PatchScene scene;
   RenderOptions o;
@@ -242,7 +215,7 @@ TEST(LightingSoft, OcclusionNoiseOnAFlatFloorIsSmallAtTheDefaultRays) {
     const FrameBuffers fb = render(f.scene, f.o, f.white);
     std::vector<double> a(fb.pixels());
     for (std::size_t p = 0; p < a.size(); ++p) a[p] = fb.rgba[4 * p];
-    const Noise n = floorNoise(fb, a, 0.02, 0.98);
+    const test::FloorNoise n = floorNoise(fb, a, 0.02, 0.98);
     std::printf("%s: %d occlusion rays, noise σ = %.4f over %zu partly occluded floor pixels\n",
                 view::lightingPresetName(preset), l.occlusionRays, n.sigma, n.pixels);
     EXPECT_GT(n.pixels, 500u);
@@ -267,7 +240,7 @@ TEST(LightingSoft, PenumbraNoiseOnAFlatFloorIsSmallAtTheDefaultRays) {
       const double nk = glm::dot(glm::dvec3(fb.normal[3 * p], fb.normal[3 * p + 1], fb.normal[3 * p + 2]), k);
       if (fb.kind[p] != 0 && nk > 0.1) s[p] = fb.rgba[4 * p] / nk;
     }
-    const Noise n = floorNoise(fb, s, 0.02, 0.98);
+    const test::FloorNoise n = floorNoise(fb, s, 0.02, 0.98);
     std::printf("%s: %d shadow rays, penumbra noise σ = %.4f over %zu floor pixels\n", view::lightingPresetName(preset),
                 l.shadowRays, n.sigma, n.pixels);
     EXPECT_GT(n.pixels, 100u);
