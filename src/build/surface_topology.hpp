@@ -1,0 +1,30 @@
+// The topology of the exact SES: Euler characteristic and genus of each component, from its patches.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "build/patch_list.hpp"
+
+namespace surftrace::build {
+
+struct ComponentTopology {
+  long long euler = 0;      // χ = V − E + F of the closed surface: 2 for a sphere, 0 for a torus
+  long long genus = 0;      // (2 − χ) / 2: the handles (tunnels through the body)
+  double residual = 0.0;    // |Gauss–Bonnet sum / 2π − χ|: rounding, ~1e-12 when the patches are sound
+  // False where the sum is off an integer, or odd: some corner or crease of the component is
+  // not one the patches describe (tori are not clipped against other probes), and χ is unknown.
+  bool resolved = true;
+};
+
+// Per SES component (index = label, as computeAreas), by Gauss–Bonnet over the closed
+// piecewise-smooth surface: 2πχ = ∫K dA + ∮ κg ds over its creases + Σ the angle defects of
+// its corners. ∫K is exact from the patches (convex A/r², concave A/rp², a torus patch
+// −Φ(sin θb − sin θa) over its SES intervals); tangent-continuous seams (contact circles,
+// torus meridians) add nothing. Creases are where concave patches are clipped against each
+// other (each side's κg = −cos β per radian of the crease circle); corners are where three
+// creases meet (defect: the three corners' turns − π) and the cusps of spindle tori (defect
+// 2π − Φ·sin θc less the concave corners' interior angles there). Empty for an MSS list.
+std::vector<ComponentTopology> surfaceTopology(const PatchList& patches);
+
+}  // namespace surftrace::build
