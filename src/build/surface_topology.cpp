@@ -34,9 +34,12 @@ constexpr double kIntegerTolerance = 1e-6;
 // A corner of a face at a singular point of the surface (where creases meet, or a spindle
 // torus's cusp): its position and the face's interior angle there.
 struct Corner {
+  enum Kind { Crease, Edge, Cusp };  // between two creases; a crease and a torus edge; a torus's cusp
   glm::dvec3 at;
   double angle;
   std::uint32_t component;
+  Kind kind;
+  glm::dvec3 probe;  // a concave corner's probe sphere
 };
 
 // ∫K dA of a concave patch (its unit-sphere area) plus what its creases add to 2πχ, from the
@@ -78,7 +81,8 @@ double concaveCurvature(const PatchList& p, std::size_t c, std::vector<Cap>& cap
     const glm::dvec3 tIn = glm::cross(s.caps[static_cast<std::size_t>(in.cap)].axis, in.end);
     const glm::dvec3 tOut = glm::cross(s.caps[static_cast<std::size_t>(out.cap)].axis, in.end);
     const double exterior = -std::atan2(glm::dot(glm::cross(tIn, tOut), in.end), glm::dot(tIn, tOut));
-    corners.push_back({p.concave.probe[c] + rp * in.end, kPi - exterior, p.concave.component[c]});
+    const Corner::Kind kind = crease(in.cap) && crease(out.cap) ? Corner::Crease : Corner::Edge;
+    corners.push_back({p.concave.probe[c] + rp * in.end, kPi - exterior, p.concave.component[c], kind, p.concave.probe[c]});
   }
   return total;
 }
@@ -122,11 +126,11 @@ std::vector<ComponentTopology> surfaceTopology(const PatchList& p) {
       const glm::dvec3 toCusp = rp * sinC * p.tori.axis[t];
       if (a < -thetaC) {
         total += -phi * (std::sin(std::min(b, -thetaC)) - std::sin(a));
-        corners.push_back({p.tori.center[t] - toCusp, phi * sinC, p.tori.component[t]});
+        corners.push_back({p.tori.center[t] - toCusp, phi * sinC, p.tori.component[t], Corner::Cusp, glm::dvec3(0.0)});
       }
       if (b > thetaC) {
         total += -phi * (std::sin(b) - std::sin(std::max(a, thetaC)));
-        corners.push_back({p.tori.center[t] + toCusp, phi * sinC, p.tori.component[t]});
+        corners.push_back({p.tori.center[t] + toCusp, phi * sinC, p.tori.component[t], Corner::Cusp, glm::dvec3(0.0)});
       }
     }
     curvature[p.tori.component[t]] += total;
@@ -154,12 +158,30 @@ std::vector<ComponentTopology> surfaceTopology(const PatchList& p) {
   std::sort(corners.begin(), corners.end(), [](const Corner& x, const Corner& y) {
     return std::tie(x.at.x, x.at.y, x.at.z, x.angle) < std::tie(y.at.x, y.at.y, y.at.z, y.angle);
   });
-  std::vector<char> taken(corners.size(), 0);
+  std::vector<char> taken(corners.size(), 0), unresolved(curvature.size(), 0);
   for (std::size_t k = 0; k < corners.size(); ++k) {
     if (taken[k]) continue;
     double defect = kTwoPi;
-    for (std::size_t m = k; m < corners.size() && corners[m].at.x <= corners[k].at.x + kSamePoint; ++m)
-      if (!taken[m] && glm::distance(corners[m].at, corners[k].at) <= kSamePoint) taken[m] = 1, defect -= corners[m].angle;
+    std::size_t end = k, edges = 0, cusps = 0;
+    for (std::size_t m = k; m < corners.size() && corners[m].at.x <= corners[k].at.x + kSamePoint; ++m) {
+      if (taken[m] || glm::distance(corners[m].at, corners[k].at) > kSamePoint) continue;
+      taken[m] = 2, end = m, defect -= corners[m].angle;
+      edges += corners[m].kind == Corner::Edge;
+      cusps += corners[m].kind == Corner::Cusp;
+    }
+    // A crease that reaches a torus edge away from a cusp is a concave patch meeting a torus
+    // it overlaps, which the patch list does not clip: unless the edge is one between two
+    // triangles of one probe sphere (cospherical atoms), where the crease just crosses it and
+    // both sides have the corner.
+    if (cusps == 0 && edges > 0)
+      for (std::size_t m = k; m <= end; ++m) {
+        if (taken[m] != 2 || corners[m].kind != Corner::Edge) continue;
+        std::size_t sameProbe = 0;
+        for (std::size_t q = k; q <= end; ++q)
+          sameProbe += taken[q] == 2 && corners[q].kind == Corner::Edge && glm::distance(corners[q].probe, corners[m].probe) <= kSamePoint;
+        if (sameProbe % 2 == 1) unresolved[corners[k].component] = 1;
+      }
+    for (std::size_t m = k; m <= end; ++m) taken[m] = taken[m] != 0;
     curvature[corners[k].component] += defect;
   }
 
@@ -169,7 +191,7 @@ std::vector<ComponentTopology> surfaceTopology(const PatchList& p) {
     out[c].euler = std::llround(chi);
     out[c].genus = (2 - out[c].euler) / 2;
     out[c].residual = std::abs(chi - static_cast<double>(out[c].euler));
-    out[c].resolved = out[c].residual < kIntegerTolerance && out[c].euler % 2 == 0;
+    out[c].resolved = !unresolved[c] && out[c].residual < kIntegerTolerance && out[c].euler % 2 == 0;
   }
   return out;
 }
