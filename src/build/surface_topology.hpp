@@ -12,8 +12,10 @@ struct ComponentTopology {
   long long euler = 0;      // χ = V − E + F of the closed surface: 2 for a sphere, 0 for a torus
   long long genus = 0;      // (2 − χ) / 2: the handles (tunnels through the body)
   double residual = 0.0;    // |Gauss–Bonnet sum / 2π − χ|: rounding, ~1e-12 when the patches are sound
-  // False where the sum is off an integer, or odd: some corner or crease of the component is
-  // not one the patches describe (tori are not clipped against other probes), and χ is unknown.
+  // False where χ is not known: the sum is off an integer, or odd, or a crease runs into a
+  // torus edge away from a cusp (a concave patch overlapping a torus; tori are not clipped
+  // against other probes). Two tori whose probes overlap leave no such trace: where they do,
+  // the patches' χ can exceed the true surface's (whose neck there is a handle).
   bool resolved = true;
 };
 
