@@ -39,6 +39,8 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
   // Drop empty caps and exact duplicates (a duplicate's circle would count twice).
   auto& caps = s.caps;
   caps.clear();
+  s.arcs.clear();
+  s.fullCircles.clear();
   for (const Cap& c : input) {
     if (c.cosRadius <= -1.0) return {0.0, glm::dvec3(0.0), 0};
     if (c.cosRadius >= 1.0) continue;
@@ -53,7 +55,6 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
   glm::dvec3 vectorArea(0.0);
   int fullCircles = 0;
   double maxCapArea = 0.0;
-  s.arcs.clear();
 
   const int n = static_cast<int>(caps.size());
   for (int a = 0; a < n; ++a) {
@@ -94,6 +95,7 @@ SphericalRegion sphereMinusCaps(const std::vector<Cap>& input, SphericalRegionSc
     if (s.intervals.empty()) {
       addArc(0.0, kTwoPi);
       ++fullCircles;
+      s.fullCircles.push_back(a);
       continue;
     }
     std::sort(s.intervals.begin(), s.intervals.end(),

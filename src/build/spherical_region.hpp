@@ -23,7 +23,8 @@ struct SphericalRegionScratch {
   struct Arc { glm::dvec3 begin, end; int cap; };
   std::vector<Cap> caps;
   std::vector<Interval> intervals;
-  std::vector<Arc> arcs;
+  std::vector<Arc> arcs;         // after a call: the region's boundary arcs (cap: index into caps)
+  std::vector<int> fullCircles;  // after a call: caps whose whole circle bounds the region
   std::vector<int> parent;
 };
 

@@ -26,6 +26,7 @@
 #include "build/io/stp_file.hpp"
 #include "build/ses/surface_area.hpp"
 #include "build/surface_components.hpp"
+#include "build/surface_topology.hpp"
 #include "gl/gpu_kinds.hpp"
 #include "trace/concave_patch.hpp"
 #include "trace/mss_patch.hpp"
@@ -66,6 +67,11 @@ void area(const build::PatchList& p, const char* what) {
   if (a.components.size() != std::max<std::size_t>(1, p.componentCount))
     fail(std::string(what) + ": " + std::to_string(a.components.size()) + " components, the list says " +
          std::to_string(p.componentCount));
+  // The topology line: one entry per component at least, each residual a number.
+  const std::vector<build::ComponentTopology> topology = build::surfaceTopology(p);
+  if (topology.size() < a.components.size()) fail(std::string(what) + ": fewer topologies than components");
+  for (const build::ComponentTopology& t : topology)
+    if (t.resolved && !(t.residual < 1.0)) fail(std::string(what) + ": a resolved topology whose sum is off an integer");
 }
 
 // The trace setup: each patch's intersector record and its box (Embree drops a box that is

@@ -36,6 +36,7 @@ set(SURFTRACE_FUZZ_CONSUMER_SOURCES
   src/build/neighbour_grid.cpp
   src/build/ses/surface_area.cpp
   src/build/surface_components.cpp
+  src/build/surface_topology.cpp
   src/build/spherical_region.cpp
   src/trace/sphere_patch.cpp
   src/trace/torus_patch.cpp
