@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "area_groups.hpp"
-#include "build/surface_topology.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "surface_input.hpp"
@@ -317,10 +316,6 @@ void printSesAreas(const AreaOptions& o, const Built& b) {
     printAreasPer(o, b, a);
     return;
   }
-  // Per component (same labels as a.components): χ and genus, unknown where the patches do
-  // not resolve them (build::surfaceTopology).
-  const std::vector<build::ComponentTopology> topology = build::surfaceTopology(b.patches);
-  auto resolved = [&](std::size_t k) { return k < topology.size() && topology[k].resolved; };
   if (o.format == "json") {
     nlohmann::json j;
     j["file"] = m.source;
@@ -331,12 +326,7 @@ void printSesAreas(const AreaOptions& o, const Built& b) {
     j["ses"] = {{"total", a.total},      {"convex", a.byKind[0]}, {"toroidal", a.byKind[1]},
                 {"concave", a.byKind[2]}, {"volume", a.volume}, {"per_atom", a.perAtom}};
     nlohmann::json components = nlohmann::json::array();
-    for (std::size_t k = 0; k < a.components.size(); ++k) {
-      const auto& c = a.components[k];
-      components.push_back({{"area", c.area}, {"volume", c.volume}, {"cavity", c.cavity},
-                            {"euler", resolved(k) ? nlohmann::json(topology[k].euler) : nlohmann::json()},
-                            {"genus", resolved(k) ? nlohmann::json(topology[k].genus) : nlohmann::json()}});
-    }
+    for (const auto& c : a.components) components.push_back({{"area", c.area}, {"volume", c.volume}, {"cavity", c.cavity}});
     j["ses"]["components"] = components;
     std::printf("%s\n", j.dump(1).c_str());
     return;
@@ -364,13 +354,6 @@ void printSesAreas(const AreaOptions& o, const Built& b) {
     std::printf("components      %zu: %zu outer surface%s %.4f Å², %zu cavities %.4f Å² enclosing %.4f Å³ of void (--drop-cavities drops them)\n",
                 a.components.size(), outer, outer == 1 ? "" : "s", outerArea, a.components.size() - outer, cavityArea, cavityVolume);
   }
-  std::string chi, genus;
-  for (std::size_t k = 0; k < a.components.size(); ++k) {
-    chi += (k ? ", " : "") + (resolved(k) ? std::to_string(topology[k].euler) : std::string("?"));
-    genus += (k ? ", " : "") + (resolved(k) ? std::to_string(topology[k].genus) : std::string("?"));
-  }
-  std::printf("topology        Euler characteristic %s (genus %s)%s\n", chi.c_str(), genus.c_str(),
-              a.components.size() > 1 ? ", per component" : "");
   std::printf("build           %.1f ms (+ %.1f ms reading)\n", b.buildSeconds * 1e3, b.readSeconds * 1e3);
 }
 

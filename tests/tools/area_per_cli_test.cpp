@@ -13,7 +13,6 @@
 #include <set>
 #include <sstream>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -373,32 +372,6 @@ TEST(AreaPer, WhatCannotBeDoneIsAnErrorThatSaysWhy) {
                                          "residue` on the structure it was built from"),
             std::string::npos)
       << perResidue.output;
-}
-
-// `area` gives each SES component's Euler characteristic and genus: a ring of 14 overlapping
-// atoms around a hole the probe passes is a torus (χ 0, genus 1) at 1.4 Å, and a sphere at a
-// probe of 8 Å, whose balls resting on the ring from either side miss each other in the hole.
-TEST(AreaCli, ComponentsCarryTheirTopology) {
-  const fs::path ring = dir() / "ring.xyzr";
-  {
-    std::ofstream out(ring);
-    out.precision(17);
-    for (int k = 0; k < 14; ++k)
-      out << 5.0 * std::cos(2 * M_PI * k / 14) << " " << 5.0 * std::sin(2 * M_PI * k / 14) << " " << 0.02 * k << " 1.6\n";
-  }
-  for (const auto& [probe, euler, genus] : {std::tuple{1.4, 0, 1}, std::tuple{8.0, 2, 0}}) {
-    const Result r = tool("area " + ring.string() + " --probe " + std::to_string(probe) + " --format json");
-    ASSERT_EQ(r.status, 0) << r.output;
-    const json components = json::parse(r.output)["ses"]["components"];
-    ASSERT_EQ(components.size(), 1u) << r.output;
-    EXPECT_EQ(components[0]["euler"], euler) << "probe " << probe;
-    EXPECT_EQ(components[0]["genus"], genus) << "probe " << probe;
-    const Result text = tool("area " + ring.string() + " --probe " + std::to_string(probe));
-    EXPECT_NE(text.output.find("topology        Euler characteristic " + std::to_string(euler) + " (genus " +
-                               std::to_string(genus) + ")"),
-              std::string::npos)
-        << text.output;
-  }
 }
 
 }  // namespace
