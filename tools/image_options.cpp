@@ -375,8 +375,10 @@ void addImageOptions(CLI::App& cmd, ImageOptions& o) {
   cmd.add_option("--lighting", o.lighting,
                  "headlight: Blinn-Phong from the eye (pockets read as bumps); simple: a key light 45° above left of "
                  "the eye, a fill light below right and ambient light; soft: simple with soft shadows from the key "
-                 "light (an 8° disc, 32 rays) and ambient occlusion (32 rays within --ao-distance; --ao N sets N), "
-                 "Embree only; full: soft with 128 shadow and 128 occlusion rays, Embree only")
+                 "light (an 8° disc, 4 rays) and ambient occlusion (8 rays within --ao-distance; --ao N sets N), "
+                 "smoothed by an edge-aware filter; full: soft with 32 shadow and 64 occlusion rays. With --engine "
+                 "gl, soft and full are drawn from light maps (depth maps along the key disc and over the sphere), "
+                 "which count occluders at any distance")
       ->check(CLI::IsMember({"headlight", "simple", "soft", "full"}))
       ->default_val("headlight");
   cmd.add_flag("--shadows", o.shadows,
