@@ -368,10 +368,11 @@ TEST(SurfaceDistance, CrambinVdwIsTheUnionOfBallsBruteForce) { checkUnionOfBalls
 // ---------------------------------------------------------------------------------------------
 // The patch bound that the mesher certifies triangles with (patchDeviation) against a dense
 // sampling oracle: on random triangles with their corners on crambin's SES, on one sphere,
-// concave triangle or torus (random sizes up to 0.6 Å, random shapes), the bound is at least the
+// concave triangle or torus, or across a sphere's seam with a torus (random sizes up to 0.6 Å,
+// random shapes), the bound is at least the
 // largest |dist(p, A) − rp| over ~500 points p of the triangle, which is a lower bound of
 // dist(p, SES) (dist(·, A) is 1-Lipschitz and rp on the SES; the independent SES oracle gives it).
-// And it is tight where it has a closed form: on spheres within 1e-3 Å of the sampled maximum (the samples' spacing),
+// And off seams it is tight where it has a closed form: on spheres within 1e-3 Å of the sampled maximum (the samples' spacing),
 // on tori within a factor 10 (their Hessian bound takes the largest curvature in every direction).
 TEST(SurfaceDistance, PatchDeviationBoundsTheSampledDeviationOfTriangles) {
   const build::Molecule m = molecule("structures/1crn.pdb");
@@ -392,14 +393,17 @@ TEST(SurfaceDistance, PatchDeviationBoundsTheSampledDeviationOfTriangles) {
     const glm::dvec3 t2 = glm::cross(s.normal, t1);
     const double r = size(rng);
     glm::dvec3 v[3];
+    bool seam = false;
     for (int k = 0; k < 3; ++k) {
       const double angle = 2.0 * std::numbers::pi * (k + 0.6 * unit(rng)) / 3.0;
-      v[k] = field->closest(s.point + r * (std::cos(angle) * t1 + std::sin(angle) * t2)).point;
+      const SurfacePoint corner = field->closest(s.point + r * (std::cos(angle) * t1 + std::sin(angle) * t2));
+      v[k] = corner.point;
+      seam = seam || corner.kind != s.kind;
     }
     const double bound = field->patchDeviation(v[0], v[1], v[2]);
     if (!std::isfinite(bound)) continue;
     ASSERT_LT(s.kind, 4);
-    ++bounded[s.kind];
+    ++bounded[seam ? 0 : s.kind];
     double sampled = 0.0;
     constexpr int n = 30;
     for (int a = 0; a <= n; ++a)
@@ -410,10 +414,13 @@ TEST(SurfaceDistance, PatchDeviationBoundsTheSampledDeviationOfTriangles) {
         sampled = std::max(sampled, std::abs(o.dist - rp));
       }
     EXPECT_GE(bound, sampled) << "triangle " << i << " kind " << int(s.kind) << " size " << r;
-    EXPECT_LE(bound, s.kind == 2 ? 10.0 * sampled + 1e-6 : sampled + 1e-3)
-        << "triangle " << i << " kind " << int(s.kind) << " size " << r;
+    if (!seam) {
+      EXPECT_LE(bound, s.kind == 2 ? 10.0 * sampled + 1e-6 : sampled + 1e-3)
+          << "triangle " << i << " kind " << int(s.kind) << " size " << r;
+    }
   }
-  for (int kind = 1; kind <= 3; ++kind) EXPECT_GT(bounded[kind], 50) << "kind " << kind;
+  // bounded[0]: seams of a sphere and its torus.
+  for (int kind = 0; kind <= 3; ++kind) EXPECT_GT(bounded[kind], 30) << "kind " << kind;
 }
 
 }  // namespace

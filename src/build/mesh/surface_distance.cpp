@@ -191,13 +191,34 @@ class SesDistance final : public SurfaceDistance {
   //    Hessian has eigenvalues 0, 1/g and (ρ − R)/(gρ) (|.| <= 1/ρ): with H = max(1/gmin, 1/ρmin),
   //    Taylor's theorem at p towards each corner gives |g(p) − Σλ_k g(v_k)| <= H/2 Σλ_k|v_k − p|²
   //    <= H/2 R_enc² (R_enc: the smallest ball holding T), so |g − rp| <= max_k|g_k − rp| + H R_enc²/2.
+  //  - A seam of atom i's sphere and the torus of atoms i and j (corners on both): a point p of
+  //    T lies either outside the cone from c_i through the probe circle, where u_p is outside
+  //    ball j's cap and the sphere's argument holds (the caps of the other neighbours checked),
+  //    or inside it, which is θ_p >= θI (θ_p <= θJ for j's side): the torus's argument holds
+  //    with that side's check left out. Both bounds are taken over all of T (the corners of
+  //    the other patch count in them at their distance from this one's sphere or circle), and
+  //    the larger of the two bounds T.
   double patchDeviation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const override {
     const glm::dvec3 v[3] = {a, b, c};
     UnionNearest n[3];
+    int spheres = 0, arcs = 0;
     for (int k = 0; k < 3; ++k) {
       n[k] = union_->nearest(v[k]);
-      if (n[k].feature == UnionFeature::Outside || n[k].feature != n[0].feature) return kInf;
+      spheres += n[k].feature == UnionFeature::Sphere, arcs += n[k].feature == UnionFeature::Arc;
     }
+    if (spheres > 0 && arcs > 0 && spheres + arcs == 3) {
+      std::uint32_t ball = 0, arc = 0;
+      for (int k = 0; k < 3; ++k) (n[k].feature == UnionFeature::Sphere ? ball : arc) = n[k].index;
+      for (int k = 0; k < 3; ++k)
+        if (n[k].index != (n[k].feature == UnionFeature::Sphere ? ball : arc)) return kInf;
+      const Tori& t = list_.tori;
+      if (ballAtom_[ball] != t.atomI[arc] && ballAtom_[ball] != t.atomJ[arc]) return kInf;
+      const bool sideI = ballAtom_[ball] == t.atomI[arc];
+      const std::uint32_t other = sideI ? t.atomJ[arc] : t.atomI[arc];
+      return std::max(convexDeviation(ball, v, other), torusDeviation(arc, v, sideI ? 1 : 2));
+    }
+    for (int k = 0; k < 3; ++k)
+      if (n[k].feature == UnionFeature::Outside || n[k].feature != n[0].feature) return kInf;
     switch (n[0].feature) {
       case UnionFeature::Sphere:
         if (n[1].index != n[0].index || n[2].index != n[0].index) return kInf;
@@ -222,7 +243,8 @@ class SesDistance final : public SurfaceDistance {
     return std::max(radius - nearest, farthest - radius) + kPatchSlack;
   }
 
-  double convexDeviation(std::uint32_t ball, const glm::dvec3 (&v)[3]) const {
+  // `skip`: a neighbour whose cap is left out (a seam with its torus), or none.
+  double convexDeviation(std::uint32_t ball, const glm::dvec3 (&v)[3], std::uint32_t skip = ~0u) const {
     const glm::dvec3 centre = union_->center(ball);
     const double R = union_->radius(ball);
     glm::dvec3 u[3];
@@ -232,6 +254,7 @@ class SesDistance final : public SurfaceDistance {
     const double beta = std::max({angleBetween(mean, u[0]), angleBetween(mean, u[1]), angleBetween(mean, u[2])});
     if (!(beta < 1.0)) return kInf;  // well below 90°: the cap is convex
     for (std::uint32_t j : union_->neighbours(ball)) {
+      if (j == skip) continue;
       const glm::dvec3 toJ = union_->center(j) - centre;
       const double D = glm::length(toJ), Rj = union_->radius(j);
       if (!(D > 0.0)) return kInf;
@@ -256,7 +279,9 @@ class SesDistance final : public SurfaceDistance {
     return radialDeviation(probe, rp_, v);
   }
 
-  double torusDeviation(std::uint32_t k, const glm::dvec3 (&v)[3]) const {
+  // `skipSide`: 1 leaves out the check θ >= θI, 2 the check θ <= θJ (a seam with that side's
+  // sphere), 0 neither.
+  double torusDeviation(std::uint32_t k, const glm::dvec3 (&v)[3], int skipSide = 0) const {
     const Tori& t = list_.tori;
     const double R = t.bigRadius[k];
     if (!(R > rp_)) return kInf;  // a spindle: its inner part is cut off
@@ -302,8 +327,12 @@ class SesDistance final : public SurfaceDistance {
           return kInf;
         }
       }
-      if (t.thetaI[k] < 0.0 ? !inCone(v[m], t.thetaI[k], 1.0) : theta[m] < t.thetaI[k] + thetaMargin) return kInf;
-      if (t.thetaJ[k] > 0.0 ? !inCone(v[m], t.thetaJ[k], -1.0) : theta[m] > t.thetaJ[k] - thetaMargin) return kInf;
+      if (skipSide != 1 &&
+          (t.thetaI[k] < 0.0 ? !inCone(v[m], t.thetaI[k], 1.0) : theta[m] < t.thetaI[k] + thetaMargin))
+        return kInf;
+      if (skipSide != 2 &&
+          (t.thetaJ[k] > 0.0 ? !inCone(v[m], t.thetaJ[k], -1.0) : theta[m] > t.thetaJ[k] - thetaMargin))
+        return kInf;
     }
     const auto bound = [&](double g) {
       return cornerError + 0.5 * std::max(1.0 / g, 1.0 / rhoMin) * radii.enclosing * radii.enclosing;
