@@ -198,6 +198,12 @@ class SesDistance final : public SurfaceDistance {
   //    with that side's check left out. Both bounds are taken over all of T (the corners of
   //    the other patch count in them at their distance from this one's sphere or circle), and
   //    the larger of the two bounds T.
+  //  - A seam of a concave triangle (probe P) and the torus that ends at P: the cone's face
+  //    through the two atoms the torus joins is the plane of the torus's end meridian (both hold
+  //    the axis and P). A point of T on the cone's side of it is in the cone (the other two faces
+  //    hold the corners, so all of T), where the concave argument holds; on the other side it is
+  //    in the torus's end half-space (the two sides are checked to be opposite), and with Φ <= π
+  //    the other half-space holds the corners, so φ_p is in range: the torus argument holds.
   double patchDeviation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const override {
     const glm::dvec3 v[3] = {a, b, c};
     UnionNearest n[3];
@@ -217,6 +223,10 @@ class SesDistance final : public SurfaceDistance {
       const std::uint32_t other = sideI ? t.atomJ[arc] : t.atomI[arc];
       return std::max(convexDeviation(ball, v, other), torusDeviation(arc, v, sideI ? 1 : 2));
     }
+    const int vertices = 3 - spheres - arcs -
+                         ((n[0].feature == UnionFeature::Outside) + (n[1].feature == UnionFeature::Outside) +
+                          (n[2].feature == UnionFeature::Outside));
+    if (vertices > 0 && arcs > 0 && vertices + arcs == 3) return concaveTorusDeviation(n, v);
     for (int k = 0; k < 3; ++k)
       if (n[k].feature == UnionFeature::Outside || n[k].feature != n[0].feature) return kInf;
     switch (n[0].feature) {
@@ -279,9 +289,56 @@ class SesDistance final : public SurfaceDistance {
     return radialDeviation(probe, rp_, v);
   }
 
+  double concaveTorusDeviation(const UnionNearest (&n)[3], const glm::dvec3 (&v)[3]) const {
+    std::uint32_t vertex = 0, arc = 0;
+    for (int k = 0; k < 3; ++k) (n[k].feature == UnionFeature::Vertex ? vertex : arc) = n[k].index;
+    for (int k = 0; k < 3; ++k)
+      if (n[k].feature == UnionFeature::Vertex ? fan_[n[k].index] != fan_[vertex] : n[k].index != arc) return kInf;
+    const Tori& tori = list_.tori;
+    const ConcaveTriangles& cv = list_.concave;
+    const double extent = tori.phiExtent[arc];
+    if (!(extent <= std::numbers::pi)) return kInf;
+    const glm::dvec3 probe = union_->vertex(vertex).point, centre = tori.center[arc], axis = tori.axis[arc];
+    const glm::dvec3 e1 = tori.e1[arc], e2 = glm::cross(axis, e1);
+    const double R = tori.bigRadius[arc];
+    // Which end of the torus is at the probe: its half-space's inward normal there.
+    const glm::dvec3 endDirection = std::cos(extent) * e1 + std::sin(extent) * e2;
+    int end = -1;
+    if (glm::length(centre + R * e1 - probe) < 1e-9 * (1.0 + R)) end = 0;
+    if (glm::length(centre + R * endDirection - probe) < 1e-9 * (1.0 + R)) end = 1;
+    if (end < 0) return kInf;
+    const glm::dvec3 endNormal = end == 0 ? e2 : std::sin(extent) * e1 - std::cos(extent) * e2;
+    // The concave triangle: the one of the fan whose cone holds a concave corner.
+    std::uint32_t t = 0;
+    for (int k = 0; k < 3; ++k)
+      if (n[k].feature == UnionFeature::Vertex) t = triangleAt(fan_[vertex], unitOr(v[k] - probe, glm::dvec3(0.0)));
+    if (cv.clipCount[t] != 0) return kInf;
+    const std::uint32_t atoms[3] = {cv.atomI[t], cv.atomJ[t], cv.atomK[t]};
+    const glm::dvec3 d[3] = {cv.dirI[t], cv.dirJ[t], cv.dirK[t]};
+    int face = -1;
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t p = atoms[e], q = atoms[(e + 1) % 3];
+      if ((p == tori.atomI[arc] && q == tori.atomJ[arc]) || (p == tori.atomJ[arc] && q == tori.atomI[arc])) face = e;
+    }
+    if (face < 0) return kInf;
+    for (int e = 0; e < 3; ++e) {
+      glm::dvec3 g = glm::normalize(glm::cross(d[e], d[(e + 1) % 3]));
+      if (glm::dot(g, d[(e + 2) % 3]) < 0.0) g = -g;
+      if (e == face) {
+        if (!(glm::dot(g, endNormal) < -0.5)) return kInf;  // the two sides opposite
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+        if (!(glm::dot(g, unitOr(v[k] - probe, glm::dvec3(0.0))) > kAngleMargin)) return kInf;
+    }
+    return std::max(radialDeviation(probe, rp_, v), torusDeviation(arc, v, 0, end));
+  }
+
   // `skipSide`: 1 leaves out the check θ >= θI, 2 the check θ <= θJ (a seam with that side's
   // sphere), 0 neither.
-  double torusDeviation(std::uint32_t k, const glm::dvec3 (&v)[3], int skipSide = 0) const {
+  // `skipEnd`: 0 leaves out the half-space of the end φ = 0, 1 that of φ = Φ (a seam with the
+  // concave triangle there; Φ <= π), -1 neither.
+  double torusDeviation(std::uint32_t k, const glm::dvec3 (&v)[3], int skipSide = 0, int skipEnd = -1) const {
     const Tori& t = list_.tori;
     const double R = t.bigRadius[k];
     if (!(R > rp_)) return kInf;  // a spindle: its inner part is cut off
@@ -321,9 +378,10 @@ class SesDistance final : public SurfaceDistance {
     for (int m = 0; m < 3; ++m) {
       if (!fullCircle) {
         if (extent <= std::numbers::pi) {
-          if (!(glm::dot(v[m] - centre, e2) > kPatchSlack) || !(glm::dot(v[m] - centre, wedgeEnd) > kPatchSlack))
+          if ((skipEnd != 0 && !(glm::dot(v[m] - centre, e2) > kPatchSlack)) ||
+              (skipEnd != 1 && !(glm::dot(v[m] - centre, wedgeEnd) > kPatchSlack)))
             return kInf;
-        } else if (phi[m] < phiMargin || phi[m] > extent - phiMargin) {
+        } else if (skipEnd >= 0 || phi[m] < phiMargin || phi[m] > extent - phiMargin) {
           return kInf;
         }
       }
