@@ -193,8 +193,8 @@ void addMeshCommand(CLI::App& app) {
                   "(positions, normals) or .glb (glTF: normals and the attributes _ATOM_ID, _PATCH_KIND, _COMPONENT)")
       ->required();
   cmd->add_option("--max-error", o->maxError,
-                  "Largest distance in Å of any point of the mesh from the exact surface, certified by sampling "
-                  "each triangle; smaller values give more triangles (about 1/ε) and take longer")
+                  "Largest distance in Å of any point of the mesh from the exact surface, certified for each "
+                  "triangle from the SES patch's curvature or by sampling it; smaller values give more triangles (about 1/ε) and take longer")
       ->check(positive())
       ->default_val(0.1);
   cmd->add_option("--component", o->component,

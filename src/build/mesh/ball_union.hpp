@@ -86,6 +86,11 @@ class BallUnion {
   double radius(std::size_t k) const { return radii_[k]; }
   const BallArc& arc(std::size_t k) const { return arcs_[k]; }
   const BallVertex& vertex(std::size_t k) const { return vertices_[k]; }
+  // The balls that overlap ball k (|c_j − c_k| < R_j + R_k): the only ones whose caps cover
+  // part of its sphere.
+  std::span<const std::uint32_t> neighbours(std::size_t k) const {
+    return {neighbours_.data() + neighbourStart_[k], neighbours_.data() + neighbourStart_[k + 1]};
+  }
 
  private:
   UnionNearest nearestOutside(const glm::dvec3& x) const;

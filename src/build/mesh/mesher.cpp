@@ -811,9 +811,15 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
   // <= √(r² + d² + 2rt). Near the surface v is nearly normal to the triangle (t << d), so
   // this is about √(r² + d²), where the Lipschitz bound d + r would ask for samples about
   // twice as dense (and four times as many).
+  // When the field bounds the triangle from its patch's shape (a sphere's or torus's curvature,
+  // SurfaceDistance::patchDeviation), that bound needs no sampling. It takes the patch's
+  // largest curvature in every direction, so on a torus's sliver it can fail where the samples
+  // pass: then they are taken too, and the smaller of the two upper bounds is one.
+  const double patch = field.patchDeviation(a, b, c);
+  if (patch <= giveUpAbove) return patch;
   const double cover = coverRadius(a, b, c);
   const int n = std::max(1, static_cast<int>(std::ceil(cover / samplingTerm)));
-  if (n > kMaxSamplesPerEdge) return kInf;
+  if (n > kMaxSamplesPerEdge) return patch;
   const double r = cover / double(n);
   const glm::dvec3 cross = glm::cross(b - a, c - a);
   const double crossLength = glm::length(cross);
@@ -838,9 +844,9 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
         const bool coarse = i % stride == 0 && j % stride == 0 && (n - i - j) % stride == 0;
         if (coarse != (pass == 0) || i == n || j == n || i + j == 0) continue;  // corners: on the surface
         sample(i, j);
-        if (bound() > giveUpAbove) return bound();
+        if (bound() > giveUpAbove) return std::min(patch, bound());
       }
-  return bound();
+  return std::min(patch, bound());
 }
 
 MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3> seeds, const MeshParams& params) {

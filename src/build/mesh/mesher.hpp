@@ -44,7 +44,9 @@ struct MeshResult {
 // the grid's values gives a closed manifold mesh; its vertices are the roots of the field on
 // grid edges, projected onto the surface with closest(). Then the longest edge of every
 // triangle whose certified bound exceeds ε is split (midpoint projected, both triangles of the
-// edge split) until every triangle passes. The certified bound of a triangle is
+// edge split) until every triangle passes. The certified bound of a triangle is the field's
+// patchDeviation where it has one (the corners on one sphere or torus patch, bounded from its
+// curvature), else
 //   max over samples s of |s − closest(s).point|  +  the farthest any point of the triangle
 //   lies from its nearest sample,
 // an upper bound of its distance to the surface because that distance is 1-Lipschitz.
@@ -57,7 +59,8 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
 // meshSurface that reach every component.
 std::vector<glm::dvec3> surfaceSeeds(const PatchList& patches);
 
-// The certified deviation bound of one triangle (Å) whose corners are on the surface, from
+// The certified deviation bound of one triangle (Å) whose corners are on the surface: the
+// field's patchDeviation when it has one (no sampling), else from
 // samples no farther than `samplingRadius` from any point of it; +inf when that needs more than
 // 32 samples per edge. Sampling stops as soon as the bound exceeds `giveUpAbove` (the value
 // returned is then above it, not the triangle's whole bound).

@@ -64,6 +64,14 @@ class SurfaceDistance {
   // The nearest surface point to x, for x with |signedDistance(x)| <= reach(). |x − point| is
   // always an upper bound on the distance from x to the surface (point is on the surface).
   virtual SurfacePoint closest(const glm::dvec3& x) const = 0;
+  // An upper bound on the distance to the surface of every point of the triangle (a, b, c),
+  // whose corners lie on the surface (to ~1e-9 Å), from the shape of the one patch that holds
+  // all three corners when that patch provably holds the projection of the whole triangle (SES:
+  // a convex sphere clear of its neighbours' caps, an unclipped concave triangle, a torus away
+  // from its boundary); +inf when it cannot tell (corners on different patches or near a
+  // patch's border, a surface kind that has no such bound). The mesher takes it instead of
+  // sampling closest() over the triangle: a few queries in place of hundreds.
+  virtual double patchDeviation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) const;
   // Within this distance of the surface the two calls above are exact (Å); meshing grids
   // must be finer than it. SES rp, SAS and vdW the smallest sphere radius, skin half the
   // smallest atom radius.
