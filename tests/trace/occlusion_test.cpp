@@ -55,6 +55,22 @@ double rangeEnd(std::mt19937_64& rng, double t) {
   }
 }
 
+// A point of the torus of p at (θ, φ) (ORACLES A.3: θ = 0 towards the axis, φ from e1 to e2).
+glm::dvec3 torusPoint(const TorusPatch& p, double theta, double phi) {
+  const glm::dvec3 radial = std::cos(phi) * p.e1 + std::sin(phi) * p.e2;
+  return p.center + (p.bigRadius - p.probeRadius * std::cos(theta)) * radial + p.probeRadius * std::sin(theta) * p.axis;
+}
+
+// A ray that crosses the torus first near the patch's edge (on either side of it), then on the
+// patch: the case where the first root fails the clip test and a later one passes, which an
+// early exit must not cut short.
+Ray throughTwoTorusPoints(std::mt19937_64& rng, const TorusPatch& p) {
+  const glm::dvec3 on = torusPoint(p, uniform(rng, p.thetaI, p.thetaJ), uniform(rng, 0.0, p.phiExtent));
+  const glm::dvec3 edge =
+      torusPoint(p, uniform(rng, p.thetaI - 0.3, p.thetaJ + 0.3), uniform(rng, -0.5, p.phiExtent + 0.5));
+  return Ray{edge - 0.1 * (on - edge), on - edge};
+}
+
 class Occlusion : public testing::TestWithParam<OcclusionCase> {};
 
 // Rays like the renderer's shadow and occlusion rays (from just above a visible hit, in any
@@ -66,7 +82,7 @@ TEST_P(Occlusion, SceneIsOccludedExactlyWhenTheNearestHitIsInRange) {
   const double size = glm::length(box.upper - box.lower);
   std::mt19937_64 rng(35);
   int rays = 0, occluded = 0, mismatches = 0;
-  for (int k = 0; k < 6000; ++k) {
+  for (int k = 0; k < 20000; ++k) {
     Ray ray;
     if (k % 2 == 0) {
       const glm::dvec3 target = pointIn(rng, box);
@@ -118,10 +134,12 @@ TEST_P(Occlusion, EachPatchOccludesExactlyWhenItsIntersectorHits) {
         else
           b = bounds(p);
         const double size = glm::length(b.upper - b.lower);
-        for (int n = 0; n < 12; ++n) {
+        for (int n = 0; n < 48; ++n) {
           const glm::dvec3 target = pointIn(rng, b);
           const glm::dvec3 dir = randomUnit(rng) * logUniform(rng, 0.1, 10.0);
-          const UnitRay ray(Ray{target - uniform(rng, 0.0, 2.0) * size * dir / glm::length(dir), dir});
+          UnitRay ray(Ray{target - uniform(rng, 0.0, 2.0) * size * dir / glm::length(dir), dir});
+          if constexpr (std::is_same_v<Patch, TorusPatch>)
+            if (n % 2 == 0) ray = UnitRay(throughTwoTorusPoints(rng, p));
           const auto nearest = intersect(p, ray, 0.0, kInf);
           const double tMin = n % 3 == 0 && nearest ? uniform(rng, 0.0, nearest->t * 1.01) : 0.0;
           const double tMax = n % 4 == 1 && nearest ? uniform(rng, tMin, nearest->t * 1.5) : rangeEnd(rng, nearest ? nearest->t : kInf);
