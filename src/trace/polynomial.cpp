@@ -256,6 +256,39 @@ PolynomialRoots realRoots(std::span<const double> c, double lo, double hi, doubl
   return out;
 }
 
+namespace {
+
+// provablyAwayFromZero on [m − h, m + h], halving up to `halvings` more times. Each piece
+// may have its own sign: the pieces' ends meet, so p keeps one sign over all of them.
+bool pieceAwayFromZero(const double* c, int degree, double m, double h, double floor, int halvings) {
+  // The Taylor coefficients at m (a Horner shift: b_k = p^(k)(m)/k!).
+  double b[kMaxPolynomialDegree + 1];
+  for (int k = 0; k <= degree; ++k) b[k] = c[k];
+  for (int k = 0; k < degree; ++k)
+    for (int j = degree - 1; j >= k; --j) b[j] += m * b[j + 1];
+  double bound = std::abs(b[0]), hk = 1.0;
+  for (int k = 1; k <= degree; ++k) {
+    hk *= h;
+    bound -= std::abs(b[k]) * hk;
+  }
+  if (bound > floor) return true;
+  // Hopeless when |p(m)| itself is below the floor; else halve.
+  if (halvings == 0 || !(std::abs(b[0]) > floor)) return false;
+  const double half = 0.5 * h;
+  return pieceAwayFromZero(c, degree, m - half, half, floor, halvings - 1) &&
+         pieceAwayFromZero(c, degree, m + half, half, floor, halvings - 1);
+}
+
+}  // namespace
+
+bool provablyAwayFromZero(std::span<const double> c, double lo, double hi, double floor, int maxHalvings) {
+  if (c.empty() || c.size() > static_cast<std::size_t>(kMaxPolynomialDegree + 1)) return false;
+  if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return false;
+  // Widened a little, so that the pieces' rounded ends still cover [lo, hi].
+  const double h = 0.5 * (hi - lo) * (1.0 + 1e-9) + 4.0 * kEpsilon * std::max(std::abs(lo), std::abs(hi));
+  return pieceAwayFromZero(c.data(), static_cast<int>(c.size()) - 1, 0.5 * (lo + hi), h, floor, maxHalvings);
+}
+
 bool firstRoot(std::span<const double> c, double lo, double hi, const RootVisitor& visit, double tangencyTolerance) {
   StoppingSink sink{visit};
   findRoots(c, lo, hi, tangencyTolerance, sink);
