@@ -42,7 +42,7 @@ constexpr int kPolishSteps = 2;
 // further than this from zero on [lo, hi] has no root there. Far above the rounding of its values (~1e-14) and the
 // tangency tolerance (1e-14), so that realRoots' computed values there are positive too.
 constexpr double kNoRootFloor = 1e-9;
-constexpr int kNoRootHalvings = 3;
+constexpr int kNoRootHalvings = 1;
 constexpr double kPolishRadius = 1e-6;
 
 // The patch in the frame of ORACLES B.1: centre at the origin, e1/e2/axis as x/y/z, lengths in
