@@ -169,6 +169,39 @@ std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, dou
   return std::nullopt;
 }
 
+bool occludes(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax) {
+  // intersect()'s roots and clip tests, by the same expressions; no normal or flags.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 op = ray.org - p.probe;
+  const double rp = p.probeRadius, rr = rp * rp;
+  const double b = glm::dot(op, d);
+  const glm::dvec3 f = op - b * d;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return false;
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
+  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;
+  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
+  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
+  if (!nearInRange && !farInRange) return false;
+  const ConeFaces g = coneFaces(p);
+  for (int side = 0; side < 2; ++side) {
+    if (!(side == 0 ? nearInRange : farInRange)) continue;
+    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
+    if (glm::dot(g.ij, v) < 0.0 || glm::dot(g.jk, v) < 0.0 || glm::dot(g.ki, v) < 0.0) continue;
+    const glm::dvec3 x = p.probe + v;
+    bool kept = true;
+    for (const build::Plane& c : p.clipPlanes)
+      if (glm::dot(glm::dvec3(c), x) + c.w > 0.0) {
+        kept = false;
+        break;
+      }
+    if (kept) return true;
+  }
+  return false;
+}
+
 double boundaryDistance(const ConcavePatch& p, const glm::dvec3& x) {
   const ConeFaces g = coneFaces(p);
   double d = std::numeric_limits<double>::infinity();

@@ -34,6 +34,10 @@ inline std::optional<PatchHit> intersect(const ConcavePatch& p, const Ray& ray, 
   return intersect(p, UnitRay(ray), tMin, tMax);
 }
 
+// Whether intersect(p, ray, tMin, tMax) has a hit (occlusion rays): its roots and clip tests,
+// no normal or flags.
+bool occludes(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax);
+
 // The clip test intersect() applies to a point on the probe sphere. `slack` (Å, >= 0)
 // widens the patch by that distance from its cone faces and clipping planes.
 bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack = 0.0);

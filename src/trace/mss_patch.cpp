@@ -210,6 +210,44 @@ std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double 
   return std::nullopt;
 }
 
+bool occludes(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
+  // intersect()'s roots and cell test, by the same expressions; no normal, and no pass over
+  // the cell planes for the seam flag.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 oc = ray.org - p.center;
+  const double t0 = -glm::dot(oc, d);
+  const glm::dvec3 o = oc + t0 * d;
+  if (glm::dot(o, o) > p.boundRadius * p.boundRadius * (1.0 + 1e-12)) return false;
+  const double da = glm::dot(d, p.axis), oa = glm::dot(o, p.axis);
+  const double A = p.radial + p.axial * da * da;
+  const double B = p.radial * glm::dot(o, d) + p.axial * oa * da;
+  const double C = p.radial * glm::dot(o, o) + p.axial * oa * oa + p.constant;
+  double roots[2];
+  int count = 0;
+  const double scaleA = std::abs(p.radial) + std::abs(p.axial);
+  if (std::abs(A) <= 1e-14 * scaleA) {
+    if (B != 0.0) roots[count++] = -C / (2.0 * B);
+  } else {
+    const double disc = B * B - A * C;
+    if (disc < 0.0) return false;
+    const double q = -(B + std::copysign(std::sqrt(disc), B));
+    if (q == 0.0) {
+      roots[count++] = 0.0;
+    } else {
+      const double r1 = q / A, r2 = C / q;
+      roots[count++] = std::min(r1, r2);
+      roots[count++] = std::max(r1, r2);
+    }
+  }
+  const double scale = p.boundRadius + 1.0;
+  for (int k = 0; k < count; ++k) {
+    const double t = (t0 + roots[k]) / len;
+    if (t > tMin && t <= tMax && insideCell(p, p.center + (o + roots[k] * d), kCellSlack * scale)) return true;
+  }
+  return false;
+}
+
 double boundaryDistance(const MssPatch& p, const glm::dvec3& x) {
   // The spheres: f = radial·|x − c|² + constant, radius √(−constant/radial).
   const double r2 = p.axial == 0.0 && p.radial != 0.0 ? -p.constant / p.radial : 0.0;

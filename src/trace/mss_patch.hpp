@@ -60,6 +60,10 @@ inline std::optional<PatchHit> intersect(const MssPatch& p, const Ray& ray, doub
   return intersect(p, UnitRay(ray), tMin, tMax);
 }
 
+// Whether intersect(p, ray, tMin, tMax) has a hit (occlusion rays): its roots and cell test,
+// no normal or flags.
+bool occludes(const MssPatch& p, const UnitRay& ray, double tMin, double tMax);
+
 // The cell test intersect() applies to a point; `slack` (Å, >= 0) widens the cell.
 bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack = 0.0);
 

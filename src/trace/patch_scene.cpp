@@ -81,6 +81,8 @@ struct HitContext {
   // Transparency (PatchScene::intersectLayers16): every crossing goes into the ray's list.
   LayerList* layers = nullptr;
   const SphereClip* clip = nullptr;
+  // Occlusion queries (one ray): the end of the range in double, as intersect1's best.t starts.
+  double occlusionTMax = std::numeric_limits<double>::infinity();
 };
 
 // The layers' callback: every root of the patch on the ray that is on the patch (whole
@@ -139,8 +141,18 @@ template <class Kind> void intersectFn(const RTCIntersectFunctionNArguments* arg
   }
 }
 
+// Whether a patch blocks the ray within (tMin, tMax]: the kind's any-hit test where it has one
+// (it answers as intersect() would, doing only what that answer needs), else intersect().
+template <class Patch> bool blocks(const Patch& patch, const UnitRay& ray, double tMin, double tMax) {
+  if constexpr (requires { occludes(patch, ray, tMin, tMax); })
+    return occludes(patch, ray, tMin, tMax);
+  else
+    return intersect(patch, ray, tMin, tMax).has_value();
+}
+
 // Embree 3 runs no filter functions for user geometry and marks an occluded ray by
-// tfar = −inf.
+// tfar = −inf. The range is the query's own, in double (occlusionTMax): the float tfar is
+// rounded up from it, and a hit between the two would be a hit intersect1() does not find.
 template <class Kind> void occludedFn(const RTCOccludedFunctionNArguments* args) {
   const auto& patch = static_cast<const GeometryData<Kind>*>(args->geometryUserPtr)->patches[args->primID];
   const auto* context = reinterpret_cast<const HitContext*>(args->context);
@@ -148,7 +160,8 @@ template <class Kind> void occludedFn(const RTCOccludedFunctionNArguments* args)
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] == 0) continue;
     float& tfar = RTCRayN_tfar(args->ray, N, i);
-    if (intersect(patch, context->rays[RTCRayN_id(args->ray, N, i)], 0.0, tfar)) tfar = -kInfF;
+    const double tMax = std::min(static_cast<double>(tfar), context->occlusionTMax);
+    if (blocks(patch, context->rays[RTCRayN_id(args->ray, N, i)], 0.0, tMax)) tfar = -kInfF;
   }
 }
 
@@ -505,6 +518,7 @@ bool PatchScene::occluded(const Ray& ray, double tMin, double tMax) const {
   rtcInitIntersectContext(&context.embree);
   const UnitRay unitRay(shifted);
   context.rays = &unitRay;
+  context.occlusionTMax = tMax - shift;
   rtcOccluded1(embree_->scene, &context.embree, &r);
   return r.tfar == -kInfF;
 }

@@ -59,7 +59,7 @@ double differenceOfProducts(double a, double b, double c, double d) {
 
 double ulpScale(double t) { return kEpsilon * std::max(std::abs(t), std::numeric_limits<double>::min()); }
 
-// Fixed-capacity output shared by the recursion levels.
+// Fixed-capacity output shared by the recursion levels. It never stops the walk (done()).
 struct RootSink {
   double* value;
   std::uint32_t* mask;
@@ -70,6 +70,22 @@ struct RootSink {
     if (tangent) *mask |= 1u << count;
     value[count++] = t;
   }
+  static constexpr bool done() { return false; }
+};
+
+// firstRoot's output: each root goes to the visitor as it is found, and the walk over the
+// monotone pieces stops once the visitor accepts one, so the pieces beyond it are never
+// solved. Only the outermost level stops early: the critical points that split [lo, hi]
+// are all found first (RootSink), as realRoots finds them, so every root handed over is
+// the very value realRoots would report at that place.
+struct StoppingSink {
+  const RootVisitor& visit;
+  bool accepted = false;
+
+  void push(double t, bool tangent) {
+    if (!accepted) accepted = visit.accept(visit.context, t, tangent);
+  }
+  bool done() const { return accepted; }
 };
 
 // The single root of p in [a, b], where p is monotone and p(a), p(b) have opposite signs:
@@ -110,12 +126,14 @@ double newtonBisect(const double* c, double a, double b, double pa, double pb) {
   return t;
 }
 
-void linearRoots(const double* c, double lo, double hi, RootSink& sink) {
+template <class Sink>
+void linearRoots(const double* c, double lo, double hi, Sink& sink) {
   const double t = -c[0] / c[1];
   if (t >= lo && t <= hi) sink.push(t, false);
 }
 
-void quadraticRoots(const double* c, double lo, double hi, double tau, RootSink& sink) {
+template <class Sink>
+void quadraticRoots(const double* c, double lo, double hi, double tau, Sink& sink) {
   const double a = c[2], b = c[1], c0 = c[0];
   const double disc = differenceOfProducts(b, b, 4.0 * a, c0);
   if (!(disc > 0.0)) {
@@ -133,14 +151,15 @@ void quadraticRoots(const double* c, double lo, double hi, double tau, RootSink&
   double r1 = q / a, r2 = c0 / q;
   if (r1 > r2) std::swap(r1, r2);
   if (r1 >= lo && r1 <= hi) sink.push(r1, false);
+  if (sink.done()) return;
   if (r2 >= lo && r2 <= hi) sink.push(r2, false);
 }
 
-template <int D>
-void isolate(const double* c, double lo, double hi, double tau, RootSink& sink);
+template <int D, class Sink>
+void isolate(const double* c, double lo, double hi, double tau, Sink& sink);
 
-template <int D>
-void generalRoots(const double* c, double lo, double hi, double tau, RootSink& sink) {
+template <int D, class Sink>
+void generalRoots(const double* c, double lo, double hi, double tau, Sink& sink) {
   // Critical points split [lo, hi] into pieces on which p is monotone. p' has the leading
   // coefficient D·c[D] != 0, so its degree is exactly D − 1.
   double derivative[D];
@@ -148,7 +167,7 @@ void generalRoots(const double* c, double lo, double hi, double tau, RootSink& s
   double critical[kMaxPolynomialDegree];
   std::uint32_t criticalMask = 0;
   RootSink criticalSink{critical, &criticalMask};
-  isolate<D - 1>(derivative, lo, hi, tau, criticalSink);
+  isolate<D - 1, RootSink>(derivative, lo, hi, tau, criticalSink);
 
   double split[D + 1];
   int n = 0;
@@ -163,10 +182,11 @@ void generalRoots(const double* c, double lo, double hi, double tau, RootSink& s
   // piece gives at most one, a split point with p = 0 removes the strict sign change from
   // both neighbours, and a tangential root needs both neighbours rootless.
   if (value[0] == 0.0) sink.push(lo, false);
-  for (int k = 0; k + 1 < n; ++k) {
+  for (int k = 0; k + 1 < n && !sink.done(); ++k) {
     const double p0 = value[k], p1 = value[k + 1];
     if (p0 != 0.0 && p1 != 0.0 && (p0 < 0.0) != (p1 < 0.0))
       sink.push(newtonBisect<D>(c, split[k], split[k + 1], p0, p1), false);
+    if (sink.done()) return;
     const int j = k + 1;
     if (j == n - 1) {
       if (p1 == 0.0) sink.push(hi, false);
@@ -186,8 +206,8 @@ void generalRoots(const double* c, double lo, double hi, double tau, RootSink& s
   }
 }
 
-template <int D>
-void isolate(const double* c, double lo, double hi, double tau, RootSink& sink) {
+template <int D, class Sink>
+void isolate(const double* c, double lo, double hi, double tau, Sink& sink) {
   if constexpr (D == 1) {
     linearRoots(c, lo, hi, sink);
   } else if constexpr (D == 2) {
@@ -204,26 +224,75 @@ double evaluatePolynomial(std::span<const double> c, double t) {
   return hornerAny(c.data(), static_cast<int>(c.size()) - 1, t);
 }
 
-PolynomialRoots realRoots(std::span<const double> c, double lo, double hi, double tangencyTolerance) {
-  PolynomialRoots out;
-  if (c.empty() || c.size() > static_cast<std::size_t>(kMaxPolynomialDegree + 1)) return out;
-  if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return out;
+namespace {
+
+// realRoots' walk into any sink: the same degree reduction, guards and isolation.
+template <class Sink>
+void findRoots(std::span<const double> c, double lo, double hi, double tangencyTolerance, Sink& sink) {
+  if (c.empty() || c.size() > static_cast<std::size_t>(kMaxPolynomialDegree + 1)) return;
+  if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return;
   int degree = static_cast<int>(c.size()) - 1;
   while (degree > 0 && c[static_cast<std::size_t>(degree)] == 0.0) --degree;
-  if (degree == 0) return out;  // a non-zero constant has no roots; nor, as reported, has zero
-  RootSink sink{out.value.data(), &out.tangentMask};
+  if (degree == 0) return;  // a non-zero constant has no roots; nor, as reported, has zero
   if (lo == hi) {
     if (hornerAny(c.data(), degree, lo) == 0.0) sink.push(lo, false);
-  } else {
-    switch (degree) {
-      case 1: isolate<1>(c.data(), lo, hi, tangencyTolerance, sink); break;
-      case 2: isolate<2>(c.data(), lo, hi, tangencyTolerance, sink); break;
-      case 3: isolate<3>(c.data(), lo, hi, tangencyTolerance, sink); break;
-      default: isolate<4>(c.data(), lo, hi, tangencyTolerance, sink); break;
-    }
+    return;
   }
+  switch (degree) {
+    case 1: isolate<1>(c.data(), lo, hi, tangencyTolerance, sink); break;
+    case 2: isolate<2>(c.data(), lo, hi, tangencyTolerance, sink); break;
+    case 3: isolate<3>(c.data(), lo, hi, tangencyTolerance, sink); break;
+    default: isolate<4>(c.data(), lo, hi, tangencyTolerance, sink); break;
+  }
+}
+
+}  // namespace
+
+PolynomialRoots realRoots(std::span<const double> c, double lo, double hi, double tangencyTolerance) {
+  PolynomialRoots out;
+  RootSink sink{out.value.data(), &out.tangentMask};
+  findRoots(c, lo, hi, tangencyTolerance, sink);
   out.count = sink.count;
   return out;
+}
+
+namespace {
+
+// provablyAwayFromZero on [m − h, m + h], halving up to `halvings` more times. Each piece
+// may have its own sign: the pieces' ends meet, so p keeps one sign over all of them.
+bool pieceAwayFromZero(const double* c, int degree, double m, double h, double floor, int halvings) {
+  // The Taylor coefficients at m (a Horner shift: b_k = p^(k)(m)/k!).
+  double b[kMaxPolynomialDegree + 1];
+  for (int k = 0; k <= degree; ++k) b[k] = c[k];
+  for (int k = 0; k < degree; ++k)
+    for (int j = degree - 1; j >= k; --j) b[j] += m * b[j + 1];
+  double bound = std::abs(b[0]), hk = 1.0;
+  for (int k = 1; k <= degree; ++k) {
+    hk *= h;
+    bound -= std::abs(b[k]) * hk;
+  }
+  if (bound > floor) return true;
+  // Hopeless when |p(m)| itself is below the floor; else halve.
+  if (halvings == 0 || !(std::abs(b[0]) > floor)) return false;
+  const double half = 0.5 * h;
+  return pieceAwayFromZero(c, degree, m - half, half, floor, halvings - 1) &&
+         pieceAwayFromZero(c, degree, m + half, half, floor, halvings - 1);
+}
+
+}  // namespace
+
+bool provablyAwayFromZero(std::span<const double> c, double lo, double hi, double floor, int maxHalvings) {
+  if (c.empty() || c.size() > static_cast<std::size_t>(kMaxPolynomialDegree + 1)) return false;
+  if (!(lo <= hi) || !std::isfinite(lo) || !std::isfinite(hi)) return false;
+  // Widened a little, so that the pieces' rounded ends still cover [lo, hi].
+  const double h = 0.5 * (hi - lo) * (1.0 + 1e-9) + 4.0 * kEpsilon * std::max(std::abs(lo), std::abs(hi));
+  return pieceAwayFromZero(c.data(), static_cast<int>(c.size()) - 1, 0.5 * (lo + hi), h, floor, maxHalvings);
+}
+
+bool firstRoot(std::span<const double> c, double lo, double hi, const RootVisitor& visit, double tangencyTolerance) {
+  StoppingSink sink{visit};
+  findRoots(c, lo, hi, tangencyTolerance, sink);
+  return sink.accepted;
 }
 
 }  // namespace surftrace::trace

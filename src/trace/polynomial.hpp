@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 namespace surftrace::trace {
 
@@ -52,5 +53,35 @@ double evaluatePolynomial(std::span<const double> c, double t);
 // tangency tolerance above: it is absolute.)
 PolynomialRoots realRoots(std::span<const double> c, double lo, double hi,
                           double tangencyTolerance = kTangencyTolerance);
+
+// Whether |p(t)| > floor for every t in [lo, hi] (and so p keeps one sign there), proved by
+// Taylor bounds: on a piece with centre m and half-width h, |p − b0| <= Σ_{k>=1} |b_k| h^k with
+// b_k = p^(k)(m)/k!; a piece whose bound fails is halved, down to 2^maxHalvings pieces.
+// False when no proof is found (not a claim that p comes near zero). With floor well above
+// the rounding of Horner's rule on [lo, hi] and above the tangency tolerance, a yes means
+// realRoots(c, lo, hi) reports no root: every value it computes there has p's one sign and
+// is above the tolerance in size.
+bool provablyAwayFromZero(std::span<const double> c, double lo, double hi, double floor, int maxHalvings);
+
+// Hands the roots realRoots(c, lo, hi, tangencyTolerance) reports, the same values in the same
+// ascending order, to `accept(context, root, tangent)` one at a time, and stops at the first
+// it accepts (returns true), leaving the monotone pieces beyond that root unsolved: an
+// any-hit query (the scene's occlusion rays) needs only the first root that passes its
+// tests. Returns whether a root was accepted.
+struct RootVisitor {
+  bool (*accept)(void* context, double root, bool tangent);
+  void* context;
+};
+bool firstRoot(std::span<const double> c, double lo, double hi, const RootVisitor& visit,
+               double tangencyTolerance = kTangencyTolerance);
+// The same with any callable bool(double root, bool tangent).
+template <class Accept>
+bool firstRoot(std::span<const double> c, double lo, double hi, Accept&& accept,
+               double tangencyTolerance = kTangencyTolerance) {
+  using F = std::remove_reference_t<Accept>;
+  const RootVisitor visit{[](void* f, double root, bool tangent) { return (*static_cast<F*>(f))(root, tangent); },
+                          const_cast<void*>(static_cast<const void*>(&accept))};
+  return firstRoot(c, lo, hi, visit, tangencyTolerance);
+}
 
 }  // namespace surftrace::trace

@@ -65,4 +65,20 @@ std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, doub
   return hit;
 }
 
+bool occludes(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax) {
+  // intersect()'s roots, by the same expressions; no normal.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 oc = ray.org - s.center;
+  const double b = glm::dot(oc, d);
+  const glm::dvec3 f = oc - b * d;
+  const double rr = s.radius * s.radius;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return false;
+  const double q = -b - std::copysign(std::sqrt(disc), b);
+  const double r2 = q != 0.0 ? (glm::dot(oc, oc) - rr) / q : 0.0;
+  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
+  return (tNear > tMin && tNear <= tMax) || (tFar > tMin && tFar <= tMax);
+}
+
 }  // namespace surftrace::trace

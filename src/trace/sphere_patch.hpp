@@ -23,6 +23,9 @@ inline std::optional<PatchHit> intersect(const SpherePatch& s, const Ray& ray, d
   return intersect(s, UnitRay(ray), tMin, tMax);
 }
 
+// Whether intersect(s, ray, tMin, tMax) has a hit (occlusion rays): its roots, no normal.
+bool occludes(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax);
+
 // The atom a hit at x belongs to: the sphere's own.
 inline std::uint32_t atomOf(const SpherePatch&, std::uint32_t atom, const glm::dvec3&) { return atom; }
 

@@ -67,6 +67,10 @@ inline std::optional<PatchHit> intersect(const TorusPatch& p, const Ray& ray, do
   return intersect(p, UnitRay(ray), tMin, tMax);
 }
 
+// Whether intersect(p, ray, tMin, tMax) has a hit, for occlusion rays: the same roots and
+// tests, stopping at the first root that passes them, with no normal or flags.
+bool occludes(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax);
+
 // Outward SES normal at a point on (or near) the patch: (P(φ) − x)/rp.
 glm::dvec3 normalAt(const TorusPatch& p, const glm::dvec3& x);
 

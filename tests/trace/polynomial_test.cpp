@@ -314,5 +314,89 @@ TEST(PolynomialRoots, ExactDyadicRootsToFewUlps) {
               static_cast<double>(report.worstRatio));
 }
 
+// A random monic quartic like the torus's (normalised units): real roots in [−2, 2], or
+// complex pairs a ± bi with b from 1e-4 to 1, as exact coefficients (long double) and rounded.
+std::vector<Ld> randomQuartic(std::mt19937_64& rng) {
+  std::vector<Ld> c{1.0L};
+  auto times = [&](std::vector<Ld> q) {  // c ·= q (ascending)
+    std::vector<Ld> next(c.size() + q.size() - 1, 0.0L);
+    for (std::size_t i = 0; i < c.size(); ++i)
+      for (std::size_t j = 0; j < q.size(); ++j) next[i + j] += c[i] * q[j];
+    c = next;
+  };
+  for (int pair = 0; pair < 2; ++pair) {
+    if (rng() % 2 == 0) {
+      const Ld r1 = uniform(rng, -2.0, 2.0), r2 = uniform(rng, -2.0, 2.0);
+      times({r1 * r2, -(r1 + r2), 1.0L});
+    } else {
+      const Ld a = uniform(rng, -2.0, 2.0), b = logUniform(rng, 1e-4, 1.0);
+      times({a * a + b * b, -2.0L * a, 1.0L});
+    }
+  }
+  return c;
+}
+
+// firstRoot hands over realRoots' very values, in order, and stops at the one accepted.
+TEST(PolynomialRoots, FirstRootVisitsTheRealRootsInOrderAndStopsAtTheAcceptedOne) {
+  int visitedTotal = 0;
+  for (std::uint64_t seed : trialSeeds(2000)) {
+    std::mt19937_64 rng(seed);
+    const std::vector<Ld> exact = randomQuartic(rng);
+    const std::vector<double> c(exact.begin(), exact.end());
+    const double lo = uniform(rng, -2.5, 0.0), hi = lo + uniform(rng, 0.0, 4.0);
+    const PolynomialRoots all = realRoots(c, lo, hi);
+    const int accept = static_cast<int>(rng() % 5);  // the index to accept; >= count: none
+    std::vector<double> visited;
+    std::vector<bool> tangents;
+    const bool accepted = firstRoot(c, lo, hi, [&](double root, bool tangent) {
+      visited.push_back(root);
+      tangents.push_back(tangent);
+      return static_cast<int>(visited.size()) - 1 == accept;
+    });
+    ASSERT_EQ(accepted, accept < all.count) << "seed " << seed;
+    ASSERT_EQ(static_cast<int>(visited.size()), std::min(accept + 1, all.count)) << "seed " << seed;
+    for (std::size_t k = 0; k < visited.size(); ++k) {
+      EXPECT_EQ(visited[k], all.value[k]) << "seed " << seed << " root " << k;  // bit for bit
+      EXPECT_EQ(tangents[k], all.tangent(static_cast<int>(k))) << "seed " << seed << " root " << k;
+    }
+    visitedTotal += static_cast<int>(visited.size());
+  }
+  EXPECT_GT(visitedTotal, 1000);
+}
+
+// A proof that |p| stays above the floor holds (p sampled densely in long double) and means
+// realRoots finds nothing there; and it is found for most intervals where |p| stays well above.
+TEST(PolynomialRoots, AwayFromZeroProofHoldsAndMeansNoRoot) {
+  constexpr double kFloor = 1e-9;
+  int proved = 0, clearlyAway = 0, provedOfClearlyAway = 0;
+  for (std::uint64_t seed : trialSeeds(1500)) {
+    std::mt19937_64 rng(seed);
+    const std::vector<Ld> exact = randomQuartic(rng);
+    const std::vector<double> c(exact.begin(), exact.end());
+    const double lo = uniform(rng, -2.5, 1.5), hi = lo + logUniform(rng, 1e-3, 2.0);
+    Ld smallest = std::numeric_limits<Ld>::infinity();
+    for (int k = 0; k <= 2000; ++k) {
+      const Ld t = static_cast<Ld>(lo) + (static_cast<Ld>(hi) - static_cast<Ld>(lo)) * k / 2000;
+      Ld v = 0.0L;
+      for (int j = 4; j >= 0; --j) v = v * t + static_cast<Ld>(c[static_cast<std::size_t>(j)]);
+      smallest = std::min(smallest, std::abs(v));
+    }
+    const bool yes = provablyAwayFromZero(c, lo, hi, kFloor, 3);
+    if (yes) {
+      ++proved;
+      EXPECT_GT(smallest, kFloor) << "seed " << seed;
+      EXPECT_EQ(realRoots(c, lo, hi).count, 0) << "seed " << seed;
+    }
+    if (smallest > 0.1L) {
+      ++clearlyAway;
+      provedOfClearlyAway += yes ? 1 : 0;
+    }
+  }
+  std::printf("[polynomial] away from zero: %d proved of 1500; %d of %d intervals with |p| > 0.1\n", proved,
+              provedOfClearlyAway, clearlyAway);
+  EXPECT_GT(proved, 300);
+  EXPECT_GT(provedOfClearlyAway, clearlyAway / 2);
+}
+
 }  // namespace
 }  // namespace surftrace::trace
