@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -84,9 +85,11 @@ template <class Patch, class F> void forEachRoot(const Patch& patch, const UnitR
     tMin = h->t;
   }
 }
-// A sphere's roots do not depend on (tMin, tMax]: both come from one solve (intersectAll), the
-// same hits the loop above finds with three.
-template <class F> void forEachRoot(const SpherePatch& patch, const UnitRay& ray, double tMin, double tMax, F&& f) {
+// A sphere's or a concave patch's roots do not depend on (tMin, tMax]: both come from one
+// solve (intersectAll), the same hits the loop above finds with up to three.
+template <class Patch, class F>
+  requires std::is_same_v<Patch, SpherePatch> || std::is_same_v<Patch, ConcavePatch>
+void forEachRoot(const Patch& patch, const UnitRay& ray, double tMin, double tMax, F&& f) {
   PatchHit hits[2];
   const int count = intersectAll(patch, ray, tMin, tMax, hits);
   for (int k = 0; k < count; ++k) f(hits[k]);

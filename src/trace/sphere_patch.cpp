@@ -26,16 +26,36 @@ Bounds3d bounds(const SpherePatch& s) {
   return b;
 }
 
-namespace {
+int intersectAll(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
+  // intersect()'s roots, normals and flags, by the same expressions (below), for both roots at once.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 oc = ray.org - s.center;
+  const double b = glm::dot(oc, d);
+  const glm::dvec3 f = oc - b * d;
+  const double rr = s.radius * s.radius;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return 0;
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
+  const double r1 = q;
+  const double r2 = q != 0.0 ? (glm::dot(oc, oc) - rr) / q : 0.0;
+  const double tNear = std::min(r1, r2) / len, tFar = std::max(r1, r2) / len;
+  int count = 0;
+  auto add = [&](double t, double sign) {
+    PatchHit& hit = hits[count++];
+    hit = PatchHit{};
+    hit.t = t;
+    hit.normal = glm::normalize(f + (sign * root) * d);
+    if (root < kGrazingCosine * s.radius) hit.flags |= kHitGrazing;
+  };
+  if (tNear > tMin && tNear <= tMax) add(tNear, -1.0);
+  // After the near root, intersect() from its t finds the far one only if it lies beyond it.
+  if (tFar > tMin && tFar <= tMax && (count == 0 || tFar > tNear)) add(tFar, 1.0);
+  return count;
+}
 
-// Both roots of the ray on the sphere, in units of the ray's t, and what their hits share.
-struct SphereRoots {
-  double tNear, tFar;
-  double root;    // √disc: half the chord, in units of the unit direction
-  glm::dvec3 f;   // the ray's closest point to the centre, relative to it
-};
-
-bool sphereRoots(const SpherePatch& s, const UnitRay& ray, SphereRoots& out) {
+std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax) {
   // Work with a unit direction (Embree's float directions are unit only to float
   // precision) and convert t back at the end.
   const double len = ray.length;
@@ -44,49 +64,34 @@ bool sphereRoots(const SpherePatch& s, const UnitRay& ray, SphereRoots& out) {
   // ORACLES B.5: project the centre onto the ray; f is the ray's closest point to the
   // centre, so the discriminant ρ² − |f|² keeps the small term that b² − (|oc|² − ρ²) loses.
   const double b = glm::dot(oc, d);
-  out.f = oc - b * d;
+  const glm::dvec3 f = oc - b * d;
   const double rr = s.radius * s.radius;
-  const double disc = rr - glm::dot(out.f, out.f);
-  if (!(disc >= 0.0)) return false;  // also rejects NaN (zero direction)
-  out.root = std::sqrt(disc);
-  const double q = -b - std::copysign(out.root, b);
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return std::nullopt;  // also rejects NaN (zero direction)
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
   // q = 0 only for b = disc = 0: the origin is the tangent point, a double root at 0.
   const double r1 = q;
   const double r2 = q != 0.0 ? (glm::dot(oc, oc) - rr) / q : 0.0;
-  out.tNear = std::min(r1, r2) / len;
-  out.tFar = std::max(r1, r2) / len;
-  return true;
-}
+  const double tNear = std::min(r1, r2) / len, tFar = std::max(r1, r2) / len;
 
-// The hit at the near (sign −1) or far (sign +1) root. Its point is f − √disc·d or f + √disc·d
-// (relative to the centre): exact in the shifted frame, unlike o + t·d − c far from the sphere.
-PatchHit sphereHit(const SpherePatch& s, const UnitRay& ray, const SphereRoots& r, double sign) {
+  // The near root's point is f − √disc·d, the far one's f + √disc·d (relative to the
+  // centre): exact in the shifted frame, unlike o + t·d − c far from the sphere.
+  double sign;
   PatchHit hit;
-  hit.t = sign < 0.0 ? r.tNear : r.tFar;
-  hit.normal = glm::normalize(r.f + (sign * r.root) * ray.unit);
+  if (tNear > tMin && tNear <= tMax) {
+    hit.t = tNear;
+    sign = -1.0;
+  } else if (tFar > tMin && tFar <= tMax) {
+    hit.t = tFar;
+    sign = 1.0;
+  } else {
+    return std::nullopt;
+  }
+  hit.normal = glm::normalize(f + (sign * root) * d);
   // |n·d| = √disc / ρ at both roots.
-  if (r.root < kGrazingCosine * s.radius) hit.flags |= kHitGrazing;
+  if (root < kGrazingCosine * s.radius) hit.flags |= kHitGrazing;
   return hit;
-}
-
-}  // namespace
-
-std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax) {
-  SphereRoots r;
-  if (!sphereRoots(s, ray, r)) return std::nullopt;
-  if (r.tNear > tMin && r.tNear <= tMax) return sphereHit(s, ray, r, -1.0);
-  if (r.tFar > tMin && r.tFar <= tMax) return sphereHit(s, ray, r, 1.0);
-  return std::nullopt;
-}
-
-int intersectAll(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
-  SphereRoots r;
-  if (!sphereRoots(s, ray, r)) return 0;
-  int count = 0;
-  if (r.tNear > tMin && r.tNear <= tMax) hits[count++] = sphereHit(s, ray, r, -1.0);
-  // After the near root, intersect() from its t finds the far one only if it lies beyond it.
-  if (r.tFar > tMin && r.tFar <= tMax && (count == 0 || r.tFar > r.tNear)) hits[count++] = sphereHit(s, ray, r, 1.0);
-  return count;
 }
 
 }  // namespace surftrace::trace
