@@ -113,7 +113,7 @@ bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
-int intersectAll(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
+int allHits(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
   // intersect()'s roots, clip tests, normals and flags, by the same expressions (below), for
   // both roots at once.
   const double len = ray.length;

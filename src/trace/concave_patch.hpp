@@ -28,7 +28,7 @@ Bounds3d bounds(const ConcavePatch& p);
 
 // Every hit in (tMin, tMax], ascending, from one solve (transparency): the hits intersect() gives
 // when called again from each hit's t until it finds none, bit for bit. Returns how many (0 to 2).
-int intersectAll(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]);
+int allHits(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]);
 
 // Both roots of the probe sphere in ascending t; the first in (tMin, tMax] inside the cone
 // and on the kept side of every clipping plane is the hit. Normal (p − x)/rp, pointing out

@@ -86,12 +86,12 @@ template <class Patch, class F> void forEachRoot(const Patch& patch, const UnitR
   }
 }
 // A sphere's or a concave patch's roots do not depend on (tMin, tMax]: both come from one
-// solve (intersectAll), the same hits the loop above finds with up to three.
+// solve (allHits), the same hits the loop above finds with up to three.
 template <class Patch, class F>
   requires std::is_same_v<Patch, SpherePatch> || std::is_same_v<Patch, ConcavePatch>
 void forEachRoot(const Patch& patch, const UnitRay& ray, double tMin, double tMax, F&& f) {
   PatchHit hits[2];
-  const int count = intersectAll(patch, ray, tMin, tMax, hits);
+  const int count = allHits(patch, ray, tMin, tMax, hits);
   for (int k = 0; k < count; ++k) f(hits[k]);
 }
 

@@ -26,7 +26,7 @@ Bounds3d bounds(const SpherePatch& s) {
   return b;
 }
 
-int intersectAll(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
+int allHits(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
   // intersect()'s roots, normals and flags, by the same expressions (below), for both roots at once.
   const double len = ray.length;
   const glm::dvec3& d = ray.unit;

@@ -282,7 +282,7 @@ TEST(ConcavePatch, MatchesBruteForceOracle) {
   EXPECT_GT(tally.misses, kTrials / 5);
 }
 
-// intersectAll's one solve gives the very hits (t, normal, flags, bit for bit) that intersect()
+// allHits() solves once and gives the very hits (t, normal, flags, bit for bit) that intersect()
 // gives when called again from each hit's t, as transparency did before (up to three solves).
 TEST(ConcavePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
   int twoHits = 0, oneHit = 0;
@@ -307,7 +307,7 @@ TEST(ConcavePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
       tMin = h->t;
     }
     PatchHit all[2];
-    const int count = intersectAll(p, ray, r.tMin, r.tMax, all);
+    const int count = allHits(p, ray, r.tMin, r.tMax, all);
     ASSERT_EQ(static_cast<std::size_t>(count), repeated.size()) << "seed " << seed;
     for (int k = 0; k < count; ++k) {
       EXPECT_EQ(all[k].t, repeated[k].t) << "seed " << seed << " hit " << k;

@@ -137,7 +137,7 @@ TEST(SpherePatch, MatchesBruteForceOracle) {
   EXPECT_GT(misses, kTrials / 10);
 }
 
-// intersectAll's one solve gives every root the brute-force march finds in (tMin, tMax], and the
+// allHits() solves once and gives every root the brute-force march finds in (tMin, tMax], and the
 // very hits (t, normal, flags, bit for bit) that intersect() gives when called again from each
 // hit's t, as transparency did before (three solves for two roots).
 TEST(SpherePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
@@ -155,7 +155,7 @@ TEST(SpherePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
       tMin = h->t;
     }
     PatchHit all[2];
-    const int count = intersectAll(tr.sphere, ray, tr.tMin, tr.tMax, all);
+    const int count = allHits(tr.sphere, ray, tr.tMin, tr.tMax, all);
     ASSERT_EQ(static_cast<std::size_t>(count), repeated.size()) << "trial " << i;
     for (int k = 0; k < count; ++k) {
       EXPECT_EQ(all[k].t, repeated[k].t) << "trial " << i << " root " << k;
