@@ -113,6 +113,57 @@ bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
+int allHits(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
+  // intersect()'s roots, clip tests, normals and flags, by the same expressions (below), for
+  // both roots at once.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 op = ray.org - p.probe;
+  const double rp = p.probeRadius, rr = rp * rp;
+  const double b = glm::dot(op, d);
+  const glm::dvec3 f = op - b * d;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return 0;
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
+  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;
+  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
+  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
+  if (!nearInRange && !farInRange) return 0;
+  const ConeFaces g = coneFaces(p);
+  int count = 0;
+  for (int side = 0; side < 2; ++side) {
+    if (!(side == 0 ? nearInRange : farInRange)) continue;
+    // After the near hit, intersect() from its t finds the far one only if it lies beyond it.
+    if (side == 1 && count == 1 && !(tFar > tNear)) continue;
+    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
+    const double sij = glm::dot(g.ij, v), sjk = glm::dot(g.jk, v), ski = glm::dot(g.ki, v);
+    if (sij < 0.0 || sjk < 0.0 || ski < 0.0) continue;
+    const glm::dvec3 x = p.probe + v;
+    double clipMargin = std::numeric_limits<double>::infinity();
+    bool kept = true;
+    for (const build::Plane& c : p.clipPlanes) {
+      const double e = glm::dot(glm::dvec3(c), x) + c.w;
+      if (e > 0.0) {
+        kept = false;
+        break;
+      }
+      clipMargin = std::min(clipMargin, -e);
+    }
+    if (!kept) continue;
+    PatchHit& hit = hits[count++];
+    hit = PatchHit{};
+    hit.t = side == 0 ? tNear : tFar;
+    hit.normal = glm::normalize(-v);
+    if (root < kGrazingCosine * rp) hit.flags |= kHitGrazing;
+    const double tol = kBoundaryTolerance * rp, tol2 = tol * tol;
+    if (sij * sij < tol2 * glm::dot(g.ij, g.ij) || sjk * sjk < tol2 * glm::dot(g.jk, g.jk) ||
+        ski * ski < tol2 * glm::dot(g.ki, g.ki) || clipMargin < tol)
+      hit.flags |= kHitNearBoundary;
+  }
+  return count;
+}
+
 std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax) {
   // Unit direction internally (Embree's float directions are unit only to float
   // precision); t is converted back to the caller's parametrisation.

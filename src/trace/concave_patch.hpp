@@ -26,6 +26,10 @@ ConcavePatch concavePatch(const build::PatchList& patches, std::size_t index);
 // Conservative, finite box of the spherical triangle (clipping ignored, so conservative).
 Bounds3d bounds(const ConcavePatch& p);
 
+// Every hit in (tMin, tMax], ascending, from one solve (transparency): the hits intersect() gives
+// when called again from each hit's t until it finds none, bit for bit. Returns how many (0 to 2).
+int allHits(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]);
+
 // Both roots of the probe sphere in ascending t; the first in (tMin, tMax] inside the cone
 // and on the kept side of every clipping plane is the hit. Normal (p − x)/rp, pointing out
 // of the SES body. Flags: grazing, near a cone edge or a clipping plane.

@@ -82,14 +82,15 @@ std::vector<SceneHit> crossingsAll(const ScenePatches& patches, const SphereClip
                                    std::size_t maxLayers) {
   std::vector<SceneHit> storage(maxLayers);
   LayerList layers(storage, kLayerMergeDistance / glm::length(ray.dir));
+  const UnitRay unitRay(ray);
   patches.forEachKind([&](const auto& k) {
     using Row = typename std::remove_reference_t<decltype(k)>::Row;
     constexpr PatchKind kind = Row::kind;
     for (std::uint32_t i = 0; i < k.patches.size(); ++i)
       if constexpr (isModelRow<Row>()) {  // opaque: where the ray enters it
-        if (const auto h = intersect(k.patches[i], ray, 0.0, std::numeric_limits<double>::infinity()))
+        if (const auto h = intersect(k.patches[i], unitRay, 0.0, std::numeric_limits<double>::infinity()))
           layers.insert(SceneHit{kind, i, *h});
-      } else forEachRoot(k.patches[i], ray, 0.0, std::numeric_limits<double>::infinity(), [&](const PatchHit& h) {
+      } else forEachRoot(k.patches[i], unitRay, 0.0, std::numeric_limits<double>::infinity(), [&](const PatchHit& h) {
         if constexpr (kind == PatchKind::Convex)
           if (!clip.onPatch(i, ray.org + h.t * ray.dir)) return;
         layers.insert(SceneHit{kind, i, h});

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -74,14 +75,24 @@ class LayerList {
 // The most roots one patch can have along a ray (a torus: 4), with room for a root found again.
 inline constexpr int kMaxRootsPerPatch = 8;
 
-// Every hit on one patch in (tMin, tMax], ascending: f(const PatchHit&) for each.
-template <class Patch, class F> void forEachRoot(const Patch& patch, const Ray& ray, double tMin, double tMax, F&& f) {
+// Every hit on one patch in (tMin, tMax], ascending: f(const PatchHit&) for each. The ray comes
+// with its unit direction (made once per ray), which every intersect() call here would make again.
+template <class Patch, class F> void forEachRoot(const Patch& patch, const UnitRay& ray, double tMin, double tMax, F&& f) {
   for (int k = 0; k < kMaxRootsPerPatch; ++k) {
     const std::optional<PatchHit> h = intersect(patch, ray, tMin, tMax);
     if (!h || !(h->t > tMin)) return;
     f(*h);
     tMin = h->t;
   }
+}
+// A sphere's or a concave patch's roots do not depend on (tMin, tMax]: both come from one
+// solve (allHits), the same hits the loop above finds with up to three.
+template <class Patch, class F>
+  requires std::is_same_v<Patch, SpherePatch> || std::is_same_v<Patch, ConcavePatch>
+void forEachRoot(const Patch& patch, const UnitRay& ray, double tMin, double tMax, F&& f) {
+  PatchHit hits[2];
+  const int count = allHits(patch, ray, tMin, tMax, hits);
+  for (int k = 0; k < count; ++k) f(hits[k]);
 }
 
 // The crossings of `ray` with a plain loop over every patch (no BVH): the test oracle of

@@ -92,7 +92,7 @@ template <class Kind>
 void collectLayers(const typename Kind::Patch& patch, std::uint32_t primID, const HitContext& context, unsigned id,
                    float& tfar) {
   LayerList& layers = context.layers[id];
-  const Ray ray = context.rays[id].ray();
+  const UnitRay& ray = context.rays[id];
   const double tMax = layers.full() ? layers.back().hit.t : static_cast<double>(tfar);
   if constexpr (isModelRow<Kind>()) {
     // The model is opaque: only where a ray enters it matters (render.cpp stops there).

@@ -26,6 +26,35 @@ Bounds3d bounds(const SpherePatch& s) {
   return b;
 }
 
+int allHits(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
+  // intersect()'s roots, normals and flags, by the same expressions (below), for both roots at once.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 oc = ray.org - s.center;
+  const double b = glm::dot(oc, d);
+  const glm::dvec3 f = oc - b * d;
+  const double rr = s.radius * s.radius;
+  const double disc = rr - glm::dot(f, f);
+  if (!(disc >= 0.0)) return 0;
+  const double root = std::sqrt(disc);
+  const double q = -b - std::copysign(root, b);
+  const double r1 = q;
+  const double r2 = q != 0.0 ? (glm::dot(oc, oc) - rr) / q : 0.0;
+  const double tNear = std::min(r1, r2) / len, tFar = std::max(r1, r2) / len;
+  int count = 0;
+  auto add = [&](double t, double sign) {
+    PatchHit& hit = hits[count++];
+    hit = PatchHit{};
+    hit.t = t;
+    hit.normal = glm::normalize(f + (sign * root) * d);
+    if (root < kGrazingCosine * s.radius) hit.flags |= kHitGrazing;
+  };
+  if (tNear > tMin && tNear <= tMax) add(tNear, -1.0);
+  // After the near root, intersect() from its t finds the far one only if it lies beyond it.
+  if (tFar > tMin && tFar <= tMax && (count == 0 || tFar > tNear)) add(tFar, 1.0);
+  return count;
+}
+
 std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax) {
   // Work with a unit direction (Embree's float directions are unit only to float
   // precision) and convert t back at the end.

@@ -16,6 +16,10 @@ struct SpherePatch {
 
 Bounds3d bounds(const SpherePatch& s);
 
+// Every hit in (tMin, tMax], ascending, from one solve (transparency): the hits intersect() gives
+// when called again from each hit's t until it finds none, bit for bit. Returns how many (0 to 2).
+int allHits(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]);
+
 // The first root in (tMin, tMax] (ORACLES B.5: perpendicular-distance form, stable roots).
 // A ray starting inside the sphere hits its far side. Normal (x − c)/r.
 std::optional<PatchHit> intersect(const SpherePatch& s, const UnitRay& ray, double tMin, double tMax);

@@ -282,6 +282,45 @@ TEST(ConcavePatch, MatchesBruteForceOracle) {
   EXPECT_GT(tally.misses, kTrials / 5);
 }
 
+// allHits() solves once and gives the very hits (t, normal, flags, bit for bit) that intersect()
+// gives when called again from each hit's t, as transparency did before (up to three solves).
+TEST(ConcavePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
+  int twoHits = 0, oneHit = 0;
+  for (int i = 0; i < kTrials; ++i) {
+    const std::uint64_t seed = seedBase() + static_cast<std::uint64_t>(i) + 7000000;
+    Rng rng(seed);
+    Fixture f;
+    if (!realTriangle(rng, f, uniform(rng, 0.2, 3.0))) continue;
+    const int neighbours = std::uniform_int_distribution<int>(0, 3)(rng);
+    for (int k = 0; k < neighbours; ++k) {
+      const glm::dvec3 toward = glm::normalize(f.centroidDir() + uniform(rng, 0.0, 1.5) * randomUnit(rng));
+      f.addNeighbour(f.probe + toward * f.rp * uniform(rng, 0.05, 1.99));
+    }
+    const ConcavePatch p = f.patch();
+    const RandomRay r = randomRay(rng, f);
+    const UnitRay ray(r.ray);
+    std::vector<PatchHit> repeated;
+    for (double tMin = r.tMin; repeated.size() < 4;) {
+      const std::optional<PatchHit> h = intersect(p, ray, tMin, r.tMax);
+      if (!h || !(h->t > tMin)) break;
+      repeated.push_back(*h);
+      tMin = h->t;
+    }
+    PatchHit all[2];
+    const int count = allHits(p, ray, r.tMin, r.tMax, all);
+    ASSERT_EQ(static_cast<std::size_t>(count), repeated.size()) << "seed " << seed;
+    for (int k = 0; k < count; ++k) {
+      EXPECT_EQ(all[k].t, repeated[k].t) << "seed " << seed << " hit " << k;
+      EXPECT_EQ(all[k].normal, repeated[k].normal) << "seed " << seed << " hit " << k;
+      EXPECT_EQ(all[k].flags, repeated[k].flags) << "seed " << seed << " hit " << k;
+    }
+    twoHits += count == 2;
+    oneHit += count == 1;
+  }
+  EXPECT_GT(twoHits, 0);
+  EXPECT_GT(oneHit, kTrials / 8);
+}
+
 // The box is finite, holds every point of the patch and is tight: no face more than
 // 1% of rp beyond the extremes of dense samples.
 TEST(ConcavePatch, BoundsAreConservativeAndTight) {

@@ -137,6 +137,45 @@ TEST(SpherePatch, MatchesBruteForceOracle) {
   EXPECT_GT(misses, kTrials / 10);
 }
 
+// allHits() solves once and gives every root the brute-force march finds in (tMin, tMax], and the
+// very hits (t, normal, flags, bit for bit) that intersect() gives when called again from each
+// hit's t, as transparency did before (three solves for two roots).
+TEST(SpherePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
+  const std::uint64_t base = seedBase();
+  int twoRoots = 0, oneRoot = 0;
+  for (int i = 0; i < kTrials; ++i) {
+    Rng rng(base + static_cast<std::uint64_t>(i) + 7000000);
+    const Trial tr = randomTrial(rng);
+    const UnitRay ray(tr.ray);
+    std::vector<PatchHit> repeated;
+    for (double tMin = tr.tMin; repeated.size() < 4;) {
+      const std::optional<PatchHit> h = intersect(tr.sphere, ray, tMin, tr.tMax);
+      if (!h || !(h->t > tMin)) break;
+      repeated.push_back(*h);
+      tMin = h->t;
+    }
+    PatchHit all[2];
+    const int count = allHits(tr.sphere, ray, tr.tMin, tr.tMax, all);
+    ASSERT_EQ(static_cast<std::size_t>(count), repeated.size()) << "trial " << i;
+    for (int k = 0; k < count; ++k) {
+      EXPECT_EQ(all[k].t, repeated[k].t) << "trial " << i << " root " << k;
+      EXPECT_EQ(all[k].normal, repeated[k].normal) << "trial " << i << " root " << k;
+      EXPECT_EQ(all[k].flags, repeated[k].flags) << "trial " << i << " root " << k;
+    }
+    if (grazingCosine(tr.sphere, tr.ray) < kGrazingCosine) continue;
+    const std::vector<Real> roots = oracleRoots(tr.sphere, tr.ray, tr.tMin, tr.tMax);
+    ASSERT_EQ(static_cast<std::size_t>(count), roots.size()) << "trial " << i;
+    const Real len = std::sqrt(dotL(SphereImplicit(tr.sphere.center, tr.sphere.radius, tr.ray).d,
+                                    SphereImplicit(tr.sphere.center, tr.sphere.radius, tr.ray).d));
+    for (int k = 0; k < count; ++k)
+      EXPECT_LE(static_cast<double>(std::abs(all[k].t - roots[static_cast<std::size_t>(k)]) * len), kHitTolerance)
+          << "trial " << i << " root " << k;
+    (count == 2 ? twoRoots : oneRoot) += count > 0;
+  }
+  EXPECT_GT(twoRoots, kTrials / 10);
+  EXPECT_GT(oneRoot, kTrials / 20);
+}
+
 // From inside, the near root is behind the origin: the hit is the far side, leaving.
 TEST(SpherePatch, RayFromInsideHitsFarSide) {
   for (int i = 0; i < 1000; ++i) {
