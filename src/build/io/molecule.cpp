@@ -645,7 +645,7 @@ class ResidueKinds {
 
 std::string describe(const AtomRecord& atom) {
   std::string text =
-      "atom " + inQuotes(atom.name.empty() ? std::to_string(atom.serial) : atom.name);
+      "atom " + inQuotes(atom.name.empty() ? std::to_string(atom.serial) : atom.name.str());
   if (!atom.residue.empty()) {
     text += " of " + atom.residue;
     if (!atom.chain.empty()) text += " " + atom.chain;
