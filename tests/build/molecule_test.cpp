@@ -349,7 +349,9 @@ TEST(MoleculeMmcif, LongNamesAreKeptWhole) {
     EXPECT_EQ(std::string(m.atoms[first + 1].name.c_str()), "CSEVEN7");
     EXPECT_EQ(m.atoms[first + 1].residue, "A1B2C");
     EXPECT_EQ(m.atoms[first + 1].segid, "SEG7777");
-    if (!selected) EXPECT_NE(m.atoms[0].name, m.atoms[1].name);  // long names stay apart
+    if (!selected) {
+      EXPECT_NE(m.atoms[0].name, m.atoms[1].name);  // long names stay apart
+    }
   }
 }
 
