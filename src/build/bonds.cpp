@@ -49,7 +49,7 @@ std::vector<glm::uvec2> moleculeBonds(const Molecule& molecule, double tolerance
   std::unordered_map<int, std::uint32_t> bySerial;
   for (std::size_t i = 0; i < n; ++i) {
     const AtomRecord* atom = i < molecule.atoms.size() ? &molecule.atoms[i] : nullptr;
-    radii[i] = covalentRadius(atom ? atom->element : std::string());
+    radii[i] = covalentRadius(atom ? atom->element.str() : std::string());
     if (atom) {
       altLocs[i] = atom->altLoc;
       bySerial.emplace(atom->serial, static_cast<std::uint32_t>(i));

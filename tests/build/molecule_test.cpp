@@ -321,6 +321,54 @@ TEST(MoleculeMmcif, SegmentIsTheLabelAsymId) {
   EXPECT_EQ(readMolecule(dir / "auth.cif").atoms[0].segid, "B");
 }
 
+// Names longer than an AtomString holds in place (7 bytes) are read, compared, selected and
+// printed whole: mmCIF allows any length (CCD ids of 5 characters exist; a 9-character atom
+// name and 8-character chain and segment ids here), as do PSF and GRO's 5 columns. The oracle
+// is the file's own text.
+TEST(MoleculeMmcif, LongNamesAreKeptWhole) {
+  const fs::path dir = test::freshTempDir("long_names");
+  writeText(dir / "long.cif",
+            "data_test\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n"
+            "_atom_site.label_atom_id\n_atom_site.label_comp_id\n_atom_site.label_seq_id\n_atom_site.Cartn_x\n"
+            "_atom_site.Cartn_y\n_atom_site.Cartn_z\n_atom_site.auth_asym_id\n_atom_site.label_asym_id\n"
+            "HETATM 1 C C1LONGATM LIGANDXY 1 0.0 0.0 0.0 CHAINABC SEGMENTX\n"
+            "HETATM 2 C C2LONGATM LIGANDXY 1 1.5 0.0 0.0 CHAINABC SEGMENTX\n"
+            "HETATM 3 C CSEVEN7 A1B2C 1 3.0 0.0 0.0 A SEG7777\n");
+  ReadOptions options;
+  options.selection = "resname LIGANDXY and name C2LONGATM or name CSEVEN7";
+  for (const bool selected : {false, true}) {
+    const Molecule m = readMolecule(dir / "long.cif", selected ? options : ReadOptions{});
+    ASSERT_EQ(m.size(), selected ? 2u : 3u);
+    const std::size_t first = selected ? 0 : 1;  // the C2LONGATM atom
+    EXPECT_EQ(m.atoms[first].name, "C2LONGATM");
+    EXPECT_EQ(std::string(m.atoms[first].name.c_str()), "C2LONGATM");
+    EXPECT_EQ(m.atoms[first].residue, "LIGANDXY");
+    EXPECT_EQ(m.atoms[first].chain, "CHAINABC");
+    EXPECT_EQ(m.atoms[first].segid, "SEGMENTX");
+    EXPECT_EQ(m.atoms[first + 1].name.size(), 7u);  // exactly the in-place capacity
+    EXPECT_EQ(std::string(m.atoms[first + 1].name.c_str()), "CSEVEN7");
+    EXPECT_EQ(m.atoms[first + 1].residue, "A1B2C");
+    EXPECT_EQ(m.atoms[first + 1].segid, "SEG7777");
+    if (!selected) {
+      EXPECT_NE(m.atoms[0].name, m.atoms[1].name);  // long names stay apart
+    }
+  }
+}
+
+// The record of one atom is 88 bytes (five 8-byte AtomStrings and the numbers, no padding):
+// a million atoms' records were 232 MB with five std::strings, the most of `area`'s memory
+// after the surface itself.
+TEST(Molecule, AtomRecordIsSmall) {
+  EXPECT_LE(sizeof(AtomRecord), 88u);
+  AtomString text("ALA");
+  EXPECT_EQ(text, "ALA");
+  EXPECT_EQ(text + ":CA", "ALA:CA");
+  EXPECT_LT(text, "ARG");
+  EXPECT_TRUE(AtomString().empty());
+  EXPECT_EQ(AtomString("LONGER THAN SEVEN").str(), "LONGER THAN SEVEN");
+  EXPECT_EQ(AtomString("LONGER THAN SEVEN"), AtomString(std::string("LONGER THAN ") + "SEVEN"));
+}
+
 TEST(MoleculePdb, HydrogensCanBeLeftOut) {
   ReadOptions options;
   options.keepHydrogens = false;

@@ -12,6 +12,7 @@ set(SURFTRACE_FUZZ_IO_SOURCES
   src/build/core/assert.cpp
   src/build/io/gemmi_impl.cpp
   src/build/io/file_formats.cpp
+  src/build/io/atom_string.cpp
   src/build/io/molecule.cpp
   src/build/io/radii.cpp
   src/build/io/radius_presets.cpp

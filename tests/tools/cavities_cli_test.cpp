@@ -43,10 +43,10 @@ TEST(CavitiesCli, AreaListsCavitiesWithTheirAtomsAndResidues) {
     std::set<std::string> residues;
     for (const auto& a : c["atoms"]) {
       const auto& r = m.atoms.at(a["atom"].get<std::size_t>());
-      EXPECT_EQ(a["chain"], r.chain);
+      EXPECT_EQ(a["chain"], r.chain.str());
       EXPECT_EQ(a["resid"], r.residueNumber);
-      EXPECT_EQ(a["resname"], r.residue);
-      EXPECT_EQ(a["name"], r.name);
+      EXPECT_EQ(a["resname"], r.residue.str());
+      EXPECT_EQ(a["name"], r.name.str());
       EXPECT_EQ(a["icode"], r.insertionCode == ' ' ? std::string() : std::string(1, r.insertionCode));
       residues.insert(r.chain + "/" + std::to_string(r.residueNumber) + r.insertionCode + r.residue);
       ++rows;

@@ -401,7 +401,7 @@ class Parser {
     };
     // Tests each distinct name once, as MDAnalysis does with its name tables: a large system has
     // many atoms but few names. Atoms failing `test` are left out of m.
-    const auto byName = [&](std::string AtomRecord::*field, auto&& test) {
+    const auto byName = [&](AtomString AtomRecord::*field, auto&& test) {
       std::unordered_map<std::string_view, char> seen;
       for (std::size_t i = 0; i < m_.size(); ++i) {
         const auto [it, fresh] = seen.try_emplace(m_.atoms[i].*field, 0);
@@ -436,7 +436,7 @@ class Parser {
     if (key == Key::Name || key == Key::Resname || key == Key::Chain || key == Key::Segid || key == Key::Element) {
       std::vector<std::string_view> patterns;
       for (std::size_t k = first; k < pos_; ++k) patterns.push_back(words_[k].text);
-      std::string AtomRecord::*field = key == Key::Name      ? &AtomRecord::name
+      AtomString AtomRecord::*field = key == Key::Name      ? &AtomRecord::name
                                        : key == Key::Resname ? &AtomRecord::residue
                                        : key == Key::Chain   ? &AtomRecord::chain
                                        : key == Key::Segid   ? &AtomRecord::segid

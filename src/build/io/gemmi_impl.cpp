@@ -696,7 +696,7 @@ Molecule readMmcifTable(const std::string& text, const std::string& path, int mo
     atom.residue = str(compColumn);
     atom.chain = str(asymColumn);
     // label_asym_id, the entity instance, is PyMOL's segi; without it the chain.
-    atom.segid = table.has_column(kLabelAsym) ? str(kLabelAsym) : atom.chain;
+    atom.segid = table.has_column(kLabelAsym) ? AtomString(str(kLabelAsym)) : atom.chain;
     if (row.has2(static_cast<std::size_t>(seqColumn))) {
       const std::string value = gemmi::cif::as_string(row[static_cast<std::size_t>(seqColumn)]);
       const auto [ptr, ec] =

@@ -628,7 +628,7 @@ struct ResidueKind {
 };
 class ResidueKinds {
  public:
-  const ResidueKind& operator()(const std::string& residue) {
+  const ResidueKind& operator()(const AtomString& residue) {
     if (!known_ || residue != name_) {
       name_ = residue;
       known_ = true;
@@ -638,14 +638,14 @@ class ResidueKinds {
   }
 
  private:
-  std::string name_;
+  AtomString name_;
   bool known_ = false;
   ResidueKind kind_;
 };
 
 std::string describe(const AtomRecord& atom) {
   std::string text =
-      "atom " + inQuotes(atom.name.empty() ? std::to_string(atom.serial) : atom.name);
+      "atom " + inQuotes(atom.name.empty() ? std::to_string(atom.serial) : atom.name.str());
   if (!atom.residue.empty()) {
     text += " of " + atom.residue;
     if (!atom.chain.empty()) text += " " + atom.chain;
@@ -883,7 +883,13 @@ std::string waysOut(const AtomRecord& atom, const std::string& element) {
 // POPE has N, P, C1-C3 and O11-O14; its cholesterol is CHL1), and a tail bead (C1A, D2A) alone
 // would not do: heme has atoms C1A-C4A.
 bool isMartiniBead(const AtomRecord& atom, const ResidueKind& kind) {
-  const std::string name = upperCase(trim(atom.name));
+  // Every bead name has at most 3 characters: longer names are told apart without making an
+  // upper-cased copy, since this runs over every atom read.
+  const std::string_view trimmed = trim(atom.name);
+  if (trimmed.size() > 3) return false;
+  char folded[3] = {};
+  for (std::size_t i = 0; i < trimmed.size(); ++i) folded[i] = upper(trimmed[i]);
+  const std::string_view name(folded, trimmed.size());
   if (kind.martiniWater)
     return name == "W" || name == "WF" || name == "PW" || name == "WP" || name == "WM";
   if (!kind.standard) {

@@ -10,36 +10,40 @@
 
 #include <glm/vec3.hpp>
 
+#include "build/io/atom_string.hpp"
 #include "build/io/radii.hpp"
 #include "build/io/radius_presets.hpp"
 
 namespace surftrace::build {
 
 // Where one atom came from. Kept beside the geometry (never inside it) so that the hot
-// loops see only `Molecule::centers` and `Molecule::radii`.
+// loops see only `Molecule::centers` and `Molecule::radii`. 88 bytes: the texts are AtomStrings
+// (8 bytes each, longer ones kept whole elsewhere), and the fields are ordered to leave no
+// padding, since every pass over a million atoms streams the records whole.
 struct AtomRecord {
-  std::string name;          // atom name, e.g. "CA"
-  std::string residue;       // residue name, e.g. "ALA"; empty for XYZ/XYZR
-  std::string chain;         // chain id; empty when the format has none; a PSF's segid (PSF has no chains)
+  AtomString name;           // atom name, e.g. "CA"
+  AtomString residue;        // residue name, e.g. "ALA"; empty for XYZ/XYZR
+  AtomString chain;          // chain id; empty when the format has none; a PSF's segid (PSF has no chains)
   // Segment id, as MDAnalysis reads it: PDB columns 67-76 (the chain where no atom of the file
   // has one, "SYSTEM" where neither has), mmCIF label_asym_id (PyMOL's segi), PSF's segid, a
   // PQR's chain; "SYSTEM" in formats without segments (GRO, XYZ, XYZR).
-  std::string segid;
-  int residueNumber = 0;
-  char insertionCode = ' ';
-  int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
-  std::string element;       // canonical symbol, e.g. "C", "Fe"; empty when unknown
-  ElementSource elementSource = ElementSource::None;  // where `element` came from
+  AtomString segid;
+  AtomString element;        // canonical symbol, e.g. "C", "Fe"; empty when unknown
   double occupancy = 1.0;    // NaN where the file's field is not a number
   double bFactor = 0.0;      // NaN where the file's field is not a number
   double charge = 0.0;       // PQR charge; 0 elsewhere
-  bool hetatm = false;
-  int line = 0;              // 1-based line in the source file; 0 when unknown
-  char altLoc = ' ';         // alternate location indicator; ' ' when none
   // 0-based position among the atoms of the model read, before any selection: the atom's
   // index in a trajectory whose topology this file is.
   std::size_t fileIndex = 0;
+  int residueNumber = 0;
+  int serial = 0;            // serial number in the file (1-based order for XYZ/XYZR)
+  int line = 0;              // 1-based line in the source file; 0 when unknown
+  char insertionCode = ' ';
+  char altLoc = ' ';         // alternate location indicator; ' ' when none
+  bool hetatm = false;
+  ElementSource elementSource = ElementSource::None;  // where `element` came from
 };
+static_assert(sizeof(AtomRecord) == 88, "AtomRecord gained padding or a field: see its comment");
 
 // Which input format a file holds. `Auto` decides from the extension (after .gz). GRO is
 // GROMACS's (its first frame); PSF is a CHARMM/NAMD topology without coordinates, read only

@@ -6,11 +6,13 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <numbers>
 #include <optional>
 #include <string_view>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #include "build/io/error.hpp"
@@ -250,8 +252,43 @@ std::vector<GroFrameSpan> indexGroFrames(const std::string& text, const std::str
   return spans;
 }
 
+namespace {
+
+// elementFromAtomName(name, residue, Token) once per distinct pair of names: a system of a
+// million atoms has a few hundred, and the guess (ion, residue and element tables) was a seventh
+// of reading a large GRO file. Keyed on the AtomStrings' bytes, which equal texts share (the
+// same bytes in place, the same index of a long text).
+class ElementGuesses {
+ public:
+  const AtomString& operator()(const AtomString& name, const AtomString& residue) {
+    const Key key{bytesOf(name), bytesOf(residue)};
+    auto it = known_.find(key);
+    if (it == known_.end())
+      it = known_.emplace(key, AtomString(elementFromAtomName(name, residue, AtomNameLayout::Token))).first;
+    return it->second;
+  }
+
+ private:
+  static_assert(std::is_trivially_copyable_v<AtomString> && sizeof(AtomString) == sizeof(std::uint64_t));
+  using Key = std::pair<std::uint64_t, std::uint64_t>;
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const noexcept {
+      return std::hash<std::uint64_t>()(k.first * 0x9E3779B97F4A7C15ull ^ k.second);
+    }
+  };
+  static std::uint64_t bytesOf(const AtomString& s) {
+    std::uint64_t bytes;
+    std::memcpy(&bytes, &s, sizeof bytes);
+    return bytes;
+  }
+  std::unordered_map<Key, AtomString, KeyHash> known_;
+};
+
+}  // namespace
+
 void readGroFrame(const std::string& text, const std::string& path, const GroFrameSpan& span,
                   std::size_t index, Frame& frame, std::vector<AtomRecord>* records) {
+  ElementGuesses guessElement;
   const std::string name = frameName(index);
   LineCursor cursor(text, span.offset, span.line);
   std::string_view title;
@@ -320,7 +357,7 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
     atom.segid = "SYSTEM";  // GRO has no segments; MDAnalysis names its one segment so
     atom.serial = parseWhole<int>(line.substr(15, 5)).value_or(0);
     // GROMACS right-justifies names in their 5 columns, so the column tells nothing.
-    atom.element = elementFromAtomName(atom.name, atom.residue, AtomNameLayout::Token);
+    atom.element = guessElement(atom.name, atom.residue);
     if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
     atom.line = lineNumber;
     records->push_back(std::move(atom));
