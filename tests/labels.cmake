@@ -83,6 +83,7 @@ set(slow_tests
   "CompareMasks\\..*"
   "CompareMesh(OneView|Views)\\..*"
   "MeshCli\\.(CrambinSesIsClosedOnTheSurfaceAndWithinItsBound|GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound)"
+  "MeshCli\\.CrambinSkinAtATenthOfAnAngstromIsClosedOutwardAndWithinItsBound"
   "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
   "EngineCli\\.(TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
   "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"

@@ -369,6 +369,10 @@ constexpr int kHiddenRounds = 3 * kFineBits;
 // Rounds of bisecting the tetrahedra whose triangles fold (meshSurface): each halves their
 // edges, from the grid's to the search's shortest.
 constexpr int kFoldPasses = kFineBits;
+// Rounds of bisecting the tetrahedra that hold a thin feature (MeshParams::features).
+constexpr int kFeaturePasses = 3 * kFineBits;
+// Features narrower than this many of the hidden-crossing search's shortest pieces are left.
+constexpr double kFeatureResolution = 4.0;
 // Corner normals further apart than this (60°) make a backward-facing triangle a fold.
 constexpr double kFoldCosine = 0.5;
 
@@ -907,6 +911,57 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
   TriangleMesh& mesh = result.mesh;
   std::vector<Tet> tetOf;
   mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
+  // The thin features given: the tetrahedra holding each are bisected (all their edges) until
+  // no edge is longer than the feature is wide, with the hidden-crossing search on the new edges.
+  for (int pass = 0; pass < kFeaturePasses && !params.features.empty(); ++pass) {
+    std::vector<EdgeKey> split;
+    const auto contains = [&](const Tet& t, const glm::dvec3& x) {
+      const glm::dvec3 a = grid.position(t[0]), b = grid.position(t[1]), c = grid.position(t[2]),
+                       d = grid.position(t[3]);
+      const double volume = glm::dot(b - a, glm::cross(c - a, d - a));
+      if (volume == 0.0) return false;
+      const double l1 = glm::dot(x - a, glm::cross(c - a, d - a)) / volume;
+      const double l2 = glm::dot(b - a, glm::cross(x - a, d - a)) / volume;
+      const double l3 = glm::dot(b - a, glm::cross(c - a, x - a)) / volume;
+      const double slack = 1e-9;
+      return l1 >= -slack && l2 >= -slack && l3 >= -slack && l1 + l2 + l3 <= 1.0 + slack;
+    };
+    const auto splitIfLong = [&](const Tet& t, double size) {
+      double longest = 0.0;
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q)
+          longest = std::max(longest, glm::length(grid.position(t[p]) - grid.position(t[q])));
+      if (longest <= std::max(size, 2.0 * minLength)) return;
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q) split.emplace_back(t[p], t[q]);
+    };
+    for (const ThinFeature& f : params.features) {
+      // Narrower than a few of the search's shortest pieces, the feature cannot be resolved
+      // (the lattice ends at h/256): bisecting there only makes slivers.
+      if (f.size < kFeatureResolution * minLength) continue;
+      const glm::dvec3 g = (f.point - grid.origin) / grid.h;
+      const std::int64_t i = static_cast<std::int64_t>(std::floor(g.x)), j = static_cast<std::int64_t>(std::floor(g.y)),
+                         k = static_cast<std::int64_t>(std::floor(g.z));
+      if (i < 0 || j < 0 || k < 0 || i + 1 >= limit || j + 1 >= limit || k + 1 >= limit) continue;
+      const Key cell = packKey(i * kFine, j * kFine, k * kFine);
+      if (!refined.cells.count(cell)) {
+        for (const auto& tet : kTets) {
+          const Tet t{cornerKey(cell, tet[0]), cornerKey(cell, tet[1]), cornerKey(cell, tet[2]), cornerKey(cell, tet[3])};
+          if (contains(t, f.point)) splitIfLong(t, f.size);
+        }
+      } else {
+        for (const Tet& t : refined.tets)
+          if (contains(t, f.point)) splitIfLong(t, f.size);
+      }
+    }
+    if (split.empty()) break;
+    for (const EdgeKey& e : split)
+      for (Key key : {e.a, e.b})
+        if (!walk.values.count(key)) walk.values.emplace(key, settleZero(field, grid, key, field.signedDistance(grid.position(key))));
+    refineHidden(field, grid, walk, minLength, refined, split);
+    tetOf.clear();
+    mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
+  }
   // A triangle of marching tetrahedra that faces against the surface's normals at its corners
   // (badTriangle) while those normals differ by more than 60° (kFoldCosine) is where the surface turns
   // further inside its tetrahedron than one cut can follow: near a change of the skin's
@@ -1074,6 +1129,22 @@ std::vector<glm::dvec3> surfaceSeeds(const PatchList& p) {
     }
   }
   return seeds;
+}
+
+std::vector<ThinFeature> thinFeatures(const PatchList& p, double gridSpacing) {
+  std::vector<ThinFeature> out;
+  const MssQuadrics& q = p.mss;
+  const double s = p.params.shrinkFactor;
+  if (q.size() == 0 || !(s > 0.0 && s < 1.0)) return out;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const double w = q.constant[k] / (s * (1.0 - s));
+    const int atoms = static_cast<int>(q.kind[k]) + 1;
+    double width = kInf;
+    if (atoms == 2 || atoms == 3) width = 2.0 * std::sqrt((w < 0.0 ? s : 1.0 - s) * std::abs(w));
+    if (atoms == 4 && w > 0.0) width = 2.0 * std::sqrt((1.0 - s) * w);
+    if (width < gridSpacing) out.push_back({q.center[k], width});
+  }
+  return out;
 }
 
 namespace {
