@@ -321,8 +321,7 @@ TEST(MeshCli, GramicidinSkinIsClosedOnTheSkinAndWithinItsBound) {
   const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1grm_skin");
   const std::string pdb = data("paper/1grm.pdb.gz");
   const double s = 0.5;
-  // 0.2 Å: at 0.1 Å the refinement meets a tunnel of the skin narrower than the grid (near a
-  // change of its topology) that marching tetrahedra closed over, and stops there.
+  // 0.2 Å, to keep the test short (0.1 Å on 1CRN's skin: CrambinSkinAtATenthOfAnAngstrom...).
   const double maxError = 0.2;
   const auto made = runTool("mesh " + pdb + " --surface mss --shrink 0.5 --max-error 0.2 -o " + (dir / "m.ply").string());
   ASSERT_EQ(made.status, 0) << made.output;
