@@ -101,6 +101,7 @@ void runMesh(const MeshOptions& o) {
   params.maxError = o.maxError;
   params.gridSpacing = gridSpacing(o, m, field->reach());
   params.features = build::mesh::thinFeatures(patches, params.gridSpacing);
+  params.followFolds = !patches.mss.kind.empty();
   ProgressBar bar(true, "meshing");
   params.progress = [&bar](double f) { bar.update(f); };
   const std::vector<glm::dvec3> seeds = build::mesh::surfaceSeeds(patches);

@@ -332,14 +332,18 @@ std::string coordinates(const glm::dvec3& p) {
 // face against the surface). The segment is halved wherever mayCrossAgain leaves room for
 // another crossing, down to pieces of `minLength`, with at most `budget` evaluations of the
 // field.
+// With `again` false only segments of one sign are searched.
 bool hiddenCrossing(const SurfaceDistance& field, const glm::dvec3& a, double fa, const glm::dvec3& b, double fb,
-                    double minLength, int& budget) {
+                    double minLength, int& budget, bool again) {
   const double length = glm::length(b - a);
-  if (!mayCrossAgain(fa, fb, length, field.reach()) || length < minLength || budget-- <= 0) return false;
+  if (!(again ? mayCrossAgain(fa, fb, length, field.reach()) : mayHideCrossing(fa, fb, length, field.reach())) ||
+      length < minLength || budget-- <= 0)
+    return false;
   const glm::dvec3 m = 0.5 * (a + b);
   const double fm = field.signedDistance(m);
   if (inside(fa) == inside(fb) && inside(fm) != inside(fa)) return true;
-  return hiddenCrossing(field, a, fa, m, fm, minLength, budget) || hiddenCrossing(field, m, fm, b, fb, minLength, budget);
+  return hiddenCrossing(field, a, fa, m, fm, minLength, budget, again) ||
+         hiddenCrossing(field, m, fm, b, fb, minLength, budget, again);
 }
 // Whether the field changes sign inside the triangle (a, b, c), whose values have one sign: a
 // channel thinner than the grid (two probe balls' narrow neck) can pierce a face between its
@@ -396,12 +400,12 @@ struct Refined {
 // bisecting the edges `start` (of tetrahedra that r, grown by an earlier call, or the grid
 // has): refinement where marching tetrahedra's triangles fold (refineFolds).
 void refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, double minLength, Refined& r,
-                  const std::vector<EdgeKey>& start) {
+                  const std::vector<EdgeKey>& start, bool again) {
   const double reach = field.reach();
   const auto hides = [&](const EdgeKey& e) {
     int budget = kHiddenBudget;
     return hiddenCrossing(field, grid.position(e.a), walk.values.at(e.a), grid.position(e.b), walk.values.at(e.b),
-                          minLength, budget);
+                          minLength, budget, again);
   };
   std::unordered_set<EdgeKey, EdgeHash> tested;
   std::vector<EdgeKey> candidates;
@@ -414,7 +418,7 @@ void refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, double m
       for (int u = 0; u < 8; ++u)
         for (int v = 0; v < 8; ++v)
           if (kuhnEdge(u, v) &&
-              mayCrossAgain(value[u], value[v],
+              (again ? mayCrossAgain : mayHideCrossing)(value[u], value[v],
                               grid.h * std::sqrt(static_cast<double>(__builtin_popcount(static_cast<unsigned>(u ^ v)))),
                               reach))
             candidates.emplace_back(corner[u], corner[v]);
@@ -906,7 +910,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
   // Hidden crossings are searched down to pieces that ε-sized triangles would cover anyway.
   const double minLength = std::max(h / static_cast<double>(kFine), std::min(h / 64.0, eps));
   Refined refined;
-  refineHidden(field, grid, walk, minLength, refined, {});
+  refineHidden(field, grid, walk, minLength, refined, {}, params.followFolds);
   progress(0.1);
   TriangleMesh& mesh = result.mesh;
   std::vector<Tet> tetOf;
@@ -958,7 +962,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     for (const EdgeKey& e : split)
       for (Key key : {e.a, e.b})
         if (!walk.values.count(key)) walk.values.emplace(key, settleZero(field, grid, key, field.signedDistance(grid.position(key))));
-    refineHidden(field, grid, walk, minLength, refined, split);
+    refineHidden(field, grid, walk, minLength, refined, split, params.followFolds);
     tetOf.clear();
     mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
   }
@@ -976,7 +980,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     const glm::dvec3 a = mesh.normals[tri.x], b = mesh.normals[tri.y], c = mesh.normals[tri.z];
     return std::min({glm::dot(a, b), glm::dot(b, c), glm::dot(c, a)}) < kFoldCosine;
   };
-  for (int pass = 0; pass < kFoldPasses; ++pass) {
+  for (int pass = 0; pass < kFoldPasses && params.followFolds; ++pass) {
     std::vector<EdgeKey> folded;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       if (!folds(mesh.triangles[t])) continue;
@@ -987,7 +991,7 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
             folded.emplace_back(tet[p], tet[q]);
     }
     if (folded.empty()) break;
-    refineHidden(field, grid, walk, minLength, refined, folded);
+    refineHidden(field, grid, walk, minLength, refined, folded, params.followFolds);
     tetOf.clear();
     mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
   }

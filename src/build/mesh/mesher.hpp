@@ -27,6 +27,11 @@ struct ThinFeature {
 struct MeshParams {
   double maxError = 0.1;     // ε (Å): the certified bound every triangle must meet
   std::vector<ThinFeature> features;  // see ThinFeature; thinFeatures gives them for a patch list
+  // Also search grid edges whose ends differ in sign for further crossings, and bisect the
+  // tetrahedra whose marched triangles fold against the surface: for a smooth surface (the
+  // skin). On the SES's cusps and ridges the folds are the surface's own and bisecting them
+  // only splits off slivers.
+  bool followFolds = false;
   double gridSpacing = 0.5;  // h (Å) of the marching-tetrahedra grid; < the field's reach()
   int maxRounds = 40;        // refinement rounds before giving up (a cusp: no bound shrinks)
   // Called with the fraction done (0..1) between the stages; may be empty.
