@@ -84,6 +84,8 @@ set(slow_tests
   "CompareMesh(OneView|Views)\\..*"
   "MeshCli\\.(CrambinSesIsClosedOnTheSurfaceAndWithinItsBound|GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound)"
   "MeshCli\\.SesMeshHasTheExactSurfacesTopology"
+  "MeshCli\\.CrambinSkinAtATenthOfAnAngstromIsClosedOutwardAndWithinItsBound"
+  "MeshCli\\.GramicidinSkinIsClosedOnTheSkinAndWithinItsBound"
   "CompareVerdict\\.(ColourIsJudgedBetweenEnginesByDefault|ColourOverCoveredPixelsAndTheBackgroundApart|NanIsCountedAndJudgedAMismatch|NoneComparedFails|OcclusionEdgesAreReportedApart|PerKindTableInTextAndJson)"
   "EngineCli\\.(GlRefusesAnOcclusionDistance|TrajectoryGlFramesPassCompareAgainstEmbreeFrames|TransparentTrajectoryGlFramesPassCompareAgainstEmbreeFrames|TrajectoryGlFramesEqualIndependentGlRenders)"
   "EffectsCli\\.(BadEffectOptionsAreRefused|EffectsAreRecordedAndOffMeansTheImageAsItWas|GlPeelsTheLayersEmbreeComposites|SilhouettesAreExactlyTheDepthJumpsInTheExr|TrajectoryFramesGetTheEffects)"

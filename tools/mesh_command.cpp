@@ -100,6 +100,8 @@ void runMesh(const MeshOptions& o) {
   build::mesh::MeshParams params;
   params.maxError = o.maxError;
   params.gridSpacing = gridSpacing(o, m, field->reach());
+  params.features = build::mesh::thinFeatures(patches, params.gridSpacing);
+  params.followFolds = !patches.mss.kind.empty();
   ProgressBar bar(true, "meshing");
   params.progress = [&bar](double f) { bar.update(f); };
   const std::vector<glm::dvec3> seeds = build::mesh::surfaceSeeds(patches);

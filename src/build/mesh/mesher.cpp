@@ -133,10 +133,16 @@ double settleZero(const SurfaceDistance& field, Grid& grid, Key key, double valu
 // sections through the cube (sides 1, √2, √3, right-angled) reach √3/2, which is larger.
 constexpr double kFaceCover = 0.8660254037844387;
 
-// Whether the field may cross zero between two points of one sign: by the Lipschitz bound it
-// cannot where |f(a)| + |f(b)| >= |a − b| (|f| is at least the distance up to the reach).
+// Whether the field may cross zero between two points more often than their signs require
+// (never where they have one sign, once where they differ): by the Lipschitz bound it cannot
+// where |f(a)| + |f(b)| >= |a − b| (|f| is at least the distance up to the reach), since the
+// balls of radius |f| about the two points then cover the segment and hold no surface.
+bool mayCrossAgain(double fa, double fb, double length, double reach) {
+  return std::min(std::abs(fa), reach) + std::min(std::abs(fb), reach) < length;
+}
+// The same for two points of one sign: whether the field may cross zero between them at all.
 bool mayHideCrossing(double fa, double fb, double length, double reach) {
-  return inside(fa) == inside(fb) && std::min(std::abs(fa), reach) + std::min(std::abs(fb), reach) < length;
+  return inside(fa) == inside(fb) && mayCrossAgain(fa, fb, length, reach);
 }
 
 // The grid walk: the cells the surface crosses (corners of both signs), reached from the seeds'
@@ -319,17 +325,25 @@ std::string coordinates(const glm::dvec3& p) {
 // triangles spanning the hole stay as wide as the wall is thick). Those edges are found and
 // bisected, with every tetrahedron around them, until no edge hides a crossing.
 
-// Whether the field changes sign between a and b, whose values fa and fb have one sign: the
-// segment is halved wherever mayHideCrossing leaves room for a crossing, down to pieces of
-// `minLength`, with at most `budget` evaluations of the field.
+// Whether the field changes sign between a and b more often than their values fa and fb
+// require: at all where they have one sign (a wall or gap between them), more than once where
+// they differ (an edge that passes through a thin wall or tunnel beside the crossing it was
+// marched at: its one vertex then lands on any of the three, and the triangles made from it
+// face against the surface). The segment is halved wherever mayCrossAgain leaves room for
+// another crossing, down to pieces of `minLength`, with at most `budget` evaluations of the
+// field.
+// With `again` false only segments of one sign are searched.
 bool hiddenCrossing(const SurfaceDistance& field, const glm::dvec3& a, double fa, const glm::dvec3& b, double fb,
-                    double minLength, int& budget) {
+                    double minLength, int& budget, bool again) {
   const double length = glm::length(b - a);
-  if (!mayHideCrossing(fa, fb, length, field.reach()) || length < minLength || budget-- <= 0) return false;
+  if (!(again ? mayCrossAgain(fa, fb, length, field.reach()) : mayHideCrossing(fa, fb, length, field.reach())) ||
+      length < minLength || budget-- <= 0)
+    return false;
   const glm::dvec3 m = 0.5 * (a + b);
   const double fm = field.signedDistance(m);
-  if (inside(fm) != inside(fa)) return true;
-  return hiddenCrossing(field, a, fa, m, fm, minLength, budget) || hiddenCrossing(field, m, fm, b, fb, minLength, budget);
+  if (inside(fa) == inside(fb) && inside(fm) != inside(fa)) return true;
+  return hiddenCrossing(field, a, fa, m, fm, minLength, budget, again) ||
+         hiddenCrossing(field, m, fm, b, fb, minLength, budget, again);
 }
 // Whether the field changes sign inside the triangle (a, b, c), whose values have one sign: a
 // channel thinner than the grid (two probe balls' narrow neck) can pierce a face between its
@@ -356,6 +370,15 @@ bool hiddenInFace(const SurfaceDistance& field, const glm::dvec3& a, double fa, 
 // Field evaluations per edge in hiddenCrossing, and rounds of bisection.
 constexpr int kHiddenBudget = 64;
 constexpr int kHiddenRounds = 3 * kFineBits;
+// Rounds of bisecting the tetrahedra whose triangles fold (meshSurface): each halves their
+// edges, from the grid's to the search's shortest.
+constexpr int kFoldPasses = kFineBits;
+// Rounds of bisecting the tetrahedra that hold a thin feature (MeshParams::features).
+constexpr int kFeaturePasses = 3 * kFineBits;
+// Features narrower than this many of the hidden-crossing search's shortest pieces are left.
+constexpr double kFeatureResolution = 4.0;
+// Corner normals further apart than this (60°) make a backward-facing triangle a fold.
+constexpr double kFoldCosine = 0.5;
 
 // A tetrahedron of the refined part of the grid: its four vertices' keys.
 using Tet = std::array<Key, 4>;
@@ -373,16 +396,20 @@ struct Refined {
 // tetrahedra stay face to face with each other and with the cells left whole: a cell keeps
 // its six tetrahedra only while none of its edges is bisected, and every new edge lies inside
 // the cells already replaced. The values of the new vertices go into walk.values.
-Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, double minLength) {
-  Refined r;
+// With `start` empty the search begins at the walked cells' edges and faces; else it begins by
+// bisecting the edges `start` (of tetrahedra that r, grown by an earlier call, or the grid
+// has): refinement where marching tetrahedra's triangles fold (refineFolds).
+void refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, double minLength, Refined& r,
+                  const std::vector<EdgeKey>& start, bool again) {
   const double reach = field.reach();
   const auto hides = [&](const EdgeKey& e) {
     int budget = kHiddenBudget;
     return hiddenCrossing(field, grid.position(e.a), walk.values.at(e.a), grid.position(e.b), walk.values.at(e.b),
-                          minLength, budget);
+                          minLength, budget, again);
   };
   std::unordered_set<EdgeKey, EdgeHash> tested;
   std::vector<EdgeKey> candidates;
+  if (start.empty())
   for (const std::vector<Key>* list : {&walk.cells, &walk.near})
     for (Key cell : *list) {
       Key corner[8];
@@ -391,7 +418,7 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
       for (int u = 0; u < 8; ++u)
         for (int v = 0; v < 8; ++v)
           if (kuhnEdge(u, v) &&
-              mayHideCrossing(value[u], value[v],
+              (again ? mayCrossAgain : mayHideCrossing)(value[u], value[v],
                               grid.h * std::sqrt(static_cast<double>(__builtin_popcount(static_cast<unsigned>(u ^ v)))),
                               reach))
             candidates.emplace_back(corner[u], corner[v]);
@@ -410,6 +437,7 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
     out.push_back(faceOf(t[0], t[2], t[3])), out.push_back(faceOf(t[1], t[2], t[3]));
   };
   std::vector<Face> faces;
+  if (start.empty())
   for (const std::vector<Key>* list : {&walk.cells, &walk.near})
     for (Key cell : *list)
       for (const auto& tet : kTets)
@@ -460,9 +488,16 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
     std::sort(marked.begin(), marked.end());
     marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
   };
-  search(candidates, faces);
-  tested.insert(candidates.begin(), candidates.end());
-  testedFaces.insert(faces.begin(), faces.end());
+  if (start.empty()) {
+    search(candidates, faces);
+    tested.insert(candidates.begin(), candidates.end());
+    testedFaces.insert(faces.begin(), faces.end());
+  } else {
+    marked.clear();
+    for (const EdgeKey& e : start) mark(e);
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+  }
   const auto valueOf = [&](Key key) {
     if (const auto it = walk.values.find(key); it != walk.values.end()) return it->second;
     const double v = settleZero(field, grid, key, field.signedDistance(grid.position(key)));
@@ -552,13 +587,14 @@ Refined refineHidden(const SurfaceDistance& field, Grid& grid, Walk& walk, doubl
     }
     search(fresh, freshFaces);
   }
-  return r;
 }
 
 // Marching tetrahedra over the walked cells and the refined tetrahedra: vertices on the edges
 // whose ends have opposite signs (one per edge, shared by every tetrahedron around it),
 // triangles oriented from the inside corners towards the outside ones.
-TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, const Walk& walk, const Refined& refined) {
+// tetOf, when given, receives each triangle's tetrahedron.
+TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, const Walk& walk, const Refined& refined,
+                             std::vector<Tet>* tetOf = nullptr) {
   std::unordered_map<EdgeKey, std::uint32_t, EdgeHash> edgeVertex;
   edgeVertex.reserve(walk.cells.size() * 4);
   std::vector<EdgeKey> edges;
@@ -589,6 +625,7 @@ TriangleMesh marchTetrahedra(const SurfaceDistance& field, const Grid& grid, con
     for (std::size_t n = 0; n < cuts; ++n) id[n] = vertexOn(corner[cut[n].first], corner[cut[n].second]);
     const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
       mesh.triangles.push_back(flip ? glm::uvec3(a, c, b) : glm::uvec3(a, b, c));
+      if (tetOf) tetOf->push_back({corner[0], corner[1], corner[2], corner[3]});
     };
     emit(id[0], id[1], id[2]);
     // The quad's four points are coplanar at the midpoints, so both halves face alike.
@@ -877,12 +914,95 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
   const std::int64_t limit = static_cast<std::int64_t>(std::ceil(cellsPerAxis)) + 2;
   Walk walk = walkGrid(field, grid, seeds, limit);
   // Hidden crossings are searched down to pieces that ε-sized triangles would cover anyway.
-  const Refined refined = refineHidden(field, grid, walk, std::max(h / static_cast<double>(kFine), std::min(h / 64.0, eps)));
-  result.gridCells = walk.cells.size();
-  result.refinedCells = refined.cells.size();
+  const double minLength = std::max(h / static_cast<double>(kFine), std::min(h / 64.0, eps));
+  Refined refined;
+  refineHidden(field, grid, walk, minLength, refined, {}, params.followFolds);
   progress(0.1);
   TriangleMesh& mesh = result.mesh;
-  mesh = marchTetrahedra(field, grid, walk, refined);
+  std::vector<Tet> tetOf;
+  mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
+  // The thin features given: the tetrahedra holding each are bisected (all their edges) until
+  // no edge is longer than the feature is wide, with the hidden-crossing search on the new edges.
+  for (int pass = 0; pass < kFeaturePasses && !params.features.empty(); ++pass) {
+    std::vector<EdgeKey> split;
+    const auto contains = [&](const Tet& t, const glm::dvec3& x) {
+      const glm::dvec3 a = grid.position(t[0]), b = grid.position(t[1]), c = grid.position(t[2]),
+                       d = grid.position(t[3]);
+      const double volume = glm::dot(b - a, glm::cross(c - a, d - a));
+      if (volume == 0.0) return false;
+      const double l1 = glm::dot(x - a, glm::cross(c - a, d - a)) / volume;
+      const double l2 = glm::dot(b - a, glm::cross(x - a, d - a)) / volume;
+      const double l3 = glm::dot(b - a, glm::cross(c - a, x - a)) / volume;
+      const double slack = 1e-9;
+      return l1 >= -slack && l2 >= -slack && l3 >= -slack && l1 + l2 + l3 <= 1.0 + slack;
+    };
+    const auto splitIfLong = [&](const Tet& t, double size) {
+      double longest = 0.0;
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q)
+          longest = std::max(longest, glm::length(grid.position(t[p]) - grid.position(t[q])));
+      if (longest <= std::max(size, 2.0 * minLength)) return;
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q) split.emplace_back(t[p], t[q]);
+    };
+    for (const ThinFeature& f : params.features) {
+      // Narrower than a few of the search's shortest pieces, the feature cannot be resolved
+      // (the lattice ends at h/256): bisecting there only makes slivers.
+      if (f.size < kFeatureResolution * minLength) continue;
+      const glm::dvec3 g = (f.point - grid.origin) / grid.h;
+      const std::int64_t i = static_cast<std::int64_t>(std::floor(g.x)), j = static_cast<std::int64_t>(std::floor(g.y)),
+                         k = static_cast<std::int64_t>(std::floor(g.z));
+      if (i < 0 || j < 0 || k < 0 || i + 1 >= limit || j + 1 >= limit || k + 1 >= limit) continue;
+      const Key cell = packKey(i * kFine, j * kFine, k * kFine);
+      if (!refined.cells.count(cell)) {
+        for (const auto& tet : kTets) {
+          const Tet t{cornerKey(cell, tet[0]), cornerKey(cell, tet[1]), cornerKey(cell, tet[2]), cornerKey(cell, tet[3])};
+          if (contains(t, f.point)) splitIfLong(t, f.size);
+        }
+      } else {
+        for (const Tet& t : refined.tets)
+          if (contains(t, f.point)) splitIfLong(t, f.size);
+      }
+    }
+    if (split.empty()) break;
+    for (const EdgeKey& e : split)
+      for (Key key : {e.a, e.b})
+        if (!walk.values.count(key)) walk.values.emplace(key, settleZero(field, grid, key, field.signedDistance(grid.position(key))));
+    refineHidden(field, grid, walk, minLength, refined, split, params.followFolds);
+    tetOf.clear();
+    mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
+  }
+  // A triangle of marching tetrahedra that faces against the surface's normals at its corners
+  // (badTriangle) while those normals differ by more than 60° (kFoldCosine) is where the surface turns
+  // further inside its tetrahedron than one cut can follow: near a change of the skin's
+  // topology its necks and saddles curve on a scale of a tenth of an Å, and such a triangle
+  // joins points of two sides of a neck. Every edge of its tetrahedron is bisected (with the
+  // search for hidden crossings on the new edges) and the tetrahedra are marched again, until
+  // no triangle folds or the edges reach minLength. (A bad triangle whose corners' normals
+  // agree is a sliver, cut where a crossing lies next to a grid vertex: its facing is
+  // rounding, bisecting makes more of them, and removeBadTriangles collapses it.)
+  const auto folds = [&](const glm::uvec3& tri) {
+    if (!badTriangle(mesh, tri)) return false;
+    const glm::dvec3 a = mesh.normals[tri.x], b = mesh.normals[tri.y], c = mesh.normals[tri.z];
+    return std::min({glm::dot(a, b), glm::dot(b, c), glm::dot(c, a)}) < kFoldCosine;
+  };
+  for (int pass = 0; pass < kFoldPasses && params.followFolds; ++pass) {
+    std::vector<EdgeKey> folded;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (!folds(mesh.triangles[t])) continue;
+      const Tet& tet = tetOf[t];
+      for (int p = 0; p < 4; ++p)
+        for (int q = p + 1; q < 4; ++q)
+          if (glm::length(grid.position(tet[p]) - grid.position(tet[q])) >= 2.0 * minLength)
+            folded.emplace_back(tet[p], tet[q]);
+    }
+    if (folded.empty()) break;
+    refineHidden(field, grid, walk, minLength, refined, folded, params.followFolds);
+    tetOf.clear();
+    mesh = marchTetrahedra(field, grid, walk, refined, &tetOf);
+  }
+  result.gridCells = walk.cells.size();
+  result.refinedCells = refined.cells.size();
   progress(0.2);
 
   // Refinement. Each triangle keeps its bound until it is split.
@@ -1019,6 +1139,22 @@ std::vector<glm::dvec3> surfaceSeeds(const PatchList& p) {
     }
   }
   return seeds;
+}
+
+std::vector<ThinFeature> thinFeatures(const PatchList& p, double gridSpacing) {
+  std::vector<ThinFeature> out;
+  const MssQuadrics& q = p.mss;
+  const double s = p.params.shrinkFactor;
+  if (q.size() == 0 || !(s > 0.0 && s < 1.0)) return out;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    const double w = q.constant[k] / (s * (1.0 - s));
+    const int atoms = static_cast<int>(q.kind[k]) + 1;
+    double width = kInf;
+    if (atoms == 2 || atoms == 3) width = 2.0 * std::sqrt((w < 0.0 ? s : 1.0 - s) * std::abs(w));
+    if (atoms == 4 && w > 0.0) width = 2.0 * std::sqrt((1.0 - s) * w);
+    if (width < gridSpacing) out.push_back({q.center[k], width});
+  }
+  return out;
 }
 
 namespace {

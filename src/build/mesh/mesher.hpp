@@ -16,8 +16,22 @@
 
 namespace surftrace::build::mesh {
 
+// A place where the surface is thinner than the grid may show (a neck, a gap, a tunnel or a
+// wall of width `size` Å about `point`): the tetrahedra that hold it are bisected until their
+// edges are below `size` before marching, so that the piece is not pinched off or closed over.
+struct ThinFeature {
+  glm::dvec3 point{0.0};
+  double size = 0.0;
+};
+
 struct MeshParams {
   double maxError = 0.1;     // ε (Å): the certified bound every triangle must meet
+  std::vector<ThinFeature> features;  // see ThinFeature; thinFeatures gives them for a patch list
+  // Also search grid edges whose ends differ in sign for further crossings, and bisect the
+  // tetrahedra whose marched triangles fold against the surface: for a smooth surface (the
+  // skin). On the SES's cusps and ridges the folds are the surface's own and bisecting them
+  // only splits off slivers.
+  bool followFolds = false;
   double gridSpacing = 0.5;  // h (Å) of the marching-tetrahedra grid; < the field's reach()
   int maxRounds = 40;        // refinement rounds before giving up (a cusp: no bound shrinks)
   // Called with the fraction done (0..1) between the stages; may be empty.
@@ -81,6 +95,14 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
 // field's roots are (to ~1e-13 in value); the mesher projects it with closest().
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
                       const glm::dvec3& nq);
+
+// The skin's places thinner than `gridSpacing` (empty for the other surfaces): the centres of
+// its hyperboloid patches, from the patch's weight w = constant / (s(1 − s)): an edge's
+// one-sheet hyperboloid (w < 0) is a neck of the body 2√(s|w|) wide at its waist, its two
+// sheets (w > 0) face each other across a gap 2√((1 − s)w) wide; a triangle's one sheet
+// (w > 0) is a tunnel of solvent 2√((1 − s)w) wide, its two sheets (w < 0) a wall of body
+// 2√(s|w|) thick; a tetrahedron's concave sphere (w > 0) a void 2√((1 − s)w) across.
+std::vector<ThinFeature> thinFeatures(const PatchList& patches, double gridSpacing);
 
 // One closed piece of a mesh (a connected component over shared vertices).
 struct MeshComponent {
