@@ -508,9 +508,8 @@ TEST(MeshCli, TwoBallSkinWithANeckThinnerThanTheGridIsOnePiece) {
                             (dir / "m.ply").string());
   ASSERT_EQ(made.status, 0) << made.output;
   const PlyMesh m = readPly(dir / "m.ply");
-  std::size_t unmatched = 0;
-  const std::vector<MeshPiece> pieces = piecesOf(m, unmatched);
-  EXPECT_EQ(unmatched, 0u) << "edges not shared by exactly two triangles in opposite directions";
+  EXPECT_EQ(unmatchedEdges(m), 0u) << "edges not shared by exactly two triangles in opposite directions";
+  const std::vector<MeshPiece> pieces = piecesOf(m);
   ASSERT_EQ(pieces.size(), 1u) << "the neck was pinched off: " << made.output;
   EXPECT_EQ(pieces[0].euler, 2) << "one closed piece of genus 0";
   surftrace::build::Molecule mol;
