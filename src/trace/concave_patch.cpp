@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "build/core/vector_math.hpp"
+#include "trace/sphere_roots.hpp"
 
 namespace surftrace::trace {
 namespace {
@@ -52,6 +53,49 @@ void extendByArc(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& lo, glm::
     if (ta[k] >= 0.0 && tb[k] >= 0.0) hi[k] = std::max(hi[k], extreme);
     if (ta[k] <= 0.0 && tb[k] <= 0.0) lo[k] = std::min(lo[k], -extreme);
   }
+}
+
+// A root's point on the probe sphere that the cone and the clipping planes keep, with its
+// distances to them for the seam flag.
+struct KeptPoint {
+  glm::dvec3 v;          // relative to the probe
+  double sij, sjk, ski;  // g·v for the three cone faces
+  double clipMargin;     // least −(n·x + w) over the clipping planes
+};
+
+// Whether the root on `side` (0 near, 1 far) lies in the cone (ORACLES A.4) and on the kept side
+// of every clipping plane (A.5).
+inline bool keptPoint(const ConcavePatch& p, const ConeFaces& g, const SphereRoots& r, const glm::dvec3& d, int side,
+                      KeptPoint& k) {
+  // The point relative to the probe, in the shifted frame: f ∓ √disc·d (near, far).
+  k.v = r.f + (side == 0 ? -r.root : r.root) * d;
+  k.sij = glm::dot(g.ij, k.v);
+  k.sjk = glm::dot(g.jk, k.v);
+  k.ski = glm::dot(g.ki, k.v);
+  if (k.sij < 0.0 || k.sjk < 0.0 || k.ski < 0.0) return false;
+  const glm::dvec3 x = p.probe + k.v;
+  k.clipMargin = std::numeric_limits<double>::infinity();
+  for (const build::Plane& c : p.clipPlanes) {
+    const double e = glm::dot(glm::dvec3(c), x) + c.w;  // ORACLES A.5: keep e <= 0
+    if (e > 0.0) return false;
+    k.clipMargin = std::min(k.clipMargin, -e);
+  }
+  return true;
+}
+
+inline PatchHit hitAt(const ConcavePatch& p, const ConeFaces& g, const SphereRoots& r, int side, const KeptPoint& k) {
+  const double rp = p.probeRadius;
+  PatchHit hit;
+  hit.t = side == 0 ? r.tNear : r.tFar;
+  hit.normal = glm::normalize(-k.v);  // (p − x)/rp: out of the SES body, into the probe
+  if (r.root < kGrazingCosine * rp) hit.flags |= kHitGrazing;  // |n·d| = √disc/rp
+  // A seam: within tol of a cone face (distance g·v/|g|, compared squared to skip the
+  // square roots) or of a clipping plane, the neighbouring patch may own the pixel.
+  const double tol = kBoundaryTolerance * rp, tol2 = tol * tol;
+  if (k.sij * k.sij < tol2 * glm::dot(g.ij, g.ij) || k.sjk * k.sjk < tol2 * glm::dot(g.jk, g.jk) ||
+      k.ski * k.ski < tol2 * glm::dot(g.ki, g.ki) || k.clipMargin < tol)
+    hit.flags |= kHitNearBoundary;
+  return hit;
 }
 
 }  // namespace
@@ -114,141 +158,43 @@ bool insidePatch(const ConcavePatch& p, const glm::dvec3& x, double slack) {
 }
 
 int allHits(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax, PatchHit (&hits)[2]) {
-  // intersect()'s roots, clip tests, normals and flags, by the same expressions (below), for
-  // both roots at once.
-  const double len = ray.length;
-  const glm::dvec3& d = ray.unit;
-  const glm::dvec3 op = ray.org - p.probe;
-  const double rp = p.probeRadius, rr = rp * rp;
-  const double b = glm::dot(op, d);
-  const glm::dvec3 f = op - b * d;
-  const double disc = rr - glm::dot(f, f);
-  if (!(disc >= 0.0)) return 0;
-  const double root = std::sqrt(disc);
-  const double q = -b - std::copysign(root, b);
-  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;
-  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
-  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
-  if (!nearInRange && !farInRange) return 0;
+  // intersect()'s roots, clip tests, normals and flags for both roots at once.
+  SphereRoots r;
+  if (!sphereRoots(p.probe, p.probeRadius, ray, tMin, tMax, r) || (!r.nearInRange && !r.farInRange)) return 0;
   const ConeFaces g = coneFaces(p);
   int count = 0;
   for (int side = 0; side < 2; ++side) {
-    if (!(side == 0 ? nearInRange : farInRange)) continue;
+    if (!(side == 0 ? r.nearInRange : r.farInRange)) continue;
     // After the near hit, intersect() from its t finds the far one only if it lies beyond it.
-    if (side == 1 && count == 1 && !(tFar > tNear)) continue;
-    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
-    const double sij = glm::dot(g.ij, v), sjk = glm::dot(g.jk, v), ski = glm::dot(g.ki, v);
-    if (sij < 0.0 || sjk < 0.0 || ski < 0.0) continue;
-    const glm::dvec3 x = p.probe + v;
-    double clipMargin = std::numeric_limits<double>::infinity();
-    bool kept = true;
-    for (const build::Plane& c : p.clipPlanes) {
-      const double e = glm::dot(glm::dvec3(c), x) + c.w;
-      if (e > 0.0) {
-        kept = false;
-        break;
-      }
-      clipMargin = std::min(clipMargin, -e);
-    }
-    if (!kept) continue;
-    PatchHit& hit = hits[count++];
-    hit = PatchHit{};
-    hit.t = side == 0 ? tNear : tFar;
-    hit.normal = glm::normalize(-v);
-    if (root < kGrazingCosine * rp) hit.flags |= kHitGrazing;
-    const double tol = kBoundaryTolerance * rp, tol2 = tol * tol;
-    if (sij * sij < tol2 * glm::dot(g.ij, g.ij) || sjk * sjk < tol2 * glm::dot(g.jk, g.jk) ||
-        ski * ski < tol2 * glm::dot(g.ki, g.ki) || clipMargin < tol)
-      hit.flags |= kHitNearBoundary;
+    if (side == 1 && count == 1 && !(r.tFar > r.tNear)) continue;
+    KeptPoint k;
+    if (keptPoint(p, g, r, ray.unit, side, k)) hits[count++] = hitAt(p, g, r, side, k);
   }
   return count;
 }
 
 std::optional<PatchHit> intersect(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax) {
-  // Unit direction internally (Embree's float directions are unit only to float
-  // precision); t is converted back to the caller's parametrisation.
-  const double len = ray.length;
-  const glm::dvec3& d = ray.unit;
-  const glm::dvec3 op = ray.org - p.probe;
-  const double rp = p.probeRadius, rr = rp * rp;
-  // ORACLES B.5: f is the ray's closest point to the probe centre; ρ² − |f|² keeps the
-  // small discriminant that b² − (|op|² − ρ²) would cancel away.
-  const double b = glm::dot(op, d);
-  const glm::dvec3 f = op - b * d;
-  const double disc = rr - glm::dot(f, f);
-  if (!(disc >= 0.0)) return std::nullopt;  // also rejects NaN (zero direction)
-  const double root = std::sqrt(disc);
-  const double q = -b - std::copysign(root, b);
-  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;  // q = 0: double root at 0
-  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
-  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
-  if (!nearInRange && !farInRange) return std::nullopt;
-
+  SphereRoots r;
+  if (!sphereRoots(p.probe, p.probeRadius, ray, tMin, tMax, r) || (!r.nearInRange && !r.farInRange))
+    return std::nullopt;
   // ORACLES A.4: the visible root is usually the far one, but test both in ascending t.
   const ConeFaces g = coneFaces(p);
   for (int side = 0; side < 2; ++side) {
-    if (!(side == 0 ? nearInRange : farInRange)) continue;
-    // The point relative to the probe, in the shifted frame: f ∓ √disc·d (near, far).
-    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
-    const double sij = glm::dot(g.ij, v), sjk = glm::dot(g.jk, v), ski = glm::dot(g.ki, v);
-    if (sij < 0.0 || sjk < 0.0 || ski < 0.0) continue;
-    const glm::dvec3 x = p.probe + v;
-    double clipMargin = std::numeric_limits<double>::infinity();
-    bool kept = true;
-    for (const build::Plane& c : p.clipPlanes) {
-      const double e = glm::dot(glm::dvec3(c), x) + c.w;  // ORACLES A.5: keep e <= 0
-      if (e > 0.0) {
-        kept = false;
-        break;
-      }
-      clipMargin = std::min(clipMargin, -e);
-    }
-    if (!kept) continue;
-
-    PatchHit hit;
-    hit.t = side == 0 ? tNear : tFar;
-    hit.normal = glm::normalize(-v);  // (p − x)/rp: out of the SES body, into the probe
-    if (root < kGrazingCosine * rp) hit.flags |= kHitGrazing;  // |n·d| = √disc/rp
-    // A seam: within tol of a cone face (distance g·v/|g|, compared squared to skip the
-    // square roots) or of a clipping plane, the neighbouring patch may own the pixel.
-    const double tol = kBoundaryTolerance * rp, tol2 = tol * tol;
-    if (sij * sij < tol2 * glm::dot(g.ij, g.ij) || sjk * sjk < tol2 * glm::dot(g.jk, g.jk) ||
-        ski * ski < tol2 * glm::dot(g.ki, g.ki) || clipMargin < tol)
-      hit.flags |= kHitNearBoundary;
-    return hit;
+    if (!(side == 0 ? r.nearInRange : r.farInRange)) continue;
+    KeptPoint k;
+    if (keptPoint(p, g, r, ray.unit, side, k)) return hitAt(p, g, r, side, k);
   }
   return std::nullopt;
 }
 
 bool occludes(const ConcavePatch& p, const UnitRay& ray, double tMin, double tMax) {
-  // intersect()'s roots and clip tests, by the same expressions; no normal or flags.
-  const double len = ray.length;
-  const glm::dvec3& d = ray.unit;
-  const glm::dvec3 op = ray.org - p.probe;
-  const double rp = p.probeRadius, rr = rp * rp;
-  const double b = glm::dot(op, d);
-  const glm::dvec3 f = op - b * d;
-  const double disc = rr - glm::dot(f, f);
-  if (!(disc >= 0.0)) return false;
-  const double root = std::sqrt(disc);
-  const double q = -b - std::copysign(root, b);
-  const double r2 = q != 0.0 ? (glm::dot(op, op) - rr) / q : 0.0;
-  const double tNear = std::min(q, r2) / len, tFar = std::max(q, r2) / len;
-  const bool nearInRange = tNear > tMin && tNear <= tMax, farInRange = tFar > tMin && tFar <= tMax;
-  if (!nearInRange && !farInRange) return false;
+  // intersect()'s roots and clip tests; no normal or flags.
+  SphereRoots r;
+  if (!sphereRoots(p.probe, p.probeRadius, ray, tMin, tMax, r) || (!r.nearInRange && !r.farInRange)) return false;
   const ConeFaces g = coneFaces(p);
   for (int side = 0; side < 2; ++side) {
-    if (!(side == 0 ? nearInRange : farInRange)) continue;
-    const glm::dvec3 v = f + (side == 0 ? -root : root) * d;
-    if (glm::dot(g.ij, v) < 0.0 || glm::dot(g.jk, v) < 0.0 || glm::dot(g.ki, v) < 0.0) continue;
-    const glm::dvec3 x = p.probe + v;
-    bool kept = true;
-    for (const build::Plane& c : p.clipPlanes)
-      if (glm::dot(glm::dvec3(c), x) + c.w > 0.0) {
-        kept = false;
-        break;
-      }
-    if (kept) return true;
+    KeptPoint k;
+    if ((side == 0 ? r.nearInRange : r.farInRange) && keptPoint(p, g, r, ray.unit, side, k)) return true;
   }
   return false;
 }
