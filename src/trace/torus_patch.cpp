@@ -438,86 +438,128 @@ Bounds3d bounds(const TorusPatch& p) {
   return b;
 }
 
-std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax) {
-  const double S = p.bigRadius + p.probeRadius;
-  const double dirLength = ray.length;
-  if (!(dirLength > 0.0) || !std::isfinite(dirLength) || !(S > 0.0)) return std::nullopt;
+namespace {
+
+// intersect()'s set-up: the ray in the frame of ORACLES B.1, the interval [lo, hi] of s that the
+// convex sets holding the patch leave, and the quartic along it (B.2).
+struct TorusRay {
+  double S, dirLength, tShift;
+  Normalised n;
+  Limits limits;
+  glm::dvec3 o, d;
+  double lo, hi;
+  double coefficients[5];
+};
+
+// False when the clips leave no interval: no root of the patch on the ray.
+inline bool torusRay(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax, TorusRay& r) {
+  r.S = p.bigRadius + p.probeRadius;
+  const double S = r.S;
+  r.dirLength = ray.length;
+  const double dirLength = r.dirLength;
+  if (!(dirLength > 0.0) || !std::isfinite(dirLength) || !(S > 0.0)) return false;
   const glm::dvec3& u = ray.unit;
   const bool valid = derivedValid(p);
   const double invS = valid ? p.derived.invScale : 1.0 / S;
-  const Normalised n = valid ? Normalised{p.derived.normBigRadius, p.derived.normProbeRadius}
-                             : Normalised{p.bigRadius * invS, p.probeRadius * invS};
+  r.n = valid ? Normalised{p.derived.normBigRadius, p.derived.normProbeRadius}
+              : Normalised{p.bigRadius * invS, p.probeRadius * invS};
+  const Normalised& n = r.n;
 
   // B.1 step 4: shift the origin to the ray's closest approach to the centre (world distance
   // tShift from org), so the quartic's roots are O(1) and a camera at 1e4 S costs nothing.
   const glm::dvec3 w = ray.org - p.center;
-  const double tShift = -glm::dot(w, u);
+  r.tShift = -glm::dot(w, u);
+  const double tShift = r.tShift;
   const glm::dvec3 shifted = (w + tShift * u) * invS;
   // B.1 step 3, with the patch's own bounding sphere: on the saddle ρ <= R (θ ∈ (−π/2, π/2)),
   // so |x|² = R² + rp² − 2R·rp·cos θ <= R² + rp², tighter than S² = (R + rp)² and trig-free.
   const double sphere2 = (n.R * n.R + n.r * n.r) * (1.0 + kSpherePad);
   const double o2 = glm::dot(shifted, shifted);
-  if (!(o2 <= sphere2)) return std::nullopt;
+  if (!(o2 <= sphere2)) return false;
   const double half = std::sqrt(sphere2 - o2);
   // The caller's t ↦ normalised s: world distance t·|dir| = S·s + tShift.
   const double sphereLo = std::max(-half, (tMin * dirLength - tShift) * invS);
   const double sphereHi = std::min(half, (tMax * dirLength - tShift) * invS);
-  if (!(sphereLo <= sphereHi)) return std::nullopt;
+  if (!(sphereLo <= sphereHi)) return false;
 
-  const glm::dvec3 o = toLocal(p, shifted);
-  const glm::dvec3 d = glm::normalize(toLocal(p, u));
+  r.o = toLocal(p, shifted);
+  r.d = glm::normalize(toLocal(p, u));
+  const glm::dvec3 &o = r.o, &d = r.d;
   // The saddle also lies in the cylinder ρ <= R (cos θ >= 0): clip to its chord too. This
   // drops the outer half of the torus, so most rays leave the quartic with at most two roots
   // in the interval and its root isolation does half the work.
-  double lo = sphereLo, hi = sphereHi;
-  if (!clipToCylinder(o, d, n.R * n.R * (1.0 + kCylinderPad), lo, hi)) return std::nullopt;
+  r.lo = sphereLo;
+  r.hi = sphereHi;
+  if (!clipToCylinder(o, d, n.R * n.R * (1.0 + kCylinderPad), r.lo, r.hi)) return false;
   // Two more convex sets hold the patch: the visibility sphere through both contact circles
   // (θ limits) and, when Δφ <= π, the wedge of the φ limits. Clipping to them (padded) reuses
   // the limit directions of the clip test and leaves an empty interval for most rays that
   // pass the patch's box but miss the patch, which then never reach the quartic.
-  const Limits limits = limitsOf(p, valid);
+  r.limits = limitsOf(p, valid);
   const VisibilitySphere visibility =
       valid ? VisibilitySphere{p.derived.visibilityClip, p.derived.visibilityHeight, p.derived.visibilityRadius}
-            : makeVisibilitySphere(n, limits);
-  if (!clipToVisibilitySphere(visibility, o, d, lo, hi) || !clipToWedge(limits, o, d, lo, hi)) return std::nullopt;
-  if (!mayMeetRingSaddle(n, limits, o, d, lo, hi)) return std::nullopt;
+            : makeVisibilitySphere(n, r.limits);
+  if (!clipToVisibilitySphere(visibility, o, d, r.lo, r.hi) || !clipToWedge(r.limits, o, d, r.lo, r.hi)) return false;
+  if (!mayMeetRingSaddle(n, r.limits, o, d, r.lo, r.hi)) return false;
   // B.2: monic quartic (|x|² − R² − r²)² + 4R²(z² − r²) along o + s d.
   const double R2 = n.R * n.R;
   const double K = glm::dot(o, o) - R2 - n.r * n.r;
   const double f = glm::dot(o, d);
-  const double coefficients[5] = {K * K + 4.0 * R2 * (o.z * o.z - n.r * n.r),
-                                  4.0 * f * K + 8.0 * R2 * o.z * d.z,
-                                  2.0 * K + 4.0 * f * f + 4.0 * R2 * d.z * d.z,
-                                  4.0 * f,
-                                  1.0};
-  const PolynomialRoots roots = realRoots(coefficients, lo, hi);
+  r.coefficients[0] = K * K + 4.0 * R2 * (o.z * o.z - n.r * n.r);
+  r.coefficients[1] = 4.0 * f * K + 8.0 * R2 * o.z * d.z;
+  r.coefficients[2] = 2.0 * K + 4.0 * f * f + 4.0 * R2 * d.z * d.z;
+  r.coefficients[3] = 4.0 * f;
+  r.coefficients[4] = 1.0;
+  return true;
+}
 
+// A root of the quartic that is a point of the patch: its local point, ρ, caller's t and clip.
+struct TorusRoot {
+  glm::dvec3 x;
+  double rho, t;
+  bool cusp;
+  ClipResult clip;
+};
+
+// Whether the quartic's root s is on the saddle (not the lemon), in (tMin, tMax] and inside the
+// patch's limits, after polishing it on the tube.
+inline bool rootOnPatch(const TorusRay& r, double s, double tMin, double tMax, TorusRoot& h) {
+  const Normalised& n = r.n;
+  h.x = r.o + s * r.d;
+  h.rho = std::sqrt(h.x.x * h.x.x + h.x.y * h.x.y);
+  h.cusp = h.rho < kCuspFraction * n.r;
+  if (!h.cusp) {
+    // B.4 step 2.1: the quartic is F1·F2; a root nearer the lemon F2 = (ρ + R)² + z² − r²
+    // (non-empty only on a spindle torus) is inside the probe on the far side, not SES.
+    const double zr = (h.x.z - n.r) * (h.x.z + n.r);
+    const double f1 = (h.rho - n.R) * (h.rho - n.R) + zr, f2 = (h.rho + n.R) * (h.rho + n.R) + zr;
+    if (std::abs(f1) > std::abs(f2)) return false;
+    s = polishOnTube(r.o, r.d, n, s, r.lo, r.hi);
+    h.x = r.o + s * r.d;
+    h.rho = std::sqrt(h.x.x * h.x.x + h.x.y * h.x.y);
+  }
+  h.t = (s * r.S + r.tShift) / r.dirLength;
+  if (!(h.t > tMin && h.t <= tMax)) return false;
+  h.clip = clipLocal(n, r.limits, h.x, h.rho, 0.0);
+  return h.clip.inside;
+}
+
+}  // namespace
+
+std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax) {
+  TorusRay r;
+  if (!torusRay(p, ray, tMin, tMax, r)) return std::nullopt;
+  const PolynomialRoots roots = realRoots(r.coefficients, r.lo, r.hi);
   for (double s : roots) {
-    glm::dvec3 x = o + s * d;
-    double rho = std::sqrt(x.x * x.x + x.y * x.y);
-    const bool cusp = rho < kCuspFraction * n.r;
-    if (!cusp) {
-      // B.4 step 2.1: the quartic is F1·F2; a root nearer the lemon F2 = (ρ + R)² + z² − r²
-      // (non-empty only on a spindle torus) is inside the probe on the far side, not SES.
-      const double zr = (x.z - n.r) * (x.z + n.r);
-      const double f1 = (rho - n.R) * (rho - n.R) + zr, f2 = (rho + n.R) * (rho + n.R) + zr;
-      if (std::abs(f1) > std::abs(f2)) continue;
-      s = polishOnTube(o, d, n, s, lo, hi);
-      x = o + s * d;
-      rho = std::sqrt(x.x * x.x + x.y * x.y);
-    }
-    const double t = (s * S + tShift) / dirLength;
-    if (!(t > tMin && t <= tMax)) continue;
-    const ClipResult clip = clipLocal(n, limits, x, rho, 0.0);
-    if (!clip.inside) continue;
-
-    const glm::dvec3 normalLocal = localNormal(x, rho, n.R);
+    TorusRoot h;
+    if (!rootOnPatch(r, s, tMin, tMax, h)) continue;
+    const glm::dvec3 normalLocal = localNormal(h.x, h.rho, r.n.R);
     PatchHit hit;
-    hit.t = t;
+    hit.t = h.t;
     hit.normal = glm::normalize(toWorld(p, normalLocal));
-    if (std::abs(glm::dot(normalLocal, d)) < kGrazingCosine) hit.flags |= kHitGrazing;
-    if (cusp) hit.flags |= kHitCusp;
-    if (clip.nearBoundary) hit.flags |= kHitNearBoundary;
+    if (std::abs(glm::dot(normalLocal, r.d)) < kGrazingCosine) hit.flags |= kHitGrazing;
+    if (h.cusp) hit.flags |= kHitCusp;
+    if (h.clip.nearBoundary) hit.flags |= kHitNearBoundary;
     return hit;
   }
   return std::nullopt;
@@ -528,61 +570,16 @@ std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, doubl
 // them (firstRoot leaves the quartic's later monotone pieces unsolved) and makes no normal
 // or flags.
 bool occludes(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax) {
-  const double S = p.bigRadius + p.probeRadius;
-  const double dirLength = ray.length;
-  if (!(dirLength > 0.0) || !std::isfinite(dirLength) || !(S > 0.0)) return false;
-  const glm::dvec3& u = ray.unit;
-  const bool valid = derivedValid(p);
-  const double invS = valid ? p.derived.invScale : 1.0 / S;
-  const Normalised n = valid ? Normalised{p.derived.normBigRadius, p.derived.normProbeRadius}
-                             : Normalised{p.bigRadius * invS, p.probeRadius * invS};
-  const glm::dvec3 w = ray.org - p.center;
-  const double tShift = -glm::dot(w, u);
-  const glm::dvec3 shifted = (w + tShift * u) * invS;
-  const double sphere2 = (n.R * n.R + n.r * n.r) * (1.0 + kSpherePad);
-  const double o2 = glm::dot(shifted, shifted);
-  if (!(o2 <= sphere2)) return false;
-  const double half = std::sqrt(sphere2 - o2);
-  const double sphereLo = std::max(-half, (tMin * dirLength - tShift) * invS);
-  const double sphereHi = std::min(half, (tMax * dirLength - tShift) * invS);
-  if (!(sphereLo <= sphereHi)) return false;
-
-  const glm::dvec3 o = toLocal(p, shifted);
-  const glm::dvec3 d = glm::normalize(toLocal(p, u));
-  double lo = sphereLo, hi = sphereHi;
-  if (!clipToCylinder(o, d, n.R * n.R * (1.0 + kCylinderPad), lo, hi)) return false;
-  const Limits limits = limitsOf(p, valid);
-  const VisibilitySphere visibility =
-      valid ? VisibilitySphere{p.derived.visibilityClip, p.derived.visibilityHeight, p.derived.visibilityRadius}
-            : makeVisibilitySphere(n, limits);
-  if (!clipToVisibilitySphere(visibility, o, d, lo, hi) || !clipToWedge(limits, o, d, lo, hi)) return false;
-  if (!mayMeetRingSaddle(n, limits, o, d, lo, hi)) return false;
-  const double R2 = n.R * n.R;
-  const double K = glm::dot(o, o) - R2 - n.r * n.r;
-  const double f = glm::dot(o, d);
-  const double coefficients[5] = {K * K + 4.0 * R2 * (o.z * o.z - n.r * n.r),
-                                  4.0 * f * K + 8.0 * R2 * o.z * d.z,
-                                  2.0 * K + 4.0 * f * f + 4.0 * R2 * d.z * d.z,
-                                  4.0 * f,
-                                  1.0};
+  TorusRay r;
+  if (!torusRay(p, ray, tMin, tMax, r)) return false;
   // Most rays that get this far neither enter nor leave the tube within [lo, hi] (on 1VIS's
   // soft lighting, 92 % of the quartics solved have no root there): a Taylor bound that keeps
   // |quartic| above kNoRootFloor proves it for many of them at a fraction of the cost of
   // isolating the critical points, and then realRoots would report no root either.
-  if (provablyAwayFromZero(coefficients, lo, hi, kNoRootFloor, kNoRootHalvings)) return false;
-  return firstRoot(coefficients, lo, hi, [&](double s, bool) {
-    glm::dvec3 x = o + s * d;
-    double rho = std::sqrt(x.x * x.x + x.y * x.y);
-    if (!(rho < kCuspFraction * n.r)) {
-      const double zr = (x.z - n.r) * (x.z + n.r);
-      const double f1 = (rho - n.R) * (rho - n.R) + zr, f2 = (rho + n.R) * (rho + n.R) + zr;
-      if (std::abs(f1) > std::abs(f2)) return false;  // a lemon root (intersect(): B.4 step 2.1)
-      s = polishOnTube(o, d, n, s, lo, hi);
-      x = o + s * d;
-      rho = std::sqrt(x.x * x.x + x.y * x.y);
-    }
-    const double t = (s * S + tShift) / dirLength;
-    return t > tMin && t <= tMax && clipLocal(n, limits, x, rho, 0.0).inside;
+  if (provablyAwayFromZero(r.coefficients, r.lo, r.hi, kNoRootFloor, kNoRootHalvings)) return false;
+  return firstRoot(r.coefficients, r.lo, r.hi, [&](double s, bool) {
+    TorusRoot h;
+    return rootOnPatch(r, s, tMin, tMax, h);
   });
 }
 
