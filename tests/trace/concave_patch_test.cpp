@@ -254,6 +254,18 @@ RandomRay randomRay(Rng& rng, const Fixture& f) {
   return r;
 }
 
+// A real triangle (spread 0.2..3) clipped by up to three random neighbour probes around its
+// centroid direction; false when the three atoms have no probe position.
+bool clippedTriangle(Rng& rng, Fixture& f) {
+  if (!realTriangle(rng, f, uniform(rng, 0.2, 3.0))) return false;
+  const int neighbours = std::uniform_int_distribution<int>(0, 3)(rng);
+  for (int k = 0; k < neighbours; ++k) {
+    const glm::dvec3 toward = glm::normalize(f.centroidDir() + uniform(rng, 0.0, 1.5) * randomUnit(rng));
+    f.addNeighbour(f.probe + toward * f.rp * uniform(rng, 0.05, 1.99));
+  }
+  return true;
+}
+
 std::string trialName(const char* what, int i, std::uint64_t seed) {
   return std::string(what) + " trial " + std::to_string(i) + " seed " + std::to_string(seed);
 }
@@ -267,12 +279,7 @@ TEST(ConcavePatch, MatchesBruteForceOracle) {
     const std::uint64_t seed = seedBase() + static_cast<std::uint64_t>(i);
     Rng rng(seed);
     Fixture f;
-    if (!realTriangle(rng, f, uniform(rng, 0.2, 3.0))) continue;
-    const int neighbours = std::uniform_int_distribution<int>(0, 3)(rng);
-    for (int k = 0; k < neighbours; ++k) {
-      const glm::dvec3 toward = glm::normalize(f.centroidDir() + uniform(rng, 0.0, 1.5) * randomUnit(rng));
-      f.addNeighbour(f.probe + toward * f.rp * uniform(rng, 0.05, 1.99));
-    }
+    if (!clippedTriangle(rng, f)) continue;
     const RandomRay r = randomRay(rng, f);
     checkRay(f, r.ray, r.tMin, r.tMax, trialName("random", i, seed), tally);
     if (::testing::Test::HasFailure()) break;  // the first failing seed is the useful one
@@ -290,12 +297,7 @@ TEST(ConcavePatch, AllHitsFromOneSolveAreTheRepeatedHits) {
     const std::uint64_t seed = seedBase() + static_cast<std::uint64_t>(i) + 7000000;
     Rng rng(seed);
     Fixture f;
-    if (!realTriangle(rng, f, uniform(rng, 0.2, 3.0))) continue;
-    const int neighbours = std::uniform_int_distribution<int>(0, 3)(rng);
-    for (int k = 0; k < neighbours; ++k) {
-      const glm::dvec3 toward = glm::normalize(f.centroidDir() + uniform(rng, 0.0, 1.5) * randomUnit(rng));
-      f.addNeighbour(f.probe + toward * f.rp * uniform(rng, 0.05, 1.99));
-    }
+    if (!clippedTriangle(rng, f)) continue;
     const ConcavePatch p = f.patch();
     const RandomRay r = randomRay(rng, f);
     const UnitRay ray(r.ray);
