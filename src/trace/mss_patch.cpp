@@ -152,73 +152,45 @@ bool insideCell(const MssPatch& p, const glm::dvec3& x, double slack) {
   return true;
 }
 
-namespace {
-
-// The ray shifted to its closest approach to the centre (t = t0 + u, world units along the unit
-// direction) and the quadric's roots u along it, ascending.
-struct QuadricRoots {
-  double t0;
-  glm::dvec3 o;  // the closest approach, relative to the centre
-  double roots[2];
-  int count = 0;
-};
-
-// False when the ray misses the bounding ball or the quadric.
-inline bool quadricRoots(const MssPatch& p, const UnitRay& ray, QuadricRoots& r) {
+std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
+  const double len = ray.length;
   const glm::dvec3& d = ray.unit;
   // Shift the origin to the ray's closest approach to the centre: o is then at most the
   // distance of the ray from the centre, and t = t0 + u.
   const glm::dvec3 oc = ray.org - p.center;
-  r.t0 = -glm::dot(oc, d);
-  r.o = oc + r.t0 * d;
-  const glm::dvec3& o = r.o;
+  const double t0 = -glm::dot(oc, d);
+  const glm::dvec3 o = oc + t0 * d;
   // The ray misses the bounding ball: no skin of this patch on it.
-  if (glm::dot(o, o) > p.boundRadius * p.boundRadius * (1.0 + 1e-12)) return false;
+  if (glm::dot(o, o) > p.boundRadius * p.boundRadius * (1.0 + 1e-12)) return std::nullopt;
   const double da = glm::dot(d, p.axis), oa = glm::dot(o, p.axis);
   // f(o + u d) = A u² + 2 B u + C.
   const double A = p.radial + p.axial * da * da;
   const double B = p.radial * glm::dot(o, d) + p.axial * oa * da;
   const double C = p.radial * glm::dot(o, o) + p.axial * oa * oa + p.constant;
+  double roots[2];
+  int count = 0;
   const double scaleA = std::abs(p.radial) + std::abs(p.axial);
   if (std::abs(A) <= 1e-14 * scaleA) {
     // Along an asymptote of the hyperboloid (or a cone's generator): f is linear in u.
-    if (B != 0.0) r.roots[r.count++] = -C / (2.0 * B);
+    if (B != 0.0) roots[count++] = -C / (2.0 * B);
   } else {
     const double disc = B * B - A * C;
-    if (disc < 0.0) return false;
+    if (disc < 0.0) return std::nullopt;
     const double q = -(B + std::copysign(std::sqrt(disc), B));
     if (q == 0.0) {
-      r.roots[r.count++] = 0.0;  // B = disc = 0: a double root at the closest approach
+      roots[count++] = 0.0;  // B = disc = 0: a double root at the closest approach
     } else {
       const double r1 = q / A, r2 = C / q;
-      r.roots[r.count++] = std::min(r1, r2);
-      r.roots[r.count++] = std::max(r1, r2);
+      roots[count++] = std::min(r1, r2);
+      roots[count++] = std::max(r1, r2);
     }
   }
-  return true;
-}
-
-// Whether root k lies in (tMin, tMax] and in the cell (up to kCellSlack·scale); its t and its
-// point relative to the centre.
-inline bool rootInCell(const MssPatch& p, const UnitRay& ray, const QuadricRoots& r, int k, double tMin, double tMax,
-                       double& t, glm::dvec3& x) {
-  t = (r.t0 + r.roots[k]) / ray.length;
-  if (!(t > tMin && t <= tMax)) return false;
-  x = r.o + r.roots[k] * ray.unit;
-  return insideCell(p, p.center + x, kCellSlack * (p.boundRadius + 1.0));
-}
-
-}  // namespace
-
-std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
-  QuadricRoots r;
-  if (!quadricRoots(p, ray, r)) return std::nullopt;
-  const glm::dvec3& d = ray.unit;
   const double scale = p.boundRadius + 1.0;
-  for (int k = 0; k < r.count; ++k) {
-    double t;
-    glm::dvec3 x;
-    if (!rootInCell(p, ray, r, k, tMin, tMax, t, x)) continue;
+  for (int k = 0; k < count; ++k) {
+    const double t = (t0 + roots[k]) / len;
+    if (!(t > tMin && t <= tMax)) continue;
+    const glm::dvec3 x = o + roots[k] * d;  // relative to the centre
+    if (!insideCell(p, p.center + x, kCellSlack * scale)) continue;
     PatchHit hit;
     hit.t = t;
     const glm::dvec3 gradient = p.radial * x + (p.axial * glm::dot(x, p.axis)) * p.axis;
@@ -239,14 +211,39 @@ std::optional<PatchHit> intersect(const MssPatch& p, const UnitRay& ray, double 
 }
 
 bool occludes(const MssPatch& p, const UnitRay& ray, double tMin, double tMax) {
-  // intersect()'s roots and cell test; no normal, and no pass over the cell planes for the
-  // seam flag.
-  QuadricRoots r;
-  if (!quadricRoots(p, ray, r)) return false;
-  for (int k = 0; k < r.count; ++k) {
-    double t;
-    glm::dvec3 x;
-    if (rootInCell(p, ray, r, k, tMin, tMax, t, x)) return true;
+  // intersect()'s roots and cell test, by the same expressions; no normal, and no pass over
+  // the cell planes for the seam flag.
+  const double len = ray.length;
+  const glm::dvec3& d = ray.unit;
+  const glm::dvec3 oc = ray.org - p.center;
+  const double t0 = -glm::dot(oc, d);
+  const glm::dvec3 o = oc + t0 * d;
+  if (glm::dot(o, o) > p.boundRadius * p.boundRadius * (1.0 + 1e-12)) return false;
+  const double da = glm::dot(d, p.axis), oa = glm::dot(o, p.axis);
+  const double A = p.radial + p.axial * da * da;
+  const double B = p.radial * glm::dot(o, d) + p.axial * oa * da;
+  const double C = p.radial * glm::dot(o, o) + p.axial * oa * oa + p.constant;
+  double roots[2];
+  int count = 0;
+  const double scaleA = std::abs(p.radial) + std::abs(p.axial);
+  if (std::abs(A) <= 1e-14 * scaleA) {
+    if (B != 0.0) roots[count++] = -C / (2.0 * B);
+  } else {
+    const double disc = B * B - A * C;
+    if (disc < 0.0) return false;
+    const double q = -(B + std::copysign(std::sqrt(disc), B));
+    if (q == 0.0) {
+      roots[count++] = 0.0;
+    } else {
+      const double r1 = q / A, r2 = C / q;
+      roots[count++] = std::min(r1, r2);
+      roots[count++] = std::max(r1, r2);
+    }
+  }
+  const double scale = p.boundRadius + 1.0;
+  for (int k = 0; k < count; ++k) {
+    const double t = (t0 + roots[k]) / len;
+    if (t > tMin && t <= tMax && insideCell(p, p.center + (o + roots[k] * d), kCellSlack * scale)) return true;
   }
   return false;
 }
