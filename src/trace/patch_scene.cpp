@@ -372,7 +372,8 @@ PatchScene::PatchScene(ScenePatches patches, const EmbreeDevice& device)
   rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
   // A float ray shifted to the scene's box (enterBox) strays from its double original by at
   // most √3·2⁻²⁴·(|origin| + t) <= 2·2⁻²⁴·(largest coordinate + diagonal); pad by 2⁻²⁰ of that.
-  const Bounds3d box = patches_.bounds();
+  bounds_ = patches_.bounds();
+  const Bounds3d& box = bounds_;
   double pad = 0.0;
   if (!box.empty()) {
     const double largest = std::max(glm::length(glm::abs(box.lower)), glm::length(glm::abs(box.upper)));

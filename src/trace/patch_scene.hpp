@@ -93,6 +93,9 @@ class PatchScene {
   PatchScene& operator=(const PatchScene&) = delete;
 
   const ScenePatches& patches() const { return patches_; }
+  // patches().bounds(), made once with the scene: a frame asks for it (its ray offsets scale
+  // with it), and walking every patch's box again costs a tenth of a 1024² SES frame.
+  const Bounds3d& bounds() const { return bounds_; }
   double buildSeconds() const { return buildSeconds_; }
 
   // Nearest hit of up to 16 rays traced as one coherent Embree packet (valid[i] != 0 marks
@@ -117,6 +120,7 @@ class PatchScene {
   struct Embree;
   ScenePatches patches_;
   std::unique_ptr<Embree> embree_;
+  Bounds3d bounds_;
   double buildSeconds_ = 0.0;
 };
 

@@ -110,7 +110,7 @@ class Shader {
 
  private:
   static double sceneScale(const PatchScene& scene) {
-    const Bounds3d b = scene.patches().bounds();
+    const Bounds3d& b = scene.bounds();
     return b.empty() ? 1.0 : std::max(1.0, glm::length(b.upper - b.lower));
   }
   // The headlight model's ambient occlusion: 0.3 + 0.7 × the fraction of cosine-weighted
