@@ -2,6 +2,7 @@
 // within (0, tMax] exactly when the nearest-hit query finds a hit there, for the scene
 // (PatchScene::occluded against intersect1) and for each patch (occludes() against
 // intersect()), on crambin's SES and gramicidin's skin.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -112,6 +113,30 @@ TEST_P(Occlusion, SceneIsOccludedExactlyWhenTheNearestHitIsInRange) {
   // Both answers are common, or the comparison says little.
   EXPECT_GT(occluded, rays / 5);
   EXPECT_LT(occluded, rays * 4 / 5);
+}
+
+// The box a scene keeps (its frames' ray offsets scale with it): the lowest and highest
+// coordinate of every patch's own box, gathered here patch by patch.
+TEST_P(Occlusion, SceneBoundsAreTheSpanOfEveryPatchsBox) {
+  const build::PatchList list = patchList(GetParam());
+  const PatchScene scene(ScenePatches::fromPatchList(list));
+  glm::dvec3 lower(kInf), upper(-kInf);
+  std::size_t boxes = 0;
+  scene.patches().forEachKind([&](const auto& k) {
+    for (const auto& p : k.patches) {
+      const Bounds3d b = bounds(p);
+      for (int c = 0; c < 3; ++c) {
+        lower[c] = std::min(lower[c], b.lower[c]);
+        upper[c] = std::max(upper[c], b.upper[c]);
+      }
+      ++boxes;
+    }
+  });
+  ASSERT_GT(boxes, 100u);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(scene.bounds().lower[c], lower[c]) << GetParam().name << " axis " << c;
+    EXPECT_EQ(scene.bounds().upper[c], upper[c]) << GetParam().name << " axis " << c;
+  }
 }
 
 // Every patch's any-hit test against its own intersector, for rays aimed into the patch's
