@@ -74,10 +74,9 @@ struct RootSink {
 };
 
 // firstRoot's output: each root goes to the visitor as it is found, and the walk over the
-// monotone pieces stops once the visitor accepts one, so the pieces beyond it are never
-// solved. Only the outermost level stops early: the critical points that split [lo, hi]
-// are all found first (RootSink), as realRoots finds them, so every root handed over is
-// the very value realRoots would report at that place.
+// monotone pieces stops once the visitor accepts one, so the pieces beyond it, and the
+// critical points that would split them (PieceWalk), are never solved. Every root handed
+// over is the very value realRoots would report at that place.
 struct StoppingSink {
   const RootVisitor& visit;
   bool accepted = false;
@@ -158,52 +157,84 @@ void quadraticRoots(const double* c, double lo, double hi, double tau, Sink& sin
 template <int D, class Sink>
 void isolate(const double* c, double lo, double hi, double tau, Sink& sink);
 
+// The walk over p's monotone pieces, fed with the split points in ascending order as the
+// roots of p' are found (it is the sink of p''s own isolation), so that a sink that stops
+// early (StoppingSink) also stops the isolation of the later critical points: a root
+// accepted in the first piece needs only the first critical point. Each piece is solved, and
+// each critical point tested for tangency, with the same values in the same order as when
+// every critical point is found first: the critical points are the same values (the same
+// brackets of p''s own walk), and a piece's root needs only its two ends, a critical
+// point's tangency test only it and its two neighbours.
+template <int D, class Sink>
+struct PieceWalk {
+  const double* c;
+  double hi, tau;
+  Sink& sink;
+  // The last two split points and p's values there ([1] the latest); count so far.
+  double split[2], value[2];
+  int count = 0;
+
+  PieceWalk(const double* c_, double lo, double hi_, double tau_, Sink& sink_) : c(c_), hi(hi_), tau(tau_), sink(sink_) {
+    split[1] = lo;
+    value[1] = horner<D>(c, lo);
+    count = 1;
+    if (value[1] == 0.0) sink.push(lo, false);
+  }
+
+  // A root of p' (ascending); those outside (last split point, hi) split nothing.
+  void push(double t, bool) {
+    if (t > split[1] && t < hi) next(t, horner<D>(c, t));
+  }
+  bool done() const { return sink.done(); }
+
+  // The next split point: the tangency test at the latest one (now that its right neighbour
+  // is known), then the piece between them.
+  void next(double t, double v) {
+    if (sink.done()) return;
+    if (count >= 2) {
+      const double pl = value[0], p1 = value[1], pr = v;
+      if (p1 == 0.0) {
+        sink.push(split[1], true);  // an exact zero at a critical point: a multiple root
+      } else {
+        // Tangency (ORACLES B.4 step 1): a local extremum towards zero that does not cross.
+        // Requiring |p| smaller than at both neighbours leaves out inflection points (p' has
+        // a double root there, p is monotone through it and nothing touches zero).
+        const bool noCrossing = pl != 0.0 && pr != 0.0 && (pl < 0.0) == (p1 < 0.0) && (pr < 0.0) == (p1 < 0.0);
+        if (noCrossing && std::abs(p1) <= std::abs(pl) && std::abs(p1) <= std::abs(pr) && std::abs(p1) <= tau)
+          sink.push(split[1], true);
+      }
+      if (sink.done()) return;
+    }
+    const double p0 = value[1];
+    if (p0 != 0.0 && v != 0.0 && (p0 < 0.0) != (v < 0.0)) sink.push(newtonBisect<D>(c, split[1], t, p0, v), false);
+    split[0] = split[1];
+    value[0] = value[1];
+    split[1] = t;
+    value[1] = v;
+    ++count;
+  }
+
+  // The last split point, hi.
+  void finish() {
+    next(hi, horner<D>(c, hi));
+    if (!sink.done() && value[1] == 0.0) sink.push(hi, false);
+  }
+};
+
 template <int D, class Sink>
 void generalRoots(const double* c, double lo, double hi, double tau, Sink& sink) {
   // Critical points split [lo, hi] into pieces on which p is monotone. p' has the leading
-  // coefficient D·c[D] != 0, so its degree is exactly D − 1.
+  // coefficient D·c[D] != 0, so its degree is exactly D − 1. The pieces are walked left to
+  // right so the output is sorted. At most D roots come out: each piece gives at most one, a
+  // split point with p = 0 removes the strict sign change from both neighbours, and a
+  // tangential root needs both neighbours rootless.
   double derivative[D];
   for (int k = 0; k < D; ++k) derivative[k] = static_cast<double>(k + 1) * c[k + 1];
-  double critical[kMaxPolynomialDegree];
-  std::uint32_t criticalMask = 0;
-  RootSink criticalSink{critical, &criticalMask};
-  isolate<D - 1, RootSink>(derivative, lo, hi, tau, criticalSink);
-
-  double split[D + 1];
-  int n = 0;
-  split[n++] = lo;
-  for (int k = 0; k < criticalSink.count; ++k)
-    if (critical[k] > split[n - 1] && critical[k] < hi) split[n++] = critical[k];
-  split[n++] = hi;
-  double value[D + 1];
-  for (int k = 0; k < n; ++k) value[k] = horner<D>(c, split[k]);
-
-  // Walk the pieces left to right so the output is sorted. At most D roots come out: each
-  // piece gives at most one, a split point with p = 0 removes the strict sign change from
-  // both neighbours, and a tangential root needs both neighbours rootless.
-  if (value[0] == 0.0) sink.push(lo, false);
-  for (int k = 0; k + 1 < n && !sink.done(); ++k) {
-    const double p0 = value[k], p1 = value[k + 1];
-    if (p0 != 0.0 && p1 != 0.0 && (p0 < 0.0) != (p1 < 0.0))
-      sink.push(newtonBisect<D>(c, split[k], split[k + 1], p0, p1), false);
-    if (sink.done()) return;
-    const int j = k + 1;
-    if (j == n - 1) {
-      if (p1 == 0.0) sink.push(hi, false);
-      continue;
-    }
-    if (p1 == 0.0) {
-      sink.push(split[j], true);  // an exact zero at a critical point: a multiple root
-      continue;
-    }
-    // Tangency (ORACLES B.4 step 1): a local extremum towards zero that does not cross.
-    // Requiring |p| smaller than at both neighbours leaves out inflection points (p' has
-    // a double root there, p is monotone through it and nothing touches zero).
-    const double pl = value[j - 1], pr = value[j + 1];
-    const bool noCrossing = pl != 0.0 && pr != 0.0 && (pl < 0.0) == (p1 < 0.0) && (pr < 0.0) == (p1 < 0.0);
-    if (noCrossing && std::abs(p1) <= std::abs(pl) && std::abs(p1) <= std::abs(pr) && std::abs(p1) <= tau)
-      sink.push(split[j], true);
-  }
+  PieceWalk<D, Sink> walk(c, lo, hi, tau, sink);
+  if (sink.done()) return;
+  isolate<D - 1>(derivative, lo, hi, tau, walk);
+  if (sink.done()) return;
+  walk.finish();
 }
 
 template <int D, class Sink>

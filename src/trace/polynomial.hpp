@@ -65,9 +65,10 @@ bool provablyAwayFromZero(std::span<const double> c, double lo, double hi, doubl
 
 // Hands the roots realRoots(c, lo, hi, tangencyTolerance) reports, the same values in the same
 // ascending order, to `accept(context, root, tangent)` one at a time, and stops at the first
-// it accepts (returns true), leaving the monotone pieces beyond that root unsolved: an
-// any-hit query (the scene's occlusion rays) needs only the first root that passes its
-// tests. Returns whether a root was accepted.
+// it accepts (returns true), leaving the monotone pieces beyond that root, and the critical
+// points among them, unsolved: an any-hit query (the scene's occlusion rays) and a nearest
+// hit on a patch need only the first root that passes their tests. Returns whether a root
+// was accepted.
 struct RootVisitor {
   bool (*accept)(void* context, double root, bool tangent);
   void* context;

@@ -549,20 +549,20 @@ inline bool rootOnPatch(const TorusRay& r, double s, double tMin, double tMax, T
 std::optional<PatchHit> intersect(const TorusPatch& p, const UnitRay& ray, double tMin, double tMax) {
   TorusRay r;
   if (!torusRay(p, ray, tMin, tMax, r)) return std::nullopt;
-  const PolynomialRoots roots = realRoots(r.coefficients, r.lo, r.hi);
-  for (double s : roots) {
-    TorusRoot h;
-    if (!rootOnPatch(r, s, tMin, tMax, h)) continue;
-    const glm::dvec3 normalLocal = localNormal(h.x, h.rho, r.n.R);
-    PatchHit hit;
-    hit.t = h.t;
-    hit.normal = glm::normalize(toWorld(p, normalLocal));
-    if (std::abs(glm::dot(normalLocal, r.d)) < kGrazingCosine) hit.flags |= kHitGrazing;
-    if (h.cusp) hit.flags |= kHitCusp;
-    if (h.clip.nearBoundary) hit.flags |= kHitNearBoundary;
-    return hit;
-  }
-  return std::nullopt;
+  // The roots in ascending order, stopping at the first on the patch: the quartic's monotone
+  // pieces (and the critical points) beyond it are never solved. The roots handed over are
+  // the values realRoots reports, so the hit is the same.
+  TorusRoot h;
+  if (!firstRoot(r.coefficients, r.lo, r.hi, [&](double s, bool) { return rootOnPatch(r, s, tMin, tMax, h); }))
+    return std::nullopt;
+  const glm::dvec3 normalLocal = localNormal(h.x, h.rho, r.n.R);
+  PatchHit hit;
+  hit.t = h.t;
+  hit.normal = glm::normalize(toWorld(p, normalLocal));
+  if (std::abs(glm::dot(normalLocal, r.d)) < kGrazingCosine) hit.flags |= kHitGrazing;
+  if (h.cusp) hit.flags |= kHitCusp;
+  if (h.clip.nearBoundary) hit.flags |= kHitNearBoundary;
+  return hit;
 }
 
 // The any-hit form of intersect(): the same interval, quartic and per-root tests (so it says
