@@ -173,8 +173,12 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
     for (std::size_t j = 0; j < circles.size() && !all; ++j) {
       if (j == k) continue;
       const glm::dvec3 nj = circles[j].n;
-      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = sk * std::sqrt(A * A + B * B);
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v);
       const double rest = circles[j].h - h * glm::dot(nj, n);
+      // Most caps lie clear of the circle (rest >= M, below): the square root is needed only
+      // where rest² does not exceed M² by far more than the rounding of either side.
+      if (rest > 0.0 && rest * rest > (sk * sk) * (A * A + B * B) * (1.0 + 1e-12)) continue;
+      const double M = sk * std::sqrt(A * A + B * B);
       if (rest <= -M) all = true;  // q <= -1: the whole circle is in cap j
       else if (rest < M) cuts.push_back({A, B, rest, M});  // else q >= 1: the circle misses cap j (or only touches it)
     }
@@ -319,7 +323,11 @@ bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c
   const glm::dvec3 y = c + ((rho + b.grow) / rho) * (x - c);
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
     const glm::dvec4 o = b.blockers[b.list[k]];
-    if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
+    const glm::dvec3 d = y - glm::dvec3(o);
+    const double reach = o.w * (1.0 - tolerance);
+    // Clear of the blocker by far more than the rounding of either side: no square root.
+    if (glm::dot(d, d) > (reach * reach) * (1.0 + 1e-12)) continue;
+    if (glm::length(d) < reach) return false;
   }
   return !keptPartTest || onKeptPart(b, i, c, rho + b.grow, y);
 }
