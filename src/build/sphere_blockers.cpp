@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -48,38 +49,51 @@ SphereBlockers sphereBlockers(const SurfaceParams& params, std::span<const glm::
   for (const glm::dvec4& b : out.blockers) largest = std::max(largest, b.w);
   out.begin.assign(n + 1, 0);
   if (n == 0) return out;
-  // A hash grid of cell 2·(largest grown radius): grown spheres that meet lie in adjacent cells.
+  // A grid of cell 2·(largest grown radius): grown spheres that meet lie in adjacent cells. The
+  // blockers sorted by cell, each cell's a contiguous run (centre, radius and atom beside it),
+  // found by binary search: no hashing, no collisions, and the 27 cells' blockers read in order.
   const double cell = std::max(2.0 * largest, 1e-6);
-  auto key = [&](const glm::ivec3& k) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x)) * 73856093u) ^
-           (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y)) * 19349663u) ^
-           (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z)) * 83492791u);
-  };
   auto cellOf = [&](const glm::dvec3& c) { return glm::ivec3(glm::floor(c / cell)); };
-  std::unordered_multimap<std::uint64_t, std::uint32_t> grid;
-  grid.reserve(out.blockers.size());
-  for (std::uint32_t k = 0; k < out.blockers.size(); ++k) grid.emplace(key(cellOf(glm::dvec3(out.blockers[k]))), k);
+  auto cellLess = [](const glm::ivec3& x, const glm::ivec3& y) { return std::tie(x.z, x.y, x.x) < std::tie(y.z, y.y, y.x); };
+  struct Slot {
+    glm::ivec3 cell;
+    std::uint32_t blocker;
+  };
+  std::vector<Slot> slots(out.blockers.size());
+  for (std::uint32_t k = 0; k < out.blockers.size(); ++k) slots[k] = {cellOf(glm::dvec3(out.blockers[k])), k};
+  std::sort(slots.begin(), slots.end(), [&](const Slot& x, const Slot& y) {
+    return cellLess(x.cell, y.cell) || (x.cell == y.cell && x.blocker < y.blocker);
+  });
+  std::vector<glm::dvec4> slotBlocker(slots.size());
+  std::vector<std::uint32_t> slotAtom(slots.size());
+  for (std::size_t s = 0; s < slots.size(); ++s) {
+    slotBlocker[s] = out.blockers[slots[s].blocker];
+    slotAtom[s] = blockerAtom[slots[s].blocker];
+  }
+  // Candidates of one sphere: the blocker and its gap (centre distance minus grown radius).
+  std::vector<std::pair<double, std::uint32_t>> near;
   for (std::uint32_t i = 0; i < n; ++i) {
     const glm::dvec3 c = centers[i];
     const glm::ivec3 k = cellOf(c);
-    const std::size_t first = out.list.size();
+    near.clear();
     for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const glm::ivec3 kk = k + glm::ivec3(dx, dy, dz);
-          const auto [lo, hi] = grid.equal_range(key(kk));
-          for (auto it = lo; it != hi; ++it) {
-            const std::uint32_t j = it->second;
-            const glm::dvec3 cj(out.blockers[j]);
-            if (blockerAtom[j] == sphereAtoms[i] || cellOf(cj) != kk) continue;  // its own atom, a hash collision
-            if (glm::length(cj - c) < radii[i] + out.grow + out.blockers[j].w) out.list.push_back(j);
-          }
+      for (int dy = -1; dy <= 1; ++dy) {
+        // The three cells (x − 1, x, x + 1) of one row are adjacent in the sorted order.
+        const glm::ivec3 first = k + glm::ivec3(-1, dy, dz), last = k + glm::ivec3(1, dy, dz);
+        auto lo = std::lower_bound(slots.begin(), slots.end(), first,
+                                   [&](const Slot& x, const glm::ivec3& y) { return cellLess(x.cell, y); });
+        for (auto it = lo; it != slots.end() && !cellLess(last, it->cell); ++it) {
+          const std::size_t s = static_cast<std::size_t>(it - slots.begin());
+          const glm::dvec3 cj(slotBlocker[s]);
+          if (slotAtom[s] == sphereAtoms[i]) continue;  // its own atom
+          if (glm::length(cj - c) < radii[i] + out.grow + slotBlocker[s].w)
+            near.emplace_back(glm::length(cj - c) - slotBlocker[s].w, it->blocker);
         }
+      }
     // Nearest first: the blocker that hides a point is most often a close one, and the test
-    // stops at the first. Ties by index keep the order deterministic.
-    const auto gap = [&](std::uint32_t j) { return glm::length(glm::dvec3(out.blockers[j]) - c) - out.blockers[j].w; };
-    std::sort(out.list.begin() + static_cast<std::ptrdiff_t>(first), out.list.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return std::pair(gap(a), a) < std::pair(gap(b), b); });
+    // stops at the first. Ties by index keep the order deterministic (whatever the cells' order).
+    std::sort(near.begin(), near.end());
+    for (const auto& [gap, j] : near) out.list.push_back(j);
     out.begin[i + 1] = static_cast<std::uint32_t>(out.list.size());
   }
   return out;
@@ -159,8 +173,12 @@ bool edgeCovered(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c, 
     for (std::size_t j = 0; j < circles.size() && !all; ++j) {
       if (j == k) continue;
       const glm::dvec3 nj = circles[j].n;
-      const double A = glm::dot(nj, u), B = glm::dot(nj, v), M = sk * std::sqrt(A * A + B * B);
+      const double A = glm::dot(nj, u), B = glm::dot(nj, v);
       const double rest = circles[j].h - h * glm::dot(nj, n);
+      // Most caps lie clear of the circle (rest >= M, below): the square root is needed only
+      // where rest² does not exceed M² by far more than the rounding of either side.
+      if (rest > 0.0 && rest * rest > (sk * sk) * (A * A + B * B) * (1.0 + 1e-12)) continue;
+      const double M = sk * std::sqrt(A * A + B * B);
       if (rest <= -M) all = true;  // q <= -1: the whole circle is in cap j
       else if (rest < M) cuts.push_back({A, B, rest, M});  // else q >= 1: the circle misses cap j (or only touches it)
     }
@@ -305,7 +323,11 @@ bool onConvexPatch(const SphereBlockers& b, std::uint32_t i, const glm::dvec3& c
   const glm::dvec3 y = c + ((rho + b.grow) / rho) * (x - c);
   for (std::uint32_t k = b.begin[i]; k < b.begin[i + 1]; ++k) {
     const glm::dvec4 o = b.blockers[b.list[k]];
-    if (glm::length(y - glm::dvec3(o)) < o.w * (1.0 - tolerance)) return false;
+    const glm::dvec3 d = y - glm::dvec3(o);
+    const double reach = o.w * (1.0 - tolerance);
+    // Clear of the blocker by far more than the rounding of either side: no square root.
+    if (glm::dot(d, d) > (reach * reach) * (1.0 + 1e-12)) continue;
+    if (glm::length(d) < reach) return false;
   }
   return !keptPartTest || onKeptPart(b, i, c, rho + b.grow, y);
 }

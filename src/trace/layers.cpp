@@ -42,16 +42,18 @@ SphereClip::SphereClip(const ScenePatches& patches) {
 
 bool SphereClip::onPatch(std::uint32_t sphere, const glm::dvec3& x) const {
   const glm::dvec4 s = spheres_[sphere];
-  bool keptPartTest = false;
-  if (keptPartTest_ && blockers_.arcBegin[sphere] != blockers_.arcBegin[sphere + 1]) {
-    std::uint8_t state = keptPartTest_[sphere].load(std::memory_order_relaxed);
-    if (state == 0) {
-      state = build::freeEdgeCovered(blockers_, sphere, glm::dvec3(s), s.w + blockers_.grow) ? 1 : 2;
-      keptPartTest_[sphere].store(state, std::memory_order_relaxed);
-    }
-    keptPartTest = state == 2;
+  // Most roots on a sphere are on its hidden part (inside a blocker): those need no saddle-arc
+  // check, so the blockers go first and the check is made only for a sphere hit on its free part.
+  if (!build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance, false)) return false;
+  if (!keptPartTest_ || blockers_.arcBegin[sphere] == blockers_.arcBegin[sphere + 1]) return true;
+  std::uint8_t state = keptPartTest_[sphere].load(std::memory_order_relaxed);
+  if (state == 0) {
+    state = build::freeEdgeCovered(blockers_, sphere, glm::dvec3(s), s.w + blockers_.grow) ? 1 : 2;
+    keptPartTest_[sphere].store(state, std::memory_order_relaxed);
   }
-  return build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance, keptPartTest);
+  // A sphere whose free edges its saddles leave partly open (rare: --drop-cavities) tests
+  // again with the kept parts, which repeats the blocker pass (the answer is the same).
+  return state == 1 || build::onConvexPatch(blockers_, sphere, glm::dvec3(s), s.w, x, kBoundaryTolerance, true);
 }
 
 double SphereClip::edgeDistance(std::uint32_t sphere, const glm::dvec3& x) const {

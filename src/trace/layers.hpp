@@ -48,7 +48,8 @@ class SphereClip {
   std::vector<glm::dvec4> spheres_;  // the scene's spheres: centre, radius ρ
   build::SphereBlockers blockers_;   // with every saddle arc (build::attachSaddleArcs)
   // Per sphere with arcs: whether its saddle arcs bound its kept part (build::freeEdgeCovered,
-  // an O(blockers²) check), found when a hit first asks: 0 not yet, 1 no (covered), 2 yes.
+  // an O(blockers²) check), found when a hit on its free part first asks: 0 not yet, 1 no
+  // (covered), 2 yes.
   // A frame's rays meet a fraction of the spheres; threads that race store the same answer.
   std::unique_ptr<std::atomic<std::uint8_t>[]> keptPartTest_;
 };

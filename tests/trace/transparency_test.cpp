@@ -360,6 +360,49 @@ TEST(SaddleArcs, CheckedOnFirstUseAsWhenAllAreCheckedUpFront) {
   EXPECT_GT(droppedByArcs, 50u);
 }
 
+// The blocker lists against brute force over every pair: the atoms whose grown balls meet each
+// grown sphere, its own atom left out, nearest (centre distance minus grown radius) first, ties
+// by index. Atoms on both sides of the origin and far apart cross many grid cells, and pairs of
+// atoms at one place (ties) and a cluster dense in one cell are there too.
+TEST(SphereBlockers, ListsAreTheMeetingBallsNearestFirstByBruteForce) {
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> coord(-25.0, 25.0), radius(1.0, 2.0);
+  std::vector<glm::dvec4> atoms;
+  for (int k = 0; k < 400; ++k) atoms.push_back({coord(rng), coord(rng), 0.2 * coord(rng), radius(rng)});
+  for (int k = 0; k < 40; ++k) atoms.push_back({1e3 + 0.1 * coord(rng), -1e3, 0.0, radius(rng)});
+  atoms.push_back(atoms[7]);  // a tie: two blockers at one place
+  for (const build::SurfaceKind kind : {build::SurfaceKind::Ses, build::SurfaceKind::Vdw}) {
+    build::SurfaceParams params;
+    params.surface = kind;
+    params.probeRadius = kRp;
+    // Every second atom has a sphere (radius its own), as an SES list has its exposed atoms'.
+    std::vector<glm::dvec3> centers;
+    std::vector<double> radii;
+    std::vector<std::uint32_t> sphereAtoms;
+    for (std::uint32_t k = 0; k < atoms.size(); k += 2) {
+      centers.push_back(glm::dvec3(atoms[k]));
+      radii.push_back(atoms[k].w);
+      sphereAtoms.push_back(k);
+    }
+    const build::SphereBlockers b = build::sphereBlockers(params, centers, radii, sphereAtoms, atoms);
+    const double g = kind == build::SurfaceKind::Ses ? kRp : 0.0, h = kind == build::SurfaceKind::Vdw ? 0.0 : kRp;
+    std::size_t total = 0;
+    for (std::uint32_t i = 0; i < centers.size(); ++i) {
+      std::vector<std::pair<double, std::uint32_t>> expected;
+      for (std::uint32_t k = 0; k < atoms.size(); ++k) {
+        const double d = glm::length(glm::dvec3(atoms[k]) - centers[i]);
+        if (k != sphereAtoms[i] && d < radii[i] + g + atoms[k].w + h) expected.emplace_back(d - (atoms[k].w + h), k);
+      }
+      std::sort(expected.begin(), expected.end());
+      std::vector<std::uint32_t> want, got(b.list.begin() + b.begin[i], b.list.begin() + b.begin[i + 1]);
+      for (const auto& e : expected) want.push_back(e.second);
+      ASSERT_EQ(got, want) << "sphere " << i << (kind == build::SurfaceKind::Ses ? " (SES)" : " (vdW)");
+      total += want.size();
+    }
+    EXPECT_GT(total, 2 * centers.size());  // the cloud is dense enough that most spheres have blockers
+  }
+}
+
 // A sphere whose free part is two polar caps (a ring of 12 balls covers its equator) and saddle
 // arcs that bound the northern one alone (the northern half of each ball's circle): a point is
 // on the patch iff it lies outside every ball (brute force) and north of the equator. Without
