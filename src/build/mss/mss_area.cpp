@@ -333,10 +333,13 @@ Potentials potentials(const Revolution& r, const BoundaryFrame& f, double h) {
   // ∫ √(γh² + β) dh = ½(hJ + β/√γ · ln(√γ h + J)), odd in h: for β > 0 the log of
   // (√γ|h| + J)/√β = 1 + (√γ|h| + γh²/(J + √β))/√β, so that it vanishes at h = 0 (asinh without
   // its overhead); for β < 0 (two sheets, |h| beyond the tips) any constant does (anchors).
+  // From x = 1 on, rounding 1 + x costs at most an ulp of log(1 + x) >= ln 2, and glibc's log is
+  // cheaper than its log1p (~3 % of the skin's areas on 1AON).
   double log = 0.0;
-  if (r.beta > 0.0)
-    log = std::log1p((f.sqrtGamma * a + f.gamma * h2 / (m.J + f.sqrtBeta)) * f.inverseSqrtBeta);
-  else if (r.beta < 0.0)
+  if (r.beta > 0.0) {
+    const double x = (f.sqrtGamma * a + f.gamma * h2 / (m.J + f.sqrtBeta)) * f.inverseSqrtBeta;
+    log = x >= 1.0 ? std::log(1.0 + x) : std::log1p(x);
+  } else if (r.beta < 0.0)
     log = std::log(f.sqrtGamma * a + m.J);
   const double half = 0.5 * (a * m.J + f.betaOverSqrtGamma * log);
   m.area = h < 0.0 ? -half : half;
