@@ -39,9 +39,10 @@ seeds_for() {
   esac
 }
 
-status=0
-summary=()
-for t in "${targets[@]}"; do
+# One target: seeds its corpus, fuzzes it for $seconds, and writes its summary line to
+# build/fuzz/<target>.summary (its result first: ok or FAILED).
+fuzz_one() {
+  local t=$1 corpus crashes log result runs cov files
   corpus=build/fuzz/corpus/$t
   crashes=build/fuzz/crashes/$t
   mkdir -p "$corpus" "$crashes"
@@ -64,12 +65,33 @@ for t in "${targets[@]}"; do
     result=ok
   else
     result="FAILED (see $log and $crashes/)"
-    status=1
   fi
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1 || echo 'cov: ?')
   files=$(find "$corpus" -type f | wc -l)
-  summary+=("$(printf '%-6s %-5s %9s runs in %ss, %s, corpus %s files' "$t" "$result" "$runs" "$seconds" "$cov" "$files")")
+  printf '%-6s %-5s %9s runs in %ss, %s, corpus %s files\n' "$t" "$result" "$runs" "$seconds" "$cov" "$files" \
+    >"build/fuzz/$t.summary"
+}
+
+# The targets run side by side, FUZZ_PARALLEL (default: one per core) at a time: each libFuzzer
+# process is single-threaded and -max_total_time is its own wall time, so each target still
+# gets its seconds on a core of its own, and the stage takes a fraction of their sum.
+parallel=${FUZZ_PARALLEL:-$(nproc)}
+running=0
+for t in "${targets[@]}"; do
+  rm -f "build/fuzz/$t.summary"
+  fuzz_one "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$parallel" ]; then
+    wait -n || true  # a target that failed to finish leaves no summary: FAILED below
+    running=$((running - 1))
+  fi
 done
-printf 'fuzz: %s\n' "${summary[@]}"
+wait
+status=0
+for t in "${targets[@]}"; do
+  line=$(cat "build/fuzz/$t.summary" 2>/dev/null || printf '%-6s FAILED (no summary: see build/fuzz/%s.log)' "$t" "$t")
+  printf 'fuzz: %s\n' "$line"
+  [[ "$line" == *" ok "* ]] || status=1
+done
 exit $status

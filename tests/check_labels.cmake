@@ -3,7 +3,7 @@
 # would leave it out of the quick check and `-L slow` too), or has a label that tests/labels.cmake
 # does not explain (a misspelt label selects nothing).
 cmake_minimum_required(VERSION 3.25)
-set(known_labels fast slow gl oracle cli script)
+set(known_labels fast slow gl oracle cli script release_only)
 
 execute_process(COMMAND ${CTEST} -N -LE "^(fast|slow)$" WORKING_DIRECTORY ${BUILD_DIR}
                 OUTPUT_VARIABLE unlabelled RESULT_VARIABLE status)

@@ -11,9 +11,14 @@
 #   gl      draws through EGL/OpenGL (llvmpipe where there is no GPU);
 #   oracle  compared with an independent program: MDAnalysis (Python), FreeSASA, CGAL;
 #   cli     runs the surftrace program;
-#   script  a shell or CMake script (add_test in tests/CMakeLists.txt, labelled there).
+#   script  a shell or CMake script (add_test in tests/CMakeLists.txt, labelled there);
+#   release_only  left out of the AddressSanitizer stage of scripts/test.sh (release_only_tests
+#           below says why for each, and which tests run the same code under ASan instead).
 # A new test is `fast` until it is listed here; tests/check_labels.cmake fails a test run in
 # which some test has neither `fast` nor `slow`, or a label not named above.
+
+# The COST (tests/CMakeLists.txt gives it to its own slow tests too) that starts them first.
+set(surftrace_slow_test_cost 10)
 
 # Regular expressions, each matched against the whole test name.
 set(slow_tests
@@ -126,6 +131,26 @@ set(gl_tests
   "(Cases/)?Reference\\.Gl.*"
 )
 
+# The tests the ASan + UBSan stage of scripts/test.sh leaves out (ctest -LE release_only): the
+# Release stage runs them, and under ASan they would add minutes of time that is either
+# un-instrumented code or the same instrumented code again, which the tests named here run.
+set(release_only_tests
+  # 120 s under ASan, as in Release: llvmpipe's shaders (not instrumented) drawing soft and full
+  # at 96², opaque and peeled. Under ASan the light maps' host code runs in GlSoftLighting.Soft-
+  # ShadowsAndOcclusionAreSmoothOnAFlatFloor (soft and full) and Cli.LightingPresetsAreRecorded-
+  # AndGlDrawsSoft (1CRN's SES, both engines), Embree's soft and full in LightingSoft.*.
+  "GlSoftLighting\\.SoftAndFullMatchEmbreesExpectedValues"
+  # 85 s under ASan: 98 independent `render --frame` processes, one code path 98 times. Under
+  # ASan the trajectory pipeline runs consecutive SES frames in ShardsTogetherAreTheSingleRun-
+  # EachFrameOnce (frames 3-39, whole and in 4 shards) and slurm_job_array (1:98:3), and
+  # SkinFramesEqualIndependentRenders checks frames against independent renders (--frame).
+  "TrajectoryCli\\.EveryFrameOfAdkEqualsAnIndependentRender"
+  # 35 s under ASan: a coverage ratio of compare's exact masks on 1AON at 256², a property of
+  # the algorithm. Under ASan compare's exact masks run in CompareMasks.AReferenceWithout-
+  # SeamDistancesFallsBackToTheNeighbourhoodRule and CompareDiff.*, 1AON's renders in Cases/Reference.*.
+  "CompareMasks\\.TheKindCheckCoversMostHitsOf1aonAt256"
+)
+
 # The tests outside the oracle programs that run MDAnalysis, FreeSASA or a Python oracle script.
 set(oracle_tests
   "AtomCulling\\.ContainedAtomsMatchFreesasa"
@@ -166,7 +191,17 @@ foreach(program IN LISTS SURFTRACE_TEST_PROGRAMS)
     if(oracle)
       list(APPEND labels oracle)
     endif()
+    surftrace_matches_one(release_only "${name}" ${release_only_tests})
+    if(release_only)
+      list(APPEND labels release_only)
+    endif()
     list(REMOVE_DUPLICATES labels)
     set_tests_properties("${name}" PROPERTIES LABELS "${labels}")
+    if(slow)
+      # ctest -j starts the costliest tests first; without a CTestCostData.txt (a fresh build
+      # folder, as in CI) every test costs 0 and they start in file order, which left a 138 s
+      # GL test for the end with the other core idle. The slow ones first packs both cores.
+      set_tests_properties("${name}" PROPERTIES COST ${surftrace_slow_test_cost})
+    endif()
   endforeach()
 endforeach()
