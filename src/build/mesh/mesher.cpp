@@ -36,6 +36,18 @@ constexpr int kRootIterations = 100;
 // Sphere-tracing steps along a split line before falling back to the nearest point: a line
 // that meets the surface at 10° still arrives within 1e-3 edge lengths in about 60.
 constexpr int kTraceSteps = 100;
+// Corner normals of a mesh edge further apart than this (90°) make it an edge across a crease
+// of the surface (creasePoint), such as the knife-edge ridge where two concave patches clip
+// each other.
+constexpr double kCreaseCosine = 0.0;
+// The crease search (creasePoint) bisects along the edge this many times at most, until the
+// surface points found on its two sides are within this share of the edge's length.
+constexpr int kCreaseIterations = 60;
+constexpr double kCreaseGap = 1e-6;
+// How far the crease search traces from the edge (edge lengths): a crease whose two sides meet
+// at an angle α lies up to L / (2 sin(α/2)) beyond an edge of length L across it, and the
+// traces need |np + nq| = 2 sin(α/2) > 0.2 (traceToSurface), so 5 edges reach every one.
+constexpr double kCreaseReach = 5.0;
 // A split point is taken no farther than this many edge lengths from the edge's midpoint along
 // the line (the midpoint is within half an edge of the surface; a crossing much farther belongs
 // to another part of it, and the triangles made with it would be larger than the ones split).
@@ -276,6 +288,30 @@ glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::
   return 0.5 * (a + b);
 }
 
+// The surface point where the line from m along ±sum (towards the surface: inwards from
+// outside, outwards from inside) first meets it within `reach` edge lengths `length`, walked
+// by sphere tracing; nothing when it does not or `sum` is too short to give a direction.
+std::optional<glm::dvec3> traceToSurface(const SurfaceDistance& field, const glm::dvec3& m, const glm::dvec3& sum,
+                                         double length, double reach) {
+  const double fm = field.signedDistance(m);
+  if (fm == 0.0) return m;
+  if (!(glm::length(sum) > 0.2)) return std::nullopt;
+  const glm::dvec3 dir = (fm > 0.0 ? -1.0 : 1.0) * glm::normalize(sum);
+  const double limit = reach * length;
+  // Steps no shorter than this (a bracket this short is left to edgeRoot), nor longer than
+  // the reach, beyond which |f| need not be the distance.
+  const double minStep = 1e-3 * length, maxStep = field.reach();
+  double t = 0.0, ft = fm;
+  for (int step = 0; step < kTraceSteps && t <= limit; ++step) {
+    const double next = t + std::max(std::min(std::abs(ft), maxStep), minStep);
+    const glm::dvec3 x = m + t * dir, y = m + next * dir;
+    const double fy = field.signedDistance(y);
+    if (inside(fy) != inside(fm)) return inside(fm) ? edgeRoot(field, x, ft, y, fy) : edgeRoot(field, y, fy, x, ft);
+    t = next, ft = fy;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 // splitPoint (mesher.hpp). The line is walked by sphere tracing (steps of |f|, which within the
@@ -288,27 +324,42 @@ glm::dvec3 edgeRoot(const SurfaceDistance& field, glm::dvec3 a, double fa, glm::
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
                       const glm::dvec3& nq) {
   const glm::dvec3 m = 0.5 * (p + q);
-  const double fm = field.signedDistance(m);
-  const glm::dvec3 sum = np + nq;
-  const double length = glm::length(q - p);
-  if (fm == 0.0) return m;
-  if (glm::length(sum) > 0.2) {
-    // Towards the surface: inwards from outside, outwards from inside.
-    const glm::dvec3 dir = (fm > 0.0 ? -1.0 : 1.0) * glm::normalize(sum);
-    const double limit = kSplitReach * length;
-    // Steps no shorter than this (a bracket this short is left to edgeRoot), nor longer than
-    // the reach, beyond which |f| need not be the distance.
-    const double minStep = 1e-3 * length, maxStep = field.reach();
-    double t = 0.0, ft = fm;
-    for (int step = 0; step < kTraceSteps && t <= limit; ++step) {
-      const double next = t + std::max(std::min(std::abs(ft), maxStep), minStep);
-      const glm::dvec3 x = m + t * dir, y = m + next * dir;
-      const double fy = field.signedDistance(y);
-      if (inside(fy) != inside(fm)) return inside(fm) ? edgeRoot(field, x, ft, y, fy) : edgeRoot(field, y, fy, x, ft);
-      t = next, ft = fy;
-    }
-  }
+  if (const auto hit = traceToSurface(field, m, np + nq, glm::length(q - p), kSplitReach)) return *hit;
   return field.closest(m).point;
+}
+
+std::optional<SurfacePoint> creasePoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q,
+                                        const glm::dvec3& np, const glm::dvec3& nq) {
+  const double length = glm::length(q - p);
+  const glm::dvec3 sum = np + nq, away = np - nq;
+  // The surface point the trace from the edge's point at s reaches, and whether it is on p's side.
+  const auto reach = [&](double s) -> std::optional<std::pair<SurfacePoint, bool>> {
+    const auto hit = traceToSurface(field, p + s * (q - p), sum, length, kCreaseReach);
+    if (!hit) return std::nullopt;
+    const SurfacePoint y = field.closest(*hit);
+    return std::make_pair(y, glm::dot(y.normal, away) > 0.0);
+  };
+  // The ends are on the surface, each on its own side.
+  std::optional<std::pair<SurfacePoint, bool>> lo = std::make_pair(field.closest(p), true),
+                                               hi = std::make_pair(field.closest(q), false);
+  lo->first.normal = np, hi->first.normal = nq;
+  double a = 0.0, b = 1.0;
+  for (int it = 0; it < kCreaseIterations && glm::length(lo->first.point - hi->first.point) > kCreaseGap * length; ++it) {
+    const double s = 0.5 * (a + b);
+    const auto mid = reach(s);
+    if (!mid) return std::nullopt;
+    (mid->second ? lo : hi) = mid, (mid->second ? a : b) = s;
+  }
+  if (glm::length(lo->first.point - hi->first.point) > kCreaseGap * length) return std::nullopt;
+  // A point of the crease whose normal is the mean of the two sides' there, so that the
+  // edges from it to either side do not count as crossing the crease again.
+  SurfacePoint c = lo->first;
+  const glm::dvec3 mean = lo->first.normal + hi->first.normal;
+  if (!(glm::length(mean) > 1e-3)) return std::nullopt;  // a fin's two faces: no direction between them
+  c.normal = glm::normalize(mean);
+  // One that falls on an end of the edge adds nothing (the ordinary split is taken instead).
+  if (std::min(glm::length(c.point - p), glm::length(c.point - q)) < kCreaseGap * length) return std::nullopt;
+  return c;
 }
 
 namespace {
@@ -1053,6 +1104,14 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     mesh.component.resize(total);
     tbb::parallel_for(std::size_t{0}, added, [&](std::size_t n) {
       const auto p = static_cast<std::uint32_t>(marked[n] >> 32), q = static_cast<std::uint32_t>(marked[n]);
+      // An edge across a crease is split on the crease: a split point on either side of it
+      // leaves a triangle across it that no later split shrinks (on 1AON's SES the split of
+      // such an edge and of the next one's land on each other's ends, round after round).
+      if (glm::dot(mesh.normals[p], mesh.normals[q]) < kCreaseCosine)
+        if (const auto c = creasePoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q])) {
+          storeVertex(mesh, first + n, *c);
+          return;
+        }
       storeVertex(mesh, first + n,
                   field.closest(splitPoint(field, mesh.positions[p], mesh.positions[q], mesh.normals[p], mesh.normals[q])));
     });

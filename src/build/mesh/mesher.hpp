@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -95,6 +96,18 @@ double certifiedDeviation(const SurfaceDistance& field, const glm::dvec3& a, con
 // field's roots are (to ~1e-13 in value); the mesher projects it with closest().
 glm::dvec3 splitPoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& np,
                       const glm::dvec3& nq);
+
+// Where the refinement splits a mesh edge (p, q) whose corner normals np, nq are more than 90°
+// apart: an edge across a crease of the surface (a knife-edge ridge where two concave patches
+// clip each other, a cusp), which splitPoint cannot shrink, since its split point lands on one
+// side and leaves a triangle across the crease as wide as before. The lines along np + nq
+// from the edge's points are traced to the surface; the point of the edge where their surface
+// points change from p's side (normal nearer np) to q's is found by bisection, and the
+// surface point there is on the crease (its two sides' points within 1e-6 edge lengths). Its
+// normal is the mean of the two sides'. Nothing when the traces miss the surface, the sides do
+// not change between the edge's quarter and three-quarter points, or the point is an end.
+std::optional<SurfacePoint> creasePoint(const SurfaceDistance& field, const glm::dvec3& p, const glm::dvec3& q,
+                                        const glm::dvec3& np, const glm::dvec3& nq);
 
 // The skin's places thinner than `gridSpacing` (empty for the other surfaces): the centres of
 // its hyperboloid patches, from the patch's weight w = constant / (s(1 − s)): an edge's
