@@ -1103,6 +1103,77 @@ TEST(MoleculeBadInput, XyzrNumbersStrtodReadsOtherwise) {
   EXPECT_THAT(error("1 2 3 infinity"), HasSubstr("the radius is not finite: 'infinity'"));
 }
 
+// The reader takes a plain "x y z r" line in one pass and any other line field by field. A form
+// feed before the line end sends the same numbers the field-by-field way (it is white space
+// there, but not to the one-pass reading), so each line is read both ways: the same atom, its
+// numbers those strtod gives (correctly rounded, as from_chars), or the same error.
+TEST(Molecule, XyzrPlainLinesReadAsFieldByField) {
+  const std::vector<std::string> good = {
+      "1 2 3 1.5", "-0 0.1 -.5 5.", "1e-320 5e-324 -2.2250738585072014e-308 1.25",
+      "0.30000000000000004441 123456.78901234567890123456789 -1E+2 0.9E-01",
+      "\t 63.130\t-67.331 -18.137  1.5500  ", "7 8 9 2\r", "+1 2 3 1.5", "1 +2 3 +1.5"};
+  for (const std::string& line : good) {
+    const Molecule plain = readMoleculeBytes("0 0 0 1\n" + line + "\n", "plain.xyzr");
+    const Molecule fielded = readMoleculeBytes("0 0 0 1\n" + line + "\f\n", "fielded.xyzr");
+    ASSERT_EQ(plain.size(), 2u) << line;
+    ASSERT_EQ(fielded.size(), 2u) << line;
+    std::istringstream in(line);
+    std::string spelt[4];
+    in >> spelt[0] >> spelt[1] >> spelt[2] >> spelt[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const double expected = std::strtod(spelt[axis].c_str(), nullptr);
+      EXPECT_EQ(plain.centers[1][axis], expected) << line;
+      EXPECT_EQ(std::signbit(plain.centers[1][axis]), std::signbit(expected)) << line;
+      EXPECT_EQ(fielded.centers[1][axis], expected) << line;
+      EXPECT_EQ(std::signbit(fielded.centers[1][axis]), std::signbit(expected)) << line;
+    }
+    EXPECT_EQ(plain.radii[1], std::strtod(spelt[3].c_str(), nullptr)) << line;
+    EXPECT_EQ(fielded.radii[1], plain.radii[1]) << line;
+    for (const Molecule* m : {&plain, &fielded}) {
+      EXPECT_EQ(m->atoms[1].line, 2) << line;
+      EXPECT_EQ(m->atoms[1].serial, 2) << line;
+      EXPECT_EQ(m->atoms[1].segid, "SYSTEM") << line;
+      EXPECT_TRUE(m->atoms[1].name.empty()) << line;
+    }
+  }
+  const auto error = [](const std::string& text) {
+    try {
+      readMoleculeBytes(text, "edge.xyzr");
+    } catch (const InputError& e) {
+      return std::to_string(e.line()) + ": " + e.what();
+    }
+    return std::string("read");
+  };
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"1 2 3", "expected 4 fields (x y z r), got 3: '1 2 3'"},
+      {"1 2 3 1.5 7", "got 5: '1 2 3 1.5 7'"},
+      {"1 2 3 1.5 # note", "got 6"},
+      {"1 2 3x 1.5", "expected a number for z (field 3), got '3x'"},
+      {"1 2 0x1p3 1.5", "got '0x1p3'"},
+      {"1 2 3 1.5e", "expected a number for the radius (field 4), got '1.5e'"},
+      {"1 nan 3 1.5", "y is not finite: 'nan'"},
+      {"1 2 -inf 1.5", "z is not finite: '-inf'"},
+      {"1 2 3 1e400", "got '1e400'"},
+      {"1 2 3 -1.5", "the radius must be > 0, got '-1.5'"},
+      {"1 2 3 0", "the radius must be > 0, got '0'"}};
+  for (const auto& [line, message] : bad) {
+    const std::string plain = error("0 0 0 1\n" + line + "\n");
+    EXPECT_THAT(plain, HasSubstr(message));
+    EXPECT_EQ(plain.rfind("2: ", 0), 0u) << plain;
+    EXPECT_EQ(error("0 0 0 1\n" + line + "\f\n"), plain);
+  }
+  // A radius of 0 left out by request, either way: the next atom keeps its serial and line.
+  for (const std::string end : {"\n", "\f\n"}) {
+    ReadOptions options;
+    options.dropZeroRadius = true;
+    const Molecule m = readMoleculeBytes("1 2 3 0" + end + "4 5 6 1.5\n", "zero.xyzr", options);
+    ASSERT_EQ(m.size(), 1u);
+    EXPECT_EQ(m.atoms[0].serial, 2);
+    EXPECT_EQ(m.atoms[0].line, 2);
+    EXPECT_EQ(m.skipped.zeroRadius, 1u);
+  }
+}
+
 // A large generated GRO file (wrapping atom and residue numbers as GROMACS writes them), read
 // back against its generator: every coordinate is 10 times the nm the columns hold.
 TEST(Molecule, LargeGeneratedGroReadsEveryCoordinateExactly) {
