@@ -163,6 +163,95 @@ TEST(MoleculePdb, HetatmRecordsAreAtoms1grm) {
   EXPECT_EQ(m.skipped.otherModels, 4u * 272u);
 }
 
+// A PDB file without the records after which gemmi may change an atom's model or refuse the
+// file (MODEL, ENDMDL, ANISOU, SSBOND, LINK, CISPEP) is read straight from its ATOM/HETATM lines
+// with gemmi's field readers; with one of them, from gemmi's whole Structure. The same lines
+// read both ways (an ENDMDL or an ANISOU at the end sends them through the Structure) give the
+// same atoms, the fields the columns hold (gemmi's reading: residue name in columns 18-20, a
+// two-column chain 21-22, hybrid-36 residue numbers, a blank one 0), and the same errors.
+TEST(MoleculePdb, AtomLinesReadAlikeWithAndWithoutGemmisStructure) {
+  const std::string atoms =
+      "HEADER    TEST\n"
+      "CRYST1   50.000   50.000   50.000  90.00  90.00  90.00 P 1           1\n"
+      "ATOM      1  N   ALA A   1       1.000  -2.500   3.250  1.00  0.00           N\n"
+      "ATOM      2  CA AALA A   1      +2.125     1e1  -0.000  0.60  0.00           C\n"
+      "ATOM      3  CA BALA A   1       2.250    10.5   0.001  0.40  0.00           C\n"
+      "HETATM    4 FE   HEMXY-998A    -12.345     0.1      7.  1.00  0.00      HEMEFE\n"
+      "hetatm    5 1HB  ZN                  5       6       7  1.00  0.00\n"
+      "ATOM  A0000 CD1  LEUXCA000Z        0.5    0.25   0.125  1.00  0.00      S1\r\n"
+      "ATOM      7  OW  HOH W9999         4.0     4.5     5.0  1.00  0.00           O\n"
+      "TER\n"
+      "CONECT    1    2\n";
+  const std::string anisou =
+      "ANISOU    7  OW  HOH W9999     1000   1000   1000      0      0      0       O\n";
+  ReadOptions options;
+  options.keepWater = true;
+  const Molecule lines = readMoleculeBytes(atoms + "END\n", "lines.pdb", options);
+  ASSERT_EQ(lines.size(), 6u);  // the B conformer of atom 3 left out
+  const AtomRecord& fe = lines.atoms[2];
+  EXPECT_EQ(fe.name, "FE");
+  EXPECT_EQ(fe.residue, "HEM");
+  EXPECT_EQ(fe.chain, "XY");
+  EXPECT_EQ(fe.residueNumber, -998);  // (gemmi reads -999 as no number: 0)
+  EXPECT_EQ(fe.insertionCode, 'A');
+  EXPECT_EQ(fe.segid, "HEME");
+  EXPECT_TRUE(fe.hetatm);
+  EXPECT_EQ(lines.centers[2], glm::dvec3(-12.345, 0.1, 7.0));
+  EXPECT_EQ(lines.atoms[3].name, "1HB");
+  EXPECT_EQ(lines.atoms[3].residue, "ZN");
+  EXPECT_EQ(lines.atoms[3].chain, "");
+  EXPECT_EQ(lines.atoms[3].residueNumber, 0);
+  EXPECT_TRUE(lines.atoms[3].hetatm);
+  EXPECT_EQ(lines.atoms[4].residue, "LEU");
+  EXPECT_EQ(lines.atoms[4].chain, "XC");
+  EXPECT_EQ(lines.atoms[4].residueNumber, 10000);  // hybrid-36 "A000"
+  EXPECT_EQ(lines.atoms[4].insertionCode, 'Z');
+  EXPECT_EQ(lines.atoms[4].serial, 100000);        // hybrid-36 "A0000"
+  EXPECT_EQ(lines.atoms[1].altLoc, 'A');
+  EXPECT_EQ(lines.centers[1], glm::dvec3(2.125, 10.0, 0.0));
+  EXPECT_EQ(lines.atoms[5].residueNumber, 9999);
+  EXPECT_EQ(lines.bondRecords.size(), 1u);
+  for (const std::string& extra : {std::string("ENDMDL\n"), anisou}) {
+    const Molecule structure = readMoleculeBytes(atoms + extra + "END\n", "structure.pdb", options);
+    ASSERT_EQ(structure.size(), lines.size()) << extra;
+    EXPECT_EQ(structure.modelCount, lines.modelCount);
+    EXPECT_EQ(structure.bondRecords, lines.bondRecords);
+    EXPECT_EQ(structure.notes, lines.notes);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const AtomRecord& a = lines.atoms[i];
+      const AtomRecord& b = structure.atoms[i];
+      EXPECT_EQ(std::tie(a.name, a.residue, a.chain, a.segid, a.element, a.residueNumber, a.serial, a.line,
+                         a.insertionCode, a.altLoc, a.hetatm, a.fileIndex, a.elementSource),
+                std::tie(b.name, b.residue, b.chain, b.segid, b.element, b.residueNumber, b.serial, b.line,
+                         b.insertionCode, b.altLoc, b.hetatm, b.fileIndex, b.elementSource))
+          << "atom " << i << " with " << extra;
+      EXPECT_EQ(a.occupancy, b.occupancy);
+      EXPECT_EQ(a.bFactor, b.bFactor);
+      EXPECT_EQ(lines.centers[i], structure.centers[i]) << "atom " << i;
+      EXPECT_EQ(std::signbit(lines.centers[i].z), std::signbit(structure.centers[i].z)) << "atom " << i;
+      EXPECT_EQ(lines.radii[i], structure.radii[i]) << "atom " << i;
+    }
+  }
+  // The second model asked of a one-model file, and a malformed coordinate, alike both ways.
+  const auto error = [&](const std::string& text, int model) {
+    ReadOptions asked = options;
+    asked.model = model;
+    try {
+      readMoleculeBytes(text, "edge.pdb", asked);
+    } catch (const InputError& e) {
+      return std::to_string(e.line()) + ": " + e.what();
+    }
+    return std::string("read");
+  };
+  EXPECT_THAT(error(atoms, 2), HasSubstr("model 2 was asked for, but the file has 1 model"));
+  EXPECT_EQ(error(atoms + "ENDMDL\n", 2), error(atoms, 2));
+  std::string bad = atoms;
+  bad.replace(bad.find("10.5"), 4, "1.5a");
+  EXPECT_THAT(error(bad, 1), HasSubstr("expected a number for y in columns 39-46, got '    1.5a'"));
+  EXPECT_EQ(error(bad, 1).rfind("5: ", 0), 0u) << error(bad, 1);
+  EXPECT_EQ(error(bad + "ENDMDL\n", 1), error(bad, 1));
+}
+
 TEST(MoleculePdb, Reads1aonWellUnderASecond) {
   // 58870 ATOM/HETATM records: zcat 1aon.pdb.gz | grep -cE '^(ATOM|HETATM)'; chains A-U.
   const auto start = std::chrono::steady_clock::now();
