@@ -1033,6 +1033,7 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     molecule.radiiSet = table ? "table:" + table->path() : std::string("bondi");
   }
   molecule.radii.assign(molecule.size(), 0.0);
+  ResidueKinds kinds;
   for (std::size_t i = 0; i < molecule.size(); ++i) {
     AtomRecord& atom = molecule.atoms[i];
     std::optional<TabulatedRadius> radius;
@@ -1056,7 +1057,7 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
       if (const std::optional<double> r = presetRadius(*options.radiiPreset, trim(atom.residue), trim(atom.name)))
         radius = TabulatedRadius{*r, RadiusSource::Preset};
     if (!radius && atom.elementSource == ElementSource::Name && !ion &&
-        !isPlausibleElement(atom.residue, atom.element)) {
+        !isPlausibleElement(kinds(atom.residue).water, kinds(atom.residue).standard, atom.element)) {
       // The guess cannot be right; a RES:ATOM line gives the atom a radius all the same.
       const std::optional<double> r = table ? table->findAtom(atom.residue, atom.name) : std::nullopt;
       if (!r) {
