@@ -163,6 +163,95 @@ TEST(MoleculePdb, HetatmRecordsAreAtoms1grm) {
   EXPECT_EQ(m.skipped.otherModels, 4u * 272u);
 }
 
+// A PDB file without the records after which gemmi may change an atom's model or refuse the
+// file (MODEL, ENDMDL, ANISOU, SSBOND, LINK, CISPEP) is read straight from its ATOM/HETATM lines
+// with gemmi's field readers; with one of them, from gemmi's whole Structure. The same lines
+// read both ways (an ENDMDL or an ANISOU at the end sends them through the Structure) give the
+// same atoms, the fields the columns hold (gemmi's reading: residue name in columns 18-20, a
+// two-column chain 21-22, hybrid-36 residue numbers, a blank one 0), and the same errors.
+TEST(MoleculePdb, AtomLinesReadAlikeWithAndWithoutGemmisStructure) {
+  const std::string atoms =
+      "HEADER    TEST\n"
+      "CRYST1   50.000   50.000   50.000  90.00  90.00  90.00 P 1           1\n"
+      "ATOM      1  N   ALA A   1       1.000  -2.500   3.250  1.00  0.00           N\n"
+      "ATOM      2  CA AALA A   1      +2.125     1e1  -0.000  0.60  0.00           C\n"
+      "ATOM      3  CA BALA A   1       2.250    10.5   0.001  0.40  0.00           C\n"
+      "HETATM    4 FE   HEMXY-998A    -12.345     0.1      7.  1.00  0.00      HEMEFE\n"
+      "hetatm    5 1HB  ZN                  5       6       7  1.00  0.00\n"
+      "ATOM  A0000 CD1  LEUXCA000Z        0.5    0.25   0.125  1.00  0.00      S1\r\n"
+      "ATOM      7  OW  HOH W9999         4.0     4.5     5.0  1.00  0.00           O\n"
+      "TER\n"
+      "CONECT    1    2\n";
+  const std::string anisou =
+      "ANISOU    7  OW  HOH W9999     1000   1000   1000      0      0      0       O\n";
+  ReadOptions options;
+  options.keepWater = true;
+  const Molecule lines = readMoleculeBytes(atoms + "END\n", "lines.pdb", options);
+  ASSERT_EQ(lines.size(), 6u);  // the B conformer of atom 3 left out
+  const AtomRecord& fe = lines.atoms[2];
+  EXPECT_EQ(fe.name, "FE");
+  EXPECT_EQ(fe.residue, "HEM");
+  EXPECT_EQ(fe.chain, "XY");
+  EXPECT_EQ(fe.residueNumber, -998);  // (gemmi reads -999 as no number: 0)
+  EXPECT_EQ(fe.insertionCode, 'A');
+  EXPECT_EQ(fe.segid, "HEME");
+  EXPECT_TRUE(fe.hetatm);
+  EXPECT_EQ(lines.centers[2], glm::dvec3(-12.345, 0.1, 7.0));
+  EXPECT_EQ(lines.atoms[3].name, "1HB");
+  EXPECT_EQ(lines.atoms[3].residue, "ZN");
+  EXPECT_EQ(lines.atoms[3].chain, "");
+  EXPECT_EQ(lines.atoms[3].residueNumber, 0);
+  EXPECT_TRUE(lines.atoms[3].hetatm);
+  EXPECT_EQ(lines.atoms[4].residue, "LEU");
+  EXPECT_EQ(lines.atoms[4].chain, "XC");
+  EXPECT_EQ(lines.atoms[4].residueNumber, 10000);  // hybrid-36 "A000"
+  EXPECT_EQ(lines.atoms[4].insertionCode, 'Z');
+  EXPECT_EQ(lines.atoms[4].serial, 100000);        // hybrid-36 "A0000"
+  EXPECT_EQ(lines.atoms[1].altLoc, 'A');
+  EXPECT_EQ(lines.centers[1], glm::dvec3(2.125, 10.0, 0.0));
+  EXPECT_EQ(lines.atoms[5].residueNumber, 9999);
+  EXPECT_EQ(lines.bondRecords.size(), 1u);
+  for (const std::string& extra : {std::string("ENDMDL\n"), anisou}) {
+    const Molecule structure = readMoleculeBytes(atoms + extra + "END\n", "structure.pdb", options);
+    ASSERT_EQ(structure.size(), lines.size()) << extra;
+    EXPECT_EQ(structure.modelCount, lines.modelCount);
+    EXPECT_EQ(structure.bondRecords, lines.bondRecords);
+    EXPECT_EQ(structure.notes, lines.notes);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const AtomRecord& a = lines.atoms[i];
+      const AtomRecord& b = structure.atoms[i];
+      EXPECT_EQ(std::tie(a.name, a.residue, a.chain, a.segid, a.element, a.residueNumber, a.serial, a.line,
+                         a.insertionCode, a.altLoc, a.hetatm, a.fileIndex, a.elementSource),
+                std::tie(b.name, b.residue, b.chain, b.segid, b.element, b.residueNumber, b.serial, b.line,
+                         b.insertionCode, b.altLoc, b.hetatm, b.fileIndex, b.elementSource))
+          << "atom " << i << " with " << extra;
+      EXPECT_EQ(a.occupancy, b.occupancy);
+      EXPECT_EQ(a.bFactor, b.bFactor);
+      EXPECT_EQ(lines.centers[i], structure.centers[i]) << "atom " << i;
+      EXPECT_EQ(std::signbit(lines.centers[i].z), std::signbit(structure.centers[i].z)) << "atom " << i;
+      EXPECT_EQ(lines.radii[i], structure.radii[i]) << "atom " << i;
+    }
+  }
+  // The second model asked of a one-model file, and a malformed coordinate, alike both ways.
+  const auto error = [&](const std::string& text, int model) {
+    ReadOptions asked = options;
+    asked.model = model;
+    try {
+      readMoleculeBytes(text, "edge.pdb", asked);
+    } catch (const InputError& e) {
+      return std::to_string(e.line()) + ": " + e.what();
+    }
+    return std::string("read");
+  };
+  EXPECT_THAT(error(atoms, 2), HasSubstr("model 2 was asked for, but the file has 1 model"));
+  EXPECT_EQ(error(atoms + "ENDMDL\n", 2), error(atoms, 2));
+  std::string bad = atoms;
+  bad.replace(bad.find("10.5"), 4, "1.5a");
+  EXPECT_THAT(error(bad, 1), HasSubstr("expected a number for y in columns 39-46, got '    1.5a'"));
+  EXPECT_EQ(error(bad, 1).rfind("5: ", 0), 0u) << error(bad, 1);
+  EXPECT_EQ(error(bad + "ENDMDL\n", 1), error(bad, 1));
+}
+
 TEST(MoleculePdb, Reads1aonWellUnderASecond) {
   // 58870 ATOM/HETATM records: zcat 1aon.pdb.gz | grep -cE '^(ATOM|HETATM)'; chains A-U.
   const auto start = std::chrono::steady_clock::now();
@@ -1101,6 +1190,77 @@ TEST(MoleculeBadInput, XyzrNumbersStrtodReadsOtherwise) {
   EXPECT_THAT(error("1 -NaN 3 1.5"), HasSubstr("y is not finite: '-NaN'"));
   EXPECT_THAT(error("1 2 +inf 1.5"), HasSubstr("z is not finite: '+inf'"));
   EXPECT_THAT(error("1 2 3 infinity"), HasSubstr("the radius is not finite: 'infinity'"));
+}
+
+// The reader takes a plain "x y z r" line in one pass and any other line field by field. A form
+// feed before the line end sends the same numbers the field-by-field way (it is white space
+// there, but not to the one-pass reading), so each line is read both ways: the same atom, its
+// numbers those strtod gives (correctly rounded, as from_chars), or the same error.
+TEST(Molecule, XyzrPlainLinesReadAsFieldByField) {
+  const std::vector<std::string> good = {
+      "1 2 3 1.5", "-0 0.1 -.5 5.", "1e-320 5e-324 -2.2250738585072014e-308 1.25",
+      "0.30000000000000004441 123456.78901234567890123456789 -1E+2 0.9E-01",
+      "\t 63.130\t-67.331 -18.137  1.5500  ", "7 8 9 2\r", "+1 2 3 1.5", "1 +2 3 +1.5"};
+  for (const std::string& line : good) {
+    const Molecule plain = readMoleculeBytes("0 0 0 1\n" + line + "\n", "plain.xyzr");
+    const Molecule fielded = readMoleculeBytes("0 0 0 1\n" + line + "\f\n", "fielded.xyzr");
+    ASSERT_EQ(plain.size(), 2u) << line;
+    ASSERT_EQ(fielded.size(), 2u) << line;
+    std::istringstream in(line);
+    std::string spelt[4];
+    in >> spelt[0] >> spelt[1] >> spelt[2] >> spelt[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      const double expected = std::strtod(spelt[axis].c_str(), nullptr);
+      EXPECT_EQ(plain.centers[1][axis], expected) << line;
+      EXPECT_EQ(std::signbit(plain.centers[1][axis]), std::signbit(expected)) << line;
+      EXPECT_EQ(fielded.centers[1][axis], expected) << line;
+      EXPECT_EQ(std::signbit(fielded.centers[1][axis]), std::signbit(expected)) << line;
+    }
+    EXPECT_EQ(plain.radii[1], std::strtod(spelt[3].c_str(), nullptr)) << line;
+    EXPECT_EQ(fielded.radii[1], plain.radii[1]) << line;
+    for (const Molecule* m : {&plain, &fielded}) {
+      EXPECT_EQ(m->atoms[1].line, 2) << line;
+      EXPECT_EQ(m->atoms[1].serial, 2) << line;
+      EXPECT_EQ(m->atoms[1].segid, "SYSTEM") << line;
+      EXPECT_TRUE(m->atoms[1].name.empty()) << line;
+    }
+  }
+  const auto error = [](const std::string& text) {
+    try {
+      readMoleculeBytes(text, "edge.xyzr");
+    } catch (const InputError& e) {
+      return std::to_string(e.line()) + ": " + e.what();
+    }
+    return std::string("read");
+  };
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"1 2 3", "expected 4 fields (x y z r), got 3: '1 2 3'"},
+      {"1 2 3 1.5 7", "got 5: '1 2 3 1.5 7'"},
+      {"1 2 3 1.5 # note", "got 6"},
+      {"1 2 3x 1.5", "expected a number for z (field 3), got '3x'"},
+      {"1 2 0x1p3 1.5", "got '0x1p3'"},
+      {"1 2 3 1.5e", "expected a number for the radius (field 4), got '1.5e'"},
+      {"1 nan 3 1.5", "y is not finite: 'nan'"},
+      {"1 2 -inf 1.5", "z is not finite: '-inf'"},
+      {"1 2 3 1e400", "got '1e400'"},
+      {"1 2 3 -1.5", "the radius must be > 0, got '-1.5'"},
+      {"1 2 3 0", "the radius must be > 0, got '0'"}};
+  for (const auto& [line, message] : bad) {
+    const std::string plain = error("0 0 0 1\n" + line + "\n");
+    EXPECT_THAT(plain, HasSubstr(message));
+    EXPECT_EQ(plain.rfind("2: ", 0), 0u) << plain;
+    EXPECT_EQ(error("0 0 0 1\n" + line + "\f\n"), plain);
+  }
+  // A radius of 0 left out by request, either way: the next atom keeps its serial and line.
+  for (const std::string end : {"\n", "\f\n"}) {
+    ReadOptions options;
+    options.dropZeroRadius = true;
+    const Molecule m = readMoleculeBytes("1 2 3 0" + end + "4 5 6 1.5\n", "zero.xyzr", options);
+    ASSERT_EQ(m.size(), 1u);
+    EXPECT_EQ(m.atoms[0].serial, 2);
+    EXPECT_EQ(m.atoms[0].line, 2);
+    EXPECT_EQ(m.skipped.zeroRadius, 1u);
+  }
 }
 
 // A large generated GRO file (wrapping atom and residue numbers as GROMACS writes them), read

@@ -218,6 +218,32 @@ void countMoreElementNotes(Molecule& molecule, std::size_t count) {
     molecule.notes.push_back(std::to_string(count - kMaxElementNotes) + " more atoms whose element column names no element");
 }
 
+// Records after which gemmi may put an atom in another model than the first or refuse the
+// file (MODEL, ENDMDL, ANISOU, the SSBOND/LINK/CISPEP records of its process_conn, an mmCIF or
+// mmJSON start), told as gemmi's read_pdb tells records (is_record_type: the first four bytes,
+// bit 0x20 ignored). A file with none of them is one model whose atoms gemmi reads from their
+// own lines alone (every other record only sets the Structure's metadata), so readPdbWithGemmi
+// can take the atoms with gemmi's own field readers without building the Structure.
+bool needsGemmiStructure(std::string_view line) {
+  if (line.size() < 4) return false;  // no 4-byte record name matches a shorter line
+  for (const char* record : {"MODEL", "ENDMDL", "ANISOU", "SSBOND", "LINK", "CISPEP", "data", "{\"da"})
+    if (gemmi::pdb_impl::is_record_type(line.data(), record)) return true;
+  return false;
+}
+
+// The notes and segments of a PDB file's atoms, once all are read.
+void finishPdbMolecule(Molecule& molecule, std::size_t unknownElements) {
+  countMoreElementNotes(molecule, unknownElements);
+  // As MDAnalysis's PDBParser: a file without segment ids takes its chains as segments, and
+  // one without either is the one segment SYSTEM.
+  const auto noSegid = [](const AtomRecord& a) { return a.segid.empty(); };
+  if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid)) {
+    for (AtomRecord& a : molecule.atoms) a.segid = a.chain;
+    if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid))
+      for (AtomRecord& a : molecule.atoms) a.segid = "SYSTEM";
+  }
+}
+
 }  // namespace
 
 // MODEL records written with the serial right after the keyword ("MODEL 7", as MDAnalysis
@@ -265,6 +291,7 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   std::vector<PdbAtomLine> records;
   records.reserve(text.size() / 81 + 1);  // about one an 80-column line
   std::vector<std::array<int, 2>> bondRecords;
+  bool structureNeeded = false;  // see needsGemmiStructure
   int lineNumber = 0;
   std::size_t pos = 0;
   while (pos < text.size()) {
@@ -318,11 +345,65 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
       }
     } else if (pdb::isEndRecord(line)) {
       break;
+    } else if (!structureNeeded) {
+      structureNeeded = needsGemmiStructure(line);
     }
     pos = end + 1;
   }
   if (records.empty()) throw InputError(path, 0, "no ATOM or HETATM records");
   if (text.back() != '\n') text.push_back('\n');  // gemmi rejects a short last line without one
+
+  Molecule molecule;
+  molecule.source = path;
+  molecule.format = MoleculeFormat::Pdb;
+  molecule.modelUsed = model;
+  molecule.bondRecords = std::move(bondRecords);
+  molecule.centers.reserve(records.size());
+  molecule.atoms.reserve(records.size());
+  std::string unknownSymbol;
+  std::size_t unknownElements = 0;
+  // One atom from its record and the fields gemmi gives it.
+  const auto addAtom = [&](const PdbAtomLine& record, std::string_view atomName, std::string_view residueName,
+                           std::string_view chainName, const gemmi::SeqId& seqid, char altloc,
+                           const gemmi::Position& xyz) {
+    const std::string_view line(text.data() + record.start, record.length);
+    AtomRecord atom;
+    atom.name = atomName;
+    atom.residue = residueName;
+    atom.chain = chainName;
+    // MDAnalysis's segid: columns 67-76, wider than the segID field (73-76) that gemmi reads.
+    if (line.size() > 66) atom.segid = trim(line.substr(66, 10));
+    atom.residueNumber = seqid.num.has_value() ? seqid.num.value : 0;
+    atom.insertionCode = seqid.icode;
+    atom.serial = record.serial;
+    atom.element = pdbElement(line, atom.residue, atom.elementSource, unknownSymbol);
+    if (!unknownSymbol.empty())
+      noteUnknownElement(molecule, unknownElements, record.line, "columns 77-78 hold", unknownSymbol, atom);
+    atom.occupancy = record.occupancy;
+    atom.bFactor = record.bFactor;
+    atom.hetatm = upper(line[0]) == 'H';
+    atom.line = record.line;
+    atom.altLoc = altloc == '\0' ? ' ' : altloc;
+    molecule.centers.emplace_back(xyz.x, xyz.y, xyz.z);
+    molecule.atoms.push_back(atom);
+  };
+
+  if (!structureNeeded) {
+    // One model, each atom read by gemmi's read_pdb field readers from its own line (what
+    // read_pdb gives it, without building chains, residues and atoms of strings that would be
+    // copied and dropped: a third of reading a large file).
+    molecule.modelCount = 1;
+    if (model > 1) throwNoSuchModel(path, model, 1);
+    using namespace gemmi::pdb_impl;
+    for (const PdbAtomLine& record : records) {
+      const char* line = text.data() + record.start;
+      addAtom(record, read_string(line + 12, 4), read_string(line + 17, 3), read_string(line + 20, 2),
+              read_seq_id(line + 22), read_altloc(line[16]),
+              gemmi::Position(read_double(line + 30, 8), read_double(line + 38, 8), read_double(line + 46, 8)));
+    }
+    finishPdbMolecule(molecule, unknownElements);
+    return molecule;
+  }
 
   gemmi::Structure structure;
   try {
@@ -330,14 +411,8 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   } catch (const std::exception& e) {
     throw fromGemmi(path, e);
   }
-
-  Molecule molecule;
-  molecule.source = path;
-  molecule.format = MoleculeFormat::Pdb;
   molecule.modelCount = static_cast<int>(structure.models.size());
-  molecule.modelUsed = model;
   if (model > molecule.modelCount) throwNoSuchModel(path, model, structure.models.size());
-  molecule.bondRecords = std::move(bondRecords);
 
   struct Found {
     std::size_t index;
@@ -365,42 +440,10 @@ Molecule readPdbWithGemmi(std::string text, const std::string& path, int model) 
   const auto byIndex = [](const Found& a, const Found& b) { return a.index < b.index; };
   if (!std::is_sorted(found.begin(), found.end(), byIndex)) std::sort(found.begin(), found.end(), byIndex);
 
-  molecule.centers.reserve(found.size());
-  molecule.atoms.reserve(found.size());
-  std::string unknownSymbol;
-  std::size_t unknownElements = 0;
-  for (const Found& f : found) {
-    const PdbAtomLine& record = records[f.index];
-    const std::string_view line(text.data() + record.start, record.length);
-    AtomRecord atom;
-    atom.name = f.atom->name;
-    atom.residue = f.residue->name;
-    atom.chain = f.chain->name;
-    // MDAnalysis's segid: columns 67-76, wider than the segID field (73-76) that gemmi reads.
-    if (line.size() > 66) atom.segid = std::string(trim(line.substr(66, 10)));
-    atom.residueNumber = f.residue->seqid.num.has_value() ? f.residue->seqid.num.value : 0;
-    atom.insertionCode = f.residue->seqid.icode;
-    atom.serial = record.serial;
-    atom.element = pdbElement(line, atom.residue, atom.elementSource, unknownSymbol);
-    if (!unknownSymbol.empty())
-      noteUnknownElement(molecule, unknownElements, record.line, "columns 77-78 hold", unknownSymbol, atom);
-    atom.occupancy = record.occupancy;
-    atom.bFactor = record.bFactor;
-    atom.hetatm = upper(line[0]) == 'H';
-    atom.line = record.line;
-    atom.altLoc = f.atom->altloc == '\0' ? ' ' : f.atom->altloc;
-    molecule.centers.emplace_back(f.atom->pos.x, f.atom->pos.y, f.atom->pos.z);
-    molecule.atoms.push_back(std::move(atom));
-  }
-  countMoreElementNotes(molecule, unknownElements);
-  // As MDAnalysis's PDBParser: a file without segment ids takes its chains as segments, and
-  // one without either is the one segment SYSTEM.
-  const auto noSegid = [](const AtomRecord& a) { return a.segid.empty(); };
-  if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid)) {
-    for (AtomRecord& a : molecule.atoms) a.segid = a.chain;
-    if (std::all_of(molecule.atoms.begin(), molecule.atoms.end(), noSegid))
-      for (AtomRecord& a : molecule.atoms) a.segid = "SYSTEM";
-  }
+  for (const Found& f : found)
+    addAtom(records[f.index], f.atom->name, f.residue->name, f.chain->name, f.residue->seqid, f.atom->altloc,
+            f.atom->pos);
+  finishPdbMolecule(molecule, unknownElements);
   return molecule;
 }
 

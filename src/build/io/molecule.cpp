@@ -477,6 +477,31 @@ Molecule parsePqr(const std::string& text, const std::string& name, const ReadOp
 // ---------------------------------------------------------------------------------------------
 // XYZR: "x y z r" a line (MSMS, NanoShaper); MSMS's xyzrn adds a sphere number and a name.
 
+// The common line, "x y z r" with spaces or tabs around the numbers and nothing else, read in
+// one pass (the field-by-field reading below was half of reading a large file): returns where
+// the next line starts, or nullptr for any other line (blank, a comment, xyzrn's six fields, a
+// '+' sign, a number that is not finite, a radius <= 0), which the field-by-field reading then
+// reads or refuses with its message. Each number is std::from_chars over the same characters
+// the field-by-field reading gives it (a number ends at a space, tab or line end, none of which
+// a number can hold), so both read the same values.
+const char* readPlainXyzrLine(const char* p, const char* end, double (&v)[4]) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  for (double& value : v) {
+    while (p != end && blank(*p)) ++p;
+    const auto [next, ec] = std::from_chars(p, end, value);
+    if (ec != std::errc() || next == p) return nullptr;
+    p = next;
+    if (p != end && !blank(*p) && *p != '\n' && *p != '\r') return nullptr;
+  }
+  while (p != end && blank(*p)) ++p;
+  if (p != end && *p == '\r') ++p;
+  if (p != end && *p != '\n') return nullptr;
+  if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]) ||
+      !(v[3] > 0.0))
+    return nullptr;
+  return p == end ? end : p + 1;
+}
+
 Molecule parseXyzr(const std::string& text, const std::string& name, const ReadOptions& options) {
   Molecule molecule;
   molecule.source = name;
@@ -492,11 +517,30 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
   molecule.centers.reserve(lines);
   molecule.radii.reserve(lines);
   molecule.atoms.reserve(lines);
-  LineCursor reader(text);
-  std::string_view line;
+  const AtomString system("SYSTEM");
+  const char* const end = text.data() + text.size();
+  const char* p = text.data();
+  int lineNumber = 0;
   int serial = 0;
-  while (reader.next(line)) {
-    const int lineNumber = reader.number();
+  while (p != end) {
+    ++lineNumber;
+    double v[4];
+    if (const char* next = readPlainXyzrLine(p, end, v)) {
+      p = next;
+      ++serial;
+      AtomRecord& atom = molecule.atoms.emplace_back();  // in place, not built aside and moved in
+      atom.serial = serial;
+      atom.segid = system;
+      atom.line = lineNumber;
+      molecule.centers.emplace_back(v[0], v[1], v[2]);
+      molecule.radii.push_back(v[3]);
+      continue;
+    }
+    // Any other line (a comment, xyzrn's six fields, an error): field by field.
+    const char* const newline = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    std::string_view line(p, static_cast<std::size_t>((newline ? newline : end) - p));
+    p = newline ? newline + 1 : end;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string_view body = trim(line);
     if (body.empty() || body[0] == '#') continue;
     std::array<std::string_view, 6> f;
@@ -507,7 +551,6 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
           name, lineNumber,
           "expected 4 fields (x y z r), got " + std::to_string(fields) + ": " + inQuotes(body));
     const char* names[] = {"x", "y", "z", "the radius"};
-    double v[4];
     for (std::size_t i = 0; i < 4; ++i) {
       const std::optional<double> value = parseNumber(f[i]);
       if (!value)
@@ -522,11 +565,11 @@ Molecule parseXyzr(const std::string& text, const std::string& name, const ReadO
       ++molecule.skipped.zeroRadius;
       continue;
     }
-    AtomRecord& atom = molecule.atoms.emplace_back();  // in place, not built aside and moved in
+    AtomRecord& atom = molecule.atoms.emplace_back();
     atom.serial = serial;
-    atom.segid = "SYSTEM";
+    atom.segid = system;
     atom.line = lineNumber;
-    if (xyzrn) atom.name = std::string(f[5]);
+    if (xyzrn) atom.name = f[5];
     molecule.centers.emplace_back(v[0], v[1], v[2]);
     molecule.radii.push_back(v[3]);
   }
@@ -990,6 +1033,7 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
     molecule.radiiSet = table ? "table:" + table->path() : std::string("bondi");
   }
   molecule.radii.assign(molecule.size(), 0.0);
+  ResidueKinds kinds;
   for (std::size_t i = 0; i < molecule.size(); ++i) {
     AtomRecord& atom = molecule.atoms[i];
     std::optional<TabulatedRadius> radius;
@@ -1013,7 +1057,7 @@ void assignRadii(Molecule& molecule, const ReadOptions& options, const std::stri
       if (const std::optional<double> r = presetRadius(*options.radiiPreset, trim(atom.residue), trim(atom.name)))
         radius = TabulatedRadius{*r, RadiusSource::Preset};
     if (!radius && atom.elementSource == ElementSource::Name && !ion &&
-        !isPlausibleElement(atom.residue, atom.element)) {
+        !isPlausibleElement(kinds(atom.residue).water, kinds(atom.residue).standard, atom.element)) {
       // The guess cannot be right; a RES:ATOM line gives the atom a radius all the same.
       const std::optional<double> r = table ? table->findAtom(atom.residue, atom.name) : std::nullopt;
       if (!r) {

@@ -347,8 +347,12 @@ bool isWaterVirtualSite(std::string_view name) {
 }
 
 bool isPlausibleElement(std::string_view residue, std::string_view element) {
-  if (isWaterResidue(residue)) return element == "H" || element == "D" || element == "O";
-  if (isStandardResidue(residue))
+  return isPlausibleElement(isWaterResidue(residue), isStandardResidue(residue), element);
+}
+
+bool isPlausibleElement(bool water, bool standard, std::string_view element) {
+  if (water) return element == "H" || element == "D" || element == "O";
+  if (standard)
     return element == "H" || element == "D" || element == "C" || element == "N" ||
            element == "O" || element == "S" || element == "P" || element == "Se";
   return true;

@@ -54,6 +54,9 @@ enum class ElementSource : std::uint8_t {
 // Asked of guessed elements, so that a name that reads as a metal or a bead ("BB" as boron)
 // is not believed where it cannot be.
 bool isPlausibleElement(std::string_view residue, std::string_view element);
+// The same for a residue already known to be a water or standard (isWaterResidue,
+// isStandardResidue), for loops that look a residue up once per run of its atoms.
+bool isPlausibleElement(bool water, bool standard, std::string_view element);
 
 // How an atom name reached us.
 enum class AtomNameLayout {

@@ -301,6 +301,7 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
     records->reserve(span.atoms);
   }
 
+  const AtomString system("SYSTEM");
   std::size_t width = 8;  // "%8.3f": GROMACS writes decimals + 5 columns per coordinate
   int residueOffset = 0;  // GROMACS writes residue numbers modulo 100000
   int lastResidue = 0;
@@ -343,7 +344,7 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
       frame.positions[i][static_cast<int>(k)] = 10.0 * *v;  // nm to Å
     }
     if (!records) continue;
-    AtomRecord atom;
+    AtomRecord& atom = records->emplace_back();  // in place, its texts from views (no std::string each)
     const std::optional<int> residue = parseWhole<int>(line.substr(0, 5));
     if (!residue)
       throw InputError(
@@ -352,15 +353,14 @@ void readGroFrame(const std::string& text, const std::string& path, const GroFra
     if (*residue == 0 && i > 0 && lastResidue != 0) residueOffset += 100000;
     lastResidue = *residue;
     atom.residueNumber = *residue + residueOffset;
-    atom.residue = std::string(trim(line.substr(5, 5)));
-    atom.name = std::string(trim(line.substr(10, 5)));
-    atom.segid = "SYSTEM";  // GRO has no segments; MDAnalysis names its one segment so
+    atom.residue = trim(line.substr(5, 5));
+    atom.name = trim(line.substr(10, 5));
+    atom.segid = system;  // GRO has no segments; MDAnalysis names its one segment so
     atom.serial = parseWhole<int>(line.substr(15, 5)).value_or(0);
     // GROMACS right-justifies names in their 5 columns, so the column tells nothing.
     atom.element = guessElement(atom.name, atom.residue);
     if (!atom.element.empty()) atom.elementSource = ElementSource::Name;
     atom.line = lineNumber;
-    records->push_back(std::move(atom));
   }
   if (!cursor.next(line))
     throw InputError(path, cursor.number(), "the file ends before the box line of " + name);
