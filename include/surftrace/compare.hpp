@@ -118,12 +118,12 @@ struct MeshViewsResult {
   DistanceFigures alongRay;     // |d| = |t_mesh − t_exact|: an upper bound of either point's distance
                                 // to the other surface, loose where the ray is oblique
   // How far mesh points lie from the exact surface, and the reverse, from rays within 45° of
-  // the normal where both are hit: mesh -> exact is |d|·|cos θ| (θ between the ray and the exact
-  // normal: the distance to the exact tangent plane, first order), capped by the distance to the
-  // nearest exact hit of the 5x5 pixels around; exact -> mesh is the distance to the nearest of
-  // the triangles those pixels hit (an upper bound). Where only one is hit: the distance across
-  // the image to the other's outline less half a pixel diagonal (a lower bound: orthographic
-  // projection never lengthens a distance).
+  // the normal where both are hit: mesh -> exact is the distance from the mesh's hit to the
+  // exact surface's nearest point (exact within the surface field's reach, build/mesh/
+  // surface_distance.hpp; never above |d|), exact -> mesh the distance from the exact hit to the
+  // mesh's nearest triangle (exact). Where only one is hit: the distance across the image to
+  // the other's outline less half a pixel diagonal (a lower bound: orthographic projection never
+  // lengthens a distance).
   DistanceFigures meshToExact;
   DistanceFigures exactToMesh;
   std::vector<KindErrors> perKind;   // signed t_mesh − t_exact per reference patch kind (< 0: mesh in front)

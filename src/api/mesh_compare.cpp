@@ -1,5 +1,5 @@
 // Meshes as `compare`'s test (surftrace/compare.hpp): one reference's view, or the exact surface
-// all around from views spread over the sphere, with distance estimates from the rays.
+// all around from views spread over the sphere, with each hit's distance to the other surface.
 #include "surftrace/compare.hpp"
 
 #include <algorithm>
@@ -15,7 +15,9 @@
 
 #include "surftrace/camera.hpp"
 #include "surftrace/engine.hpp"
+#include "build/mesh/surface_distance.hpp"
 #include "trace/mesh_scene.hpp"
+#include "view/shading.hpp"
 
 namespace surftrace {
 namespace {
@@ -38,15 +40,10 @@ view::DrawnTest drawn(const trace::MeshScene& scene, const view::Camera& camera)
 }
 
 // `n` directions spread evenly over the sphere: the Fibonacci lattice (González, "Measurement of
-// areas on a sphere using Fibonacci and latitude–longitude lattices"), points at equal steps of
-// z and of the golden angle about it.
+// areas on a sphere using Fibonacci and latitude–longitude lattices") that ambient occlusion uses.
 std::vector<glm::dvec3> sphereDirections(int n) {
   std::vector<glm::dvec3> d;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = golden * i;
-    d.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
-  }
+  for (int i = 0; i < n; ++i) d.push_back(view::fibonacciSphere(i, n));
   return d;
 }
 
@@ -131,32 +128,6 @@ DistanceFigures figuresOf(std::vector<double>& v) {
   return f;
 }
 
-// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection", 5.1.5
-// (the Voronoi regions of the corners, then the edges, then the face).
-glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  if (!std::isfinite(denom)) return a;  // degenerate: its corners bound it
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// The pixels around a sample whose hits bound its distance estimates: 5x5.
-constexpr int kWindow = 2;
-
 // A candidate for the worst places: kept per view, the largest few.
 struct Candidate {
   double distance;
@@ -169,11 +140,11 @@ struct Candidate {
 constexpr const char* kWhat[] = {"mesh -> exact", "exact -> mesh", "mesh -> exact (silhouette)", "exact -> mesh (silhouette)"};
 constexpr std::size_t kCandidatesPerView = 64;
 constexpr std::size_t kWorstPlaces = 10;
-constexpr double kPlaceSeparation = 1.0;
-// The distance estimates take rays within 45° of the normal (MeshViewsResult): the first-order
-// estimate's relative error, d·tan²θ/2R for a distance d and a radius of curvature R, stays
-// below d/2R, and 26 views spread over the sphere see every outward normal within 31° of one (14 views: 42°).
-constexpr double kEstimateCosine = 0.70710678118654752;  // Å between two places reported: one spot is one place
+constexpr double kPlaceSeparation = 1.0;  // Å between two places reported: one spot is one place
+// The distance estimates take rays within 45° of the normal (MeshViewsResult), which sample a
+// surface at nearly even spacing; 26 views spread over the sphere see every outward normal
+// within 31° of one (14 views: 42°).
+constexpr double kEstimateCosine = 0.70710678118654752;
 
 }  // namespace
 
@@ -205,6 +176,7 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
   r.views = settings.views, r.width = settings.width, r.height = settings.height;
   r.directions = sphereDirections(settings.views);
   const trace::MeshScene scene(mesh);
+  const std::unique_ptr<build::mesh::SurfaceDistance> field = build::mesh::makeSurfaceDistance(patches, molecule.centers, molecule.radii);
   const std::unique_ptr<Engine> engine = makeEngine({});
   std::vector<std::size_t> pixelsPerKind(view::kPatchKindCount + 1, 0);
   std::vector<view::KindValue> kindDepth, kindNormal;
@@ -235,8 +207,12 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
                    static_cast<double>(p / static_cast<std::size_t>(ref.width)) + 0.5);
     };
     std::vector<Candidate> mine;
-    const int w = ref.width, h = ref.height;
-    for (const view::FrameSamples::Depth& s : samples.depth) {
+    // Each sample's two distances (−1: not estimated), projected in parallel: the exact
+    // surface's nearest point and the mesh's nearest triangle are the costly part.
+    const std::size_t n = samples.depth.size();
+    std::vector<double> m2e(n, -1.0), e2m(n, -1.0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      const view::FrameSamples::Depth& s = samples.depth[i];
       const view::Ray ray = rayOf(s.pixel);
       const glm::dvec3 nExact(ref.normal[3 * s.pixel], ref.normal[3 * s.pixel + 1], ref.normal[3 * s.pixel + 2]);
       const glm::uvec3 tri = mesh.triangles[test.patchId[s.pixel]];
@@ -245,42 +221,33 @@ MeshViewsResult compareMeshViews(const TriangleMesh& mesh, const PatchList& patc
       const double d = std::abs(s.signedError);
       const double cosExact = exactLength > 0.0 ? std::abs(glm::dot(nExact / exactLength, ray.dir)) : 0.0;
       const double cosFace = faceLength > 0.0 ? std::abs(glm::dot(face / faceLength, ray.dir)) : 0.0;
-      alongRay.push_back(d);
-      kindDepth.push_back({ref.kind[s.pixel], s.signedError});
-      // Only rays within 45° of the normal give estimates: towards the outline both grow loose,
-      // and with views spread over the sphere every part of the surface is seen so in some view.
+      // Only rays within 45° of the normal give estimates: they sample each surface at about
+      // even spacing, and with views spread over the sphere every part of it is seen so in some view.
       const bool exactFacing = cosExact >= kEstimateCosine, meshFacing = cosFace >= kEstimateCosine;
-      if (!exactFacing && !meshFacing) continue;
+      if (!exactFacing && !meshFacing) return;
       const glm::dvec3 xExact = ray.org + static_cast<double>(ref.depth[s.pixel]) * ray.dir;
       const glm::dvec3 xMesh = ray.org + static_cast<double>(test.depth[s.pixel]) * ray.dir;
-      // Proven upper bounds from the pixels around: the exact points they hit lie on the exact
-      // surface, the triangles they hit belong to the mesh. They keep a ray that slips past the
-      // near sheet (between a coarse mesh and its atom) from reporting the sheet behind.
-      double toExactPoint = d, toTriangle = d;
-      const int px = static_cast<int>(s.pixel % static_cast<std::size_t>(w)), py = static_cast<int>(s.pixel / static_cast<std::size_t>(w));
-      for (int y = std::max(0, py - kWindow); y <= std::min(h - 1, py + kWindow); ++y)
-        for (int x = std::max(0, px - kWindow); x <= std::min(w - 1, px + kWindow); ++x) {
-          const std::size_t q = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-          if (exactFacing && ref.kind[q] != 0) {
-            const view::Ray rq = rayOf(q);
-            toExactPoint = std::min(toExactPoint, glm::length(rq.org + static_cast<double>(ref.depth[q]) * rq.dir - xMesh));
-          }
-          if (meshFacing && test.patchId[q] != ~0u) {
-            const glm::uvec3 tq = mesh.triangles[test.patchId[q]];
-            const glm::dvec3 nearest = closestOnTriangle(xExact, mesh.positions[tq.x], mesh.positions[tq.y], mesh.positions[tq.z]);
-            toTriangle = std::min(toTriangle, glm::length(nearest - xExact));
-          }
-        }
-      if (exactFacing) {
-        // The distance to the exact surface's tangent plane, |d|·|cos θ|: first order, off by
-        // about d·tan²θ/2R relative (R the radius of curvature); never above a proven bound.
-        const double m2e = std::min(d * cosExact, toExactPoint);
-        meshToExact.push_back(m2e);
-        mine.push_back({m2e, v, s.pixel, 0, xExact, ref.atomId[s.pixel]});
+      // Each point's distance to the other surface, by projecting it there rather than along the
+      // ray (a depth difference at a slant is no distance): |d| bounds both, as the other point
+      // lies on the other surface, and keeps the mesh's search local. The exact surface's nearest
+      // point is exact within the field's reach (an upper bound beyond), the nearest triangle exact.
+      if (exactFacing) m2e[i] = std::min(d, glm::length(field->closest(xMesh).point - xMesh));
+      if (meshFacing) e2m[i] = std::min(d, scene.distance(xExact, d));
+    });
+    for (std::size_t i = 0; i < n; ++i) {
+      const view::FrameSamples::Depth& s = samples.depth[i];
+      alongRay.push_back(std::abs(s.signedError));
+      kindDepth.push_back({ref.kind[s.pixel], s.signedError});
+      if (m2e[i] < 0.0 && e2m[i] < 0.0) continue;
+      const view::Ray ray = rayOf(s.pixel);
+      const glm::dvec3 xExact = ray.org + static_cast<double>(ref.depth[s.pixel]) * ray.dir;
+      if (m2e[i] >= 0.0) {
+        meshToExact.push_back(m2e[i]);
+        mine.push_back({m2e[i], v, s.pixel, 0, xExact, ref.atomId[s.pixel]});
       }
-      if (meshFacing) {
-        exactToMesh.push_back(toTriangle);
-        mine.push_back({toTriangle, v, s.pixel, 1, xExact, ref.atomId[s.pixel]});
+      if (e2m[i] >= 0.0) {
+        exactToMesh.push_back(e2m[i]);
+        mine.push_back({e2m[i], v, s.pixel, 1, xExact, ref.atomId[s.pixel]});
       }
     }
     for (const view::FrameSamples::Depth& s : samples.normal) kindNormal.push_back({ref.kind[s.pixel], s.signedError});
@@ -361,8 +328,8 @@ std::string MeshViewsResult::summary() const {
     out += text;
   };
   row("along ray    ", alongRay, "|t_mesh − t_exact| where both are hit: an upper bound of each point's distance");
-  row("mesh -> exact", meshToExact, "estimate: to the exact tangent plane, rays within 45° of it; or across the outline");
-  row("exact -> mesh", exactToMesh, "upper bound: to the nearest triangle hit nearby, rays within 45°; or across the outline");
+  row("mesh -> exact", meshToExact, "to the exact surface's nearest point, rays within 45° of it; or across the outline");
+  row("exact -> mesh", exactToMesh, "to the mesh's nearest triangle, rays within 45° of it; or across the outline");
   out += view::kindTableText(perKind, true, "exact surface", "mesh − exact");
   if (!worst.empty()) {
     out += "\nworst places (x, y, z Å; atom index from 0 in file order; view and pixel):";

@@ -1,7 +1,9 @@
 // The mesh's Embree scene and its drawing through a camera (mesh_scene.hpp).
 #include "trace/mesh_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -105,6 +107,66 @@ MeshHit MeshScene::intersect(const Ray& ray) const {
     if (len > 0.0) hit.normal = n / len;
   }
   return hit;
+}
+
+// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection", 5.1.5
+// (the Voronoi regions of the corners, then the edges, then the face).
+glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  if (!std::isfinite(denom)) return a;  // degenerate: its corners bound it
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+namespace {
+// What a closest-point query carries: the mesh, the query point in double, the best so far.
+struct NearestQuery {
+  const build::mesh::TriangleMesh* mesh;
+  glm::dvec3 x;
+  double best;
+};
+// Embree's boxes come from float vertices: a margin over their rounding keeps a triangle whose
+// float box lies just beyond the double distance from being culled.
+double floatMargin(const glm::dvec3& x, double radius) {
+  const double scale = std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}) + radius;
+  return 1e-6 * scale + 1e-9;
+}
+bool nearestTriangle(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<NearestQuery*>(args->userPtr);
+  const glm::uvec3 t = q->mesh->triangles[args->primID];
+  const glm::dvec3 at = closestOnTriangle(q->x, q->mesh->positions[t.x], q->mesh->positions[t.y], q->mesh->positions[t.z]);
+  const double d = glm::length(at - q->x);
+  if (!(d < q->best)) return false;
+  q->best = d;
+  args->query->radius = static_cast<float>(d + floatMargin(q->x, d));
+  return true;
+}
+}  // namespace
+
+double MeshScene::distance(const glm::dvec3& x, double radius) const {
+  NearestQuery q{&mesh_, x, std::numeric_limits<double>::infinity()};
+  RTCPointQuery query;
+  query.x = static_cast<float>(x.x), query.y = static_cast<float>(x.y), query.z = static_cast<float>(x.z);
+  query.time = 0.0f;
+  query.radius = static_cast<float>(radius + floatMargin(x, radius));
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(embree_->scene, &query, &context, &nearestTriangle, &q);
+  return q.best;
 }
 
 view::FrameBuffers drawMesh(const MeshScene& scene, const view::Camera& camera) {

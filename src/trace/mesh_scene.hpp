@@ -38,6 +38,10 @@ class MeshScene {
   // double from the mesh's own positions, so that t does not carry float's rounding of the
   // ray's origin (far from the mesh for an orthographic camera) or of the vertices.
   MeshHit intersect(const Ray& ray) const;
+  // The distance from x to the nearest point of the mesh (over every triangle, in double):
+  // Embree's closest-point query, searching within `radius` Å of x (an upper bound known
+  // beforehand keeps the search local); +inf when no triangle lies that near.
+  double distance(const glm::dvec3& x, double radius) const;
 
  private:
   struct Embree;
@@ -49,6 +53,9 @@ class MeshScene {
 // gives, row 0 at the top): depth (ray distance, Å), viewZ and world normals where a ray hits,
 // and in patchId the triangle hit (~0u for a miss); kind, atom ids and colour stay as a miss
 // leaves them. Rows run in parallel (TBB).
+// The point of triangle abc nearest to p.
+glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
 view::FrameBuffers drawMesh(const MeshScene& scene, const view::Camera& camera);
 
 }  // namespace surftrace::trace

@@ -166,6 +166,25 @@ std::vector<long long> exactEulers(const std::vector<glm::dvec3>& centers, const
   return out;
 }
 
+// The distance from p to triangle abc, independent of the program's own: the foot on the plane
+// when it lies inside (all three edge tests agree), else the nearest of the three edges.
+double triangleDistance(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double area2 = glm::dot(n, n);
+  auto segment = [&](const glm::dvec3& u, const glm::dvec3& v) {
+    const double len2 = glm::dot(v - u, v - u);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - u, v - u) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (u + t * (v - u)));
+  };
+  if (area2 > 0.0) {
+    const glm::dvec3 foot = p - (glm::dot(p - a, n) / area2) * n;
+    const bool inside = glm::dot(glm::cross(b - a, foot - a), n) >= 0.0 && glm::dot(glm::cross(c - b, foot - b), n) >= 0.0 &&
+                        glm::dot(glm::cross(a - c, foot - c), n) >= 0.0;
+    if (inside) return glm::length(p - foot);
+  }
+  return std::min({segment(a, b), segment(b, c), segment(c, a)});
+}
+
 TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1crn");
   const std::string pdb = data("structures/1crn.pdb");
@@ -221,9 +240,27 @@ TEST(MeshCli, CrambinSesIsClosedOnTheSurfaceAndWithinItsBound) {
   }
 
   // Drawn through the exact surface's own rays from 26 directions, within the bound (p99).
+  const fs::path report = dir / "views.json";
   const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + pdb +
-                                " --surface ses --views 26 --size 256x256 --max-error 0.1");
+                                " --surface ses --views 26 --size 256x256 --max-error 0.1 --report " + report.string());
   EXPECT_EQ(compared.status, 0) << compared.output;
+  // Its worst exact -> mesh places are distances to the mesh, as brute force over every triangle
+  // gives them (to the float depths' rounding), not bounds from the triangles that rays near by
+  // happened to hit (which read 0.23 Å at a place 0.1 Å from the mesh).
+  std::ifstream in(report);
+  const auto views = nlohmann::json::parse(in);
+  std::size_t checked = 0;
+  for (const auto& place : views["worst_places"]) {
+    if (place["what"] != "exact -> mesh") continue;
+    const glm::dvec3 x(place["point"][0], place["point"][1], place["point"][2]);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& t : m.triangles)
+      nearest = std::min(nearest, triangleDistance(x, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]));
+    EXPECT_NEAR(place["distance"].get<double>(), nearest, 1e-4) << "at (" << x.x << ", " << x.y << ", " << x.z << ")";
+    EXPECT_LE(nearest, maxError);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u) << views["worst_places"].dump();
 }
 
 // A piece of GroEL–GroES (1AON: the atoms within 9 Å of (38.93, −32.65, −9.19)) whose SES has a
@@ -401,6 +438,35 @@ TEST(MeshCli, OtherSurfacesAreRefusedBeforeAnyWork) {
   }
 }
 
+// Triangles whose face normal points against the sum of their corners' normals (the surface's
+// outward normals, which the skin certificate checks vertex by vertex): folds, where a triangle
+// joins points of two sides of a neck or a thin wall.
+std::size_t backwardTriangles(const PlyMesh& m) {
+  std::size_t backward = 0;
+  for (const auto& t : m.triangles) {
+    const glm::dvec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    const glm::dvec3 n = m.normals[t[0]] + m.normals[t[1]] + m.normals[t[2]];
+    backward += !(glm::dot(glm::cross(b - a, c - a), n) > 0.0);
+  }
+  return backward;
+}
+
+// Every vertex on the skin and its normal outward: G > 0 just outside along the normal and
+// G < 0 just inside, certified from the skin function's definition over all atoms. Returns the
+// vertices with a sign against their side; `undecided` counts those the certificate left open.
+std::size_t offSkin(const PlyMesh& m, const surftrace::build::Molecule& mol, double s, std::size_t& undecided) {
+  std::size_t off = 0;
+  undecided = 0;
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    const glm::dvec3 p = m.positions[v], n = glm::normalize(m.normals[v]);
+    const int out = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p + 1e-7 * n);
+    const int in = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p - 1e-7 * n);
+    off += out == -1 || in == 1;
+    undecided += out == 0 || in == 0;
+  }
+  return off;
+}
+
 // The skin of gramicidin (1GRM, s = 0.5), checked by oracles that share nothing with the mesher:
 // the skin function's certificate (tests/oracles/skin_certificate) on either side of every
 // vertex, a brute-force search over all atoms for each vertex's owner, edge counting, `area`'s
@@ -416,19 +482,14 @@ TEST(MeshCli, GramicidinSkinIsClosedOnTheSkinAndWithinItsBound) {
   const PlyMesh m = readPly(dir / "m.ply");
   ASSERT_GT(m.triangles.size(), 1000u);
 
-  // Every vertex on the skin: G < 0 just inside it along the normal, G > 0 just outside, both
-  // certified from the skin function's definition over all atoms; its owner the atom of least
-  // power distance |p − c|² − r² of all (the lower index on a tie); its kind a skin kind.
+  // Every vertex on the skin (offSkin: the certificate on both sides along its normal); its owner
+  // the atom of least power distance |p − c|² − r² of all (the lower index on a tie); its kind a
+  // skin kind.
   const surftrace::build::Molecule mol = surftrace::build::readMolecule(pdb);
-  std::size_t offSkin = 0, undecided = 0, wrongOwner = 0, wrongKind = 0;
+  std::size_t undecided = 0, wrongOwner = 0, wrongKind = 0;
+  const std::size_t off = offSkin(m, mol, s, undecided);
   for (std::size_t v = 0; v < m.positions.size(); ++v) {
-    const glm::dvec3 p = m.positions[v], n = glm::normalize(m.normals[v]);
-    // The certificate leaves a point undecided (0) where it cannot prove either sign (a support
-    // beyond the 16 atoms it tries): those are counted apart, a sign against the side is a failure.
-    const int out = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p + 1e-7 * n);
-    const int in = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p - 1e-7 * n);
-    offSkin += out == -1 || in == 1;
-    undecided += out == 0 || in == 0;
+    const glm::dvec3 p = m.positions[v];
     std::uint32_t owner = 0;
     double least = std::numeric_limits<double>::infinity();
     for (std::uint32_t a = 0; a < mol.size(); ++a) {
@@ -438,7 +499,7 @@ TEST(MeshCli, GramicidinSkinIsClosedOnTheSkinAndWithinItsBound) {
     wrongOwner += m.atom[v] != owner;
     wrongKind += m.kind[v] < 4 || m.kind[v] > 7;
   }
-  EXPECT_EQ(offSkin, 0u) << "vertices not on the skin (to 1e-7 Å along their normals)";
+  EXPECT_EQ(off, 0u) << "vertices not on the skin (to 1e-7 Å along their normals)";
   EXPECT_LT(undecided, m.positions.size() / 100) << "vertices the certificate could not decide";
   std::printf("vertices %zu, undecided by the certificate %zu\n", m.positions.size(), undecided);
   EXPECT_EQ(wrongOwner, 0u) << "vertices whose atom_id is not the atom of least power distance";
@@ -474,39 +535,6 @@ TEST(MeshCli, GramicidinSkinIsClosedOnTheSkinAndWithinItsBound) {
   const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + pdb +
                                 " --surface mss --shrink 0.5 --views 26 --size 256x256 --max-error 0.2");
   EXPECT_EQ(compared.status, 0) << compared.output;
-}
-
-}  // namespace
-
-namespace {
-
-// Triangles whose face normal points against the sum of their corners' normals (the surface's
-// outward normals, which the skin certificate checks vertex by vertex): folds, where a triangle
-// joins points of two sides of a neck or a thin wall.
-std::size_t backwardTriangles(const PlyMesh& m) {
-  std::size_t backward = 0;
-  for (const auto& t : m.triangles) {
-    const glm::dvec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
-    const glm::dvec3 n = m.normals[t[0]] + m.normals[t[1]] + m.normals[t[2]];
-    backward += !(glm::dot(glm::cross(b - a, c - a), n) > 0.0);
-  }
-  return backward;
-}
-
-// Every vertex on the skin and its normal outward: G > 0 just outside along the normal and
-// G < 0 just inside, certified from the skin function's definition over all atoms. Returns the
-// vertices with a sign against their side; `undecided` counts those the certificate left open.
-std::size_t offSkin(const PlyMesh& m, const surftrace::build::Molecule& mol, double s, std::size_t& undecided) {
-  std::size_t off = 0;
-  undecided = 0;
-  for (std::size_t v = 0; v < m.positions.size(); ++v) {
-    const glm::dvec3 p = m.positions[v], n = glm::normalize(m.normals[v]);
-    const int out = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p + 1e-7 * n);
-    const int in = surftrace::oracle::skinSign(mol.centers, mol.radii, s, p - 1e-7 * n);
-    off += out == -1 || in == 1;
-    undecided += out == 0 || in == 0;
-  }
-  return off;
 }
 
 }  // namespace
