@@ -156,11 +156,11 @@ LightMaps lightMapsFor(const view::Lighting& lighting) {
   // Measured against Embree's expected values on 1CRN at 96² (tests/gl/gl_lighting_test.cpp,
   // colour p99 with silhouettes and depth darkening; `compare --preset effects` allows 0.02):
   // the ambient term alone 0.021 with 64 maps, 0.017 with 128; the key term alone 0.018 with
-  // 0.16 Å texels, 0.013 with 0.08 Å; more key maps than 16 change nothing. soft: 0.0224 with
-  // 128 ambient maps, 0.0204 with the key maps at 0.08 Å; full: 0.0199 (0.0201 with its key
-  // maps at 0.06 Å). Full costs about as much as soft.
+  // 0.16 Å texels, 0.013 with 0.08 Å; more key maps than 16 change nothing. soft: 0.0224 (key
+  // maps at 0.08 Å: 0.0204; and 256 ambient maps: 0.0179, but finer key maps hold every map at
+  // the key maps' size, too large for a molecule of 40 Å on llvmpipe); full: 0.0199.
   if (lighting.preset == view::LightingPreset::Full) return LightMaps{32, 128, 0.12, 0};
-  return LightMaps{16, 128, 0.16, 0, 0.08};
+  return LightMaps{16, 128, 0.16, 0};
 }
 
 namespace {
