@@ -81,7 +81,10 @@ ImageMetadata imageMetadata(const ImageRecord& r, const Camera& camera) {
       lighting.erase("filter_passes");
       lighting.erase("ao_distance");
       if (maps.key + maps.ambient > 0)
-        lighting["light_maps"] = {{"key", maps.key}, {"ambient", maps.ambient}, {"texel_angstrom", maps.texel}};
+        lighting["light_maps"] = {{"key", maps.key},
+                                  {"ambient", maps.ambient},
+                                  {"texel_angstrom", maps.texel},
+                                  {"key_texel_angstrom", maps.keyTexel > 0.0 ? maps.keyTexel : maps.texel}};
     }
   }
   meta["surftrace:lighting"] = lighting.dump();

@@ -153,13 +153,14 @@ const char* primitiveName(Primitive primitive) { return primitive == Primitive::
 
 LightMaps lightMapsFor(const view::Lighting& lighting) {
   if (!lighting.keyFill() || (lighting.shadowRays == 0 && lighting.occlusionRays == 0)) return {};
-  // Measured against Embree's expected values on 1CRN (tests/gl/gl_lighting_test.cpp): finer
-  // texels let less light into contact shadows (the key light alone, 16 maps: colour p95 0.018
-  // at 0.08 Å, 0.028 at 0.16 Å); more key maps shorten the steps of a penumbra (1/key of the
-  // key light each) and more ambient maps the banding of the occlusion. Full costs about 3
-  // times soft.
+  // Measured against Embree's expected values on 1CRN at 96² (tests/gl/gl_lighting_test.cpp,
+  // colour p99 with silhouettes and depth darkening; `compare --preset effects` allows 0.02):
+  // the ambient term alone 0.021 with 64 maps, 0.017 with 128; the key term alone 0.018 with
+  // 0.16 Å texels, 0.013 with 0.08 Å; more key maps than 16 change nothing. soft: 0.0224 (key
+  // maps at 0.08 Å: 0.0204; and 256 ambient maps: 0.0179, but finer key maps hold every map at
+  // the key maps' size, too large for a molecule of 40 Å on llvmpipe); full: 0.0199.
   if (lighting.preset == view::LightingPreset::Full) return LightMaps{32, 128, 0.12, 0};
-  return LightMaps{16, 64, 0.16, 0};
+  return LightMaps{16, 128, 0.16, 0};
 }
 
 namespace {
@@ -268,9 +269,9 @@ struct GlRenderer::Impl {
     }
   }
 
-  // The depth texture array of `layers` maps of size², compared (LEQUAL) and filtered
-  // bilinearly when read: a lookup is the lit fraction of the four texels around it
-  // (percentage-closer filtering), which smooths the texel steps of a shadow's edge.
+  // The depth texture array of `layers` maps of size², read texel by texel (texelFetch): the
+  // shading compares each texel of a lookup's footprint with the point's own tangent plane
+  // there and filters the results itself (fragment_common.glsl, lightMapLit).
   void ensureLightTargets(int size, int layers) {
     if (size == lightSize && layers == lightLayers) return;
     releaseLightTargets();
@@ -283,15 +284,9 @@ struct GlRenderer::Impl {
                                   " layers of at most " + std::to_string(maxSize) + "²): use --engine embree");
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &lightTexture);
     glTextureStorage3D(lightTexture, 1, GL_DEPTH_COMPONENT32F, size, size, layers);
-    glTextureParameteri(lightTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(lightTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(lightTexture, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTextureParameteri(lightTexture, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    // Outside a map (nothing drawn there) is lit: depth 1, the far end.
-    glTextureParameteri(lightTexture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTextureParameteri(lightTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    const float far[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-    glTextureParameterfv(lightTexture, GL_TEXTURE_BORDER_COLOR, far);
+    glTextureParameteri(lightTexture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(lightTexture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(lightTexture, GL_TEXTURE_COMPARE_MODE, GL_NONE);
     glCreateFramebuffers(1, &lightFbo);
     glNamedFramebufferDrawBuffer(lightFbo, GL_NONE);
     glNamedFramebufferReadBuffer(lightFbo, GL_NONE);
@@ -314,16 +309,22 @@ struct GlRenderer::Impl {
     const LightMaps maps = gl.lightMaps ? *gl.lightMaps : lightMapsFor(o.lighting);
     if (!o.lighting.keyFill() || maps.key + maps.ambient == 0) return;
     // The window holds the ball with a texel to spare on each side (the bilinear footprint).
+    // The key light's maps may have finer texels (keyTexel) than the ambient ones: each map is
+    // drawn into the corner of its layer that its own side covers; the rest stays cleared (lit).
     const double radius = std::max(boundsRadius, 1e-3);
-    const int side = maps.size > 0 ? maps.size
-                     : maps.texel > 0.0
-                         ? static_cast<int>(std::min<double>(kMaxLightMapSize, std::ceil(2.0 * radius / maps.texel) + 2.0))
-                         : 0;
-    if (maps.key < 0 || maps.ambient < 0 || maps.key > 4096 || maps.ambient > 4096 || side < 8 ||
-        side > kMaxLightMapSize)
-      throw std::invalid_argument("gl engine: light maps " + std::to_string(maps.key) + " key, " +
-                                  std::to_string(maps.ambient) + " ambient of " + std::to_string(side) +
-                                  "²: the counts must be in [0, 4096], the side in [8, " +
+    auto sideOf = [&](double texel) {
+      return maps.size > 0 ? maps.size
+             : texel > 0.0 ? static_cast<int>(std::min<double>(kMaxLightMapSize, std::ceil(2.0 * radius / texel) + 2.0))
+                           : 0;
+    };
+    const int ambientSide = sideOf(maps.texel);
+    const int keySide = maps.keyTexel > 0.0 ? sideOf(maps.keyTexel) : ambientSide;
+    const int side = std::max(maps.key > 0 ? keySide : 0, maps.ambient > 0 ? ambientSide : 0);
+    if (maps.key < 0 || maps.ambient < 0 || maps.key > 4096 || maps.ambient > 4096 ||
+        std::min(maps.key > 0 ? keySide : side, maps.ambient > 0 ? ambientSide : side) < 8 || side > kMaxLightMapSize)
+      throw std::invalid_argument("gl engine: light maps " + std::to_string(maps.key) + " key of " +
+                                  std::to_string(keySide) + "², " + std::to_string(maps.ambient) + " ambient of " +
+                                  std::to_string(ambientSide) + "²: the counts must be in [0, 4096], the sides in [8, " +
                                   std::to_string(kMaxLightMapSize) + "]");
     const int layers = maps.key + maps.ambient;
     ensureLightTargets(side, layers);
@@ -341,11 +342,9 @@ struct GlRenderer::Impl {
     // The ambient maps: a Fibonacci sphere, equal areas, the same in every frame.
     for (int i = 0; i < maps.ambient; ++i) directions.push_back(view::fibonacciSphere(i, maps.ambient));
 
-    const double half = radius * (1.0 + 2.0 / side), distance = radius + std::max(1.0, 0.01 * radius);
+    const double distance = radius + std::max(1.0, 0.01 * radius);
     view::RenderOptions mapOptions;
     mapOptions.camera.projection = view::Projection::Orthographic;
-    mapOptions.camera.width = mapOptions.camera.height = side;
-    mapOptions.camera.orthoHeight = 2.0 * half;
     mapOptions.camera.lookAt = boundsCenter;
     GlOptions mapGl = gl;
     mapGl.countFragments = false;
@@ -353,33 +352,38 @@ struct GlRenderer::Impl {
     float depthScale = 0.0f;
     const float farDepth = 1.0f;
     glBindFramebuffer(GL_FRAMEBUFFER, lightFbo);
-    glViewport(0, 0, side, side);
     for (std::size_t i = 0; i < directions.size(); ++i) {
       const glm::dvec3& d = directions[i];
+      const int mapSide = static_cast<int>(i) < maps.key ? keySide : ambientSide;
+      const double half = radius * (1.0 + 2.0 / mapSide);
       view::Camera& c = mapOptions.camera;
+      c.width = c.height = mapSide;
+      c.orthoHeight = 2.0 * half;
       c.eye = boundsCenter + distance * d;
       c.up = std::abs(d.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
       const GpuFrame mf = frameBlock(mapOptions, mapGl, 0, origin, boundsCenter, boundsRadius, ids);
       glNamedBufferData(frameBuffer, sizeof(mf), &mf, GL_STREAM_DRAW);
       glNamedFramebufferTextureLayer(lightFbo, GL_DEPTH_ATTACHMENT, lightTexture, 0, static_cast<GLint>(i));
-      glClearNamedFramebufferfv(lightFbo, GL_DEPTH, 0, &farDepth);
+      glClearNamedFramebufferfv(lightFbo, GL_DEPTH, 0, &farDepth);  // the whole layer
+      glViewport(0, 0, mapSide, mapSide);
       drawModel();
       drawPatches();
-      // (u, v, depth) of a point, as the map's camera rays see it (Camera::ray, writeHit).
+      // (u, v, depth) of a point, as the map's camera rays see it (Camera::ray, writeHit): u and
+      // v in the map's texels (texel k's centre at k + 0.5), depth in depth units.
       depthScale = mf.viewport.w;
       const glm::dvec3 eye = c.eye - origin, right = c.right(), up = c.trueUp(), forward = c.forward();
-      const double toTexel = 1.0 / (2.0 * half);
-      mapRecords[i].toMapX = vec4Of(right * toTexel, 0.5 - glm::dot(eye, right) * toTexel);
-      mapRecords[i].toMapY = vec4Of(up * toTexel, 0.5 - glm::dot(eye, up) * toTexel);
+      const double toTexel = mapSide / (2.0 * half);
+      mapRecords[i].toMapX = vec4Of(right * toTexel, 0.5 * mapSide - glm::dot(eye, right) * toTexel);
+      mapRecords[i].toMapY = vec4Of(up * toTexel, 0.5 * mapSide - glm::dot(eye, up) * toTexel);
       mapRecords[i].toMapZ = vec4Of(forward * static_cast<double>(depthScale), -glm::dot(eye, forward) * depthScale);
-      mapRecords[i].direction = vec4Of(d, 0.0);
+      mapRecords[i].direction = glm::vec4(glm::vec3(d), static_cast<float>(2.0 * half / mapSide));
     }
     bufferData(lightBuffer, mapRecords);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightMapBinding, lightBuffer);
     glBindTextureUnit(kLightMapUnit, lightTexture);
     checkGlError("drawing the light maps");
     f.lightMaps = glm::uvec4(static_cast<unsigned>(maps.key), static_cast<unsigned>(maps.ambient), 0u, 0u);
-    f.lightMapScale = glm::vec4(static_cast<float>(2.0 * half / side), depthScale, 0.0f, 0.0f);
+    f.lightMapScale = glm::vec4(0.0f, depthScale, 0.0f, 0.0f);
   }
 
   // The model's records in float, shifted by −origin in double first (as packPatches does), and

@@ -59,12 +59,14 @@ struct OpaqueLayer {
 // (ambient), drawn once per frame before it (gl_renderer.cpp, drawLightMaps) and read by the
 // shading (fragment_common.glsl, lightVisibility). Their side covers the scene's bounding ball
 // with texels `texel` Å wide (at most kMaxLightMapSize), so that a large molecule's shadows are
-// as sharp as a small one's; `size` > 0 sets the side instead.
+// as sharp as a small one's; the key light's maps with texels `keyTexel` wide (0: `texel`);
+// `size` > 0 sets the side of every map instead.
 struct LightMaps {
   int key = 0;
   int ambient = 0;
   double texel = 0.0;
   int size = 0;
+  double keyTexel = 0.0;
 };
 inline constexpr int kMaxLightMapSize = 2048;
 // The maps of a lighting preset: none for headlight and simple (the Lighting has no shadow or

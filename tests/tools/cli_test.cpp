@@ -349,7 +349,8 @@ TEST(Cli, LightingPresetsAreRecordedAndGlDrawsSoft) {
   const auto glLighting = nlohmann::json::parse(glMeta.at("surftrace:lighting"));
   EXPECT_EQ(glLighting.at("model"), "key-fill soft") << glLighting;
   EXPECT_EQ(glLighting.at("light_maps").at("key"), 16) << glLighting;
-  EXPECT_EQ(glLighting.at("light_maps").at("ambient"), 64) << glLighting;
+  EXPECT_EQ(glLighting.at("light_maps").at("ambient"), 128) << glLighting;
+  EXPECT_EQ(glLighting.at("light_maps").at("key_texel_angstrom"), 0.16) << glLighting;
   EXPECT_FALSE(glLighting.contains("shadow_rays") || glLighting.contains("occlusion_rays") ||
                glLighting.contains("filter_passes") || glLighting.contains("ao_distance"))
       << glLighting;

@@ -33,7 +33,7 @@ const int kOpaqueColorUnit = 6;       // sampler2D opaqueColor: the opaque geome
 // The light maps of --lighting soft and full (gl_renderer.cpp, renderLightMaps): one
 // orthographic depth map of the whole scene per light direction, layers of one texture array.
 const int kLightMapBinding = 8;       // GpuLightMap lightMaps[]: the key light's maps, then the ambient ones
-const int kLightMapUnit = 7;          // sampler2DArrayShadow lightDepth (depth 32F, compare LEQUAL, bilinear)
+const int kLightMapUnit = 7;          // sampler2DArray lightDepth (depth 32F, texelFetch)
 
 // The `patch.kind` codes: view::PatchKind's, the one table (gl/gpu_kinds.hpp static_asserts they
 // agree); the frame's kinds[code − 1] is the kind's row.
@@ -102,17 +102,17 @@ struct GpuFrame {
   // Soft shadows and ambient occlusion from the light maps (lightMaps[], lightDepth): none
   // when both counts are 0 (S = A = 1).
   uvec4 lightMaps;     // key-light maps, ambient maps, unused, unused
-  vec4 lightMapScale;  // texel side (Å), depth units per Å, unused, unused
+  vec4 lightMapScale;  // unused, depth units per Å, unused, unused
 };
 
 // One light map: x (origin-shifted) lands on texel coordinates (u, v) in [0, 1]² and is at
 // depth r = dot(toMapZ.xyz, x) + toMapZ.w from the light's side, in the map's depth units; the
 // map stores the depth of the surface nearest the light there.
 struct GpuLightMap {
-  vec4 toMapX;     // u = dot(xyz, x) + w
-  vec4 toMapY;     // v = dot(xyz, x) + w
-  vec4 toMapZ;     // r = dot(xyz, x) + w
-  vec4 direction;  // unit direction towards the light, unused
+  vec4 toMapX;     // u = dot(xyz, x) + w, in the map's texels (texel k's centre at k + 0.5)
+  vec4 toMapY;     // v = dot(xyz, x) + w, likewise
+  vec4 toMapZ;     // r = dot(xyz, x) + w, depth units
+  vec4 direction;  // unit direction towards the light, the map's texel side (Å)
 };
 
 // One depth-peeling pass. All zero: the opaque draw, every hit in t > 0 counts.
