@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -57,22 +58,34 @@ template <class Buf, class T> struct Field {
   std::size_t group;
 };
 
-// Concatenates the fields of the pieces, in chunk order, in one parallel pass.
+// Concatenates the fields of the pieces, in chunk order, one field at a time.
 // forEachField(f) calls f(Field{...}) once for every field to gather.
+// A field whose concatenation is large has its per-thread sources freed as soon as it is
+// copied: on a full build of a large molecule the sources and the destinations together
+// were the SES build's peak memory, and the buffers would otherwise stay resident through
+// the passes after. Small fields keep their capacity, so that the small passes of a
+// trajectory's updates reuse it instead of allocating per frame.
 template <class Buf, class ForEachField>
 void gatherPieces(const std::vector<Piece<Buf>>& pieces, std::array<std::vector<std::size_t>, 3>& offset,
                   ForEachField&& forEachField) {
+  constexpr std::size_t kReleaseBytes = std::size_t{1} << 20;
   for (std::size_t g = 0; g < 3; ++g) pieceOffsets(pieces, g, offset[g]);
-  forEachField([&](const auto& field) { field.to->resize(offset[field.group].back()); });
-  tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t c) {
-    const Piece<Buf>& piece = pieces[c];
-    forEachField([&](const auto& field) {
+  std::vector<Buf*> sources;  // the distinct thread buffers, in piece order
+  for (const Piece<Buf>& piece : pieces)
+    if (std::find(sources.begin(), sources.end(), piece.buf) == sources.end()) sources.push_back(piece.buf);
+  forEachField([&](const auto& field) {
+    const std::size_t g = field.group;
+    field.to->resize(offset[g].back());
+    tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t c) {
+      const Piece<Buf>& piece = pieces[c];
       const auto& from = (*piece.buf).*(field.member);
-      const std::size_t g = field.group;
       std::copy(from.begin() + static_cast<std::ptrdiff_t>(piece.begin[g]),
                 from.begin() + static_cast<std::ptrdiff_t>(piece.end[g]),
                 field.to->begin() + static_cast<std::ptrdiff_t>(offset[g][c]));
     });
+    using Vec = std::remove_reference_t<decltype(*field.to)>;
+    if (offset[g].back() * sizeof(typename Vec::value_type) >= kReleaseBytes)
+      for (Buf* buf : sources) Vec().swap((*buf).*(field.member));
   });
 }
 

@@ -189,7 +189,7 @@ struct PlaneBuf {
 };
 
 template <class Buf> struct Piece {
-  const Buf* buf = nullptr;
+  Buf* buf = nullptr;  // a thread's buffer: gatherPieces may free its large fields
   std::array<std::size_t, 3> begin{}, end{};
 };
 
