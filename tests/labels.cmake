@@ -136,11 +136,11 @@ set(gl_tests
 # Release stage runs them, and under ASan they would add minutes of time that is either
 # un-instrumented code or the same instrumented code again, which the tests named here run.
 set(release_only_tests
-  # 120 s under ASan, as in Release: llvmpipe's shaders (not instrumented) drawing soft and full
+  # Minutes under ASan, as in Release: llvmpipe's shaders (not instrumented) drawing soft and full
   # at 96², opaque and peeled. Under ASan the light maps' host code runs in GlSoftLighting.Soft-
   # ShadowsAndOcclusionAreSmoothOnAFlatFloor (soft and full) and Cli.LightingPresetsAreRecorded-
   # AndGlDrawsSoft (1CRN's SES, both engines), Embree's soft and full in LightingSoft.*.
-  "GlSoftLighting\\.SoftAndFullMatchEmbreesExpectedValues"
+  "GlSoftLighting\\.SoftAndFullMeetTheEffectsPreset"
   # 85 s under ASan: 98 independent `render --frame` processes, one code path 98 times. Under
   # ASan the trajectory pipeline runs consecutive SES frames in ShardsTogetherAreTheSingleRun-
   # EachFrameOnce (frames 3-39, whole and in 4 shards) and slurm_job_array (1:98:3), and
