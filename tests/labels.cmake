@@ -88,7 +88,7 @@ set(slow_tests
   "CompareMasks\\..*"
   "CompareMesh(OneView|Views)\\..*"
   "MeshCli\\.(CrambinSesIsClosedOnTheSurfaceAndWithinItsBound|GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound)"
-  "MeshCli\\.GroelKnifeEdgeRidgesMeshWithinAHundredthOfAnAngstrom"
+  "MeshCli\\.(GroelKnifeEdgeRidgesMesh|GroelMeetingOfThreeConcaveSheetsMeshes)WithinAHundredthOfAnAngstrom"
   "MeshCli\\.SesMeshHasTheExactSurfacesTopology"
   "MeshCli\\.CrambinSkinAtATenthOfAnAngstromIsClosedOutwardAndWithinItsBound"
   "MeshCli\\.GramicidinSkinIsClosedOnTheSkinAndWithinItsBound"

@@ -325,32 +325,20 @@ TEST(MeshCli, GroelPieceWithWallsThinnerThanTheGridIsClosedAndWithinItsBound) {
   EXPECT_EQ(compared.status, 0) << compared.output;
 }
 
-// The 29 atoms of that GroEL piece within 5 Å of (35.08, −33.15, −8.15), where concave caps
-// clip each other along knife-edge ridges whose two sides meet at about 135° between their
-// normals: at ε = 0.01 Å the triangles across a ridge must get a vertex on it. Before edges
-// across a crease were split on the crease, the split points of two such edges landed on each
-// other's ends round after round and `mesh` gave up after 40 rounds with a triangle at 0.027 Å.
-// Closed, outward, every vertex on the SES (the brute-force oracle), volume within ε·area of
-// `area`'s exact one, and within ε by `compare --views 26`.
-TEST(MeshCli, GroelKnifeEdgeRidgesMeshWithinAHundredthOfAnAngstrom) {
-  const fs::path dir = surftrace::test::freshTempDir("mesh_cli_1aon_ridge");
-  const surftrace::build::Molecule full = surftrace::build::readMolecule(data("paper/1aon.pdb.gz"));
-  const glm::dvec3 piece(38.93, -32.65, -9.19), ridge(35.08, -33.15, -8.15);
-  std::vector<surftrace::oracle::Sphere> atoms;
+// Meshes the atoms at ε = 0.01 Å (written as XYZR to `dir`) and checks the mesh: closed,
+// outward, every vertex on the SES (the brute-force oracle), volume within ε·area of `area`'s
+// exact one, and within ε by `compare --views 26`.
+void expectMeshedWithinAHundredth(const fs::path& dir, const std::vector<surftrace::oracle::Sphere>& atoms) {
   {
-    std::ofstream out(dir / "ridge.xyzr");
+    std::ofstream out(dir / "piece.xyzr");
     char line[160];
-    for (std::size_t i = 0; i < full.size(); ++i) {
-      if (glm::length(full.centers[i] - piece) >= 9.0 || glm::length(full.centers[i] - ridge) >= 5.0) continue;
-      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", full.centers[i].x, full.centers[i].y,
-                    full.centers[i].z, full.radii[i]);
+    for (const auto& a : atoms) {
+      std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", a.c.x, a.c.y, a.c.z, a.r);
       out << line;
-      atoms.push_back({full.centers[i], full.radii[i]});
     }
   }
-  ASSERT_EQ(atoms.size(), 29u);
   const double maxError = 0.01;
-  const std::string xyzr = (dir / "ridge.xyzr").string();
+  const std::string xyzr = (dir / "piece.xyzr").string();
   const auto made = runTool("mesh " + xyzr + " --max-error 0.01 -o " + (dir / "m.ply").string());
   ASSERT_EQ(made.status, 0) << made.output;
   const PlyMesh m = readPly(dir / "m.ply");
@@ -372,6 +360,40 @@ TEST(MeshCli, GroelKnifeEdgeRidgesMeshWithinAHundredthOfAnAngstrom) {
   const auto compared = runTool("compare " + (dir / "m.ply").string() + " " + xyzr +
                                 " --surface ses --views 26 --size 256x256 --max-error 0.01");
   EXPECT_EQ(compared.status, 0) << compared.output;
+}
+
+// The 29 atoms of that GroEL piece within 5 Å of (35.08, −33.15, −8.15), where concave caps
+// clip each other along knife-edge ridges whose two sides meet at about 135° between their
+// normals: at ε = 0.01 Å the triangles across a ridge must get a vertex on it. Before edges
+// across a crease were split on the crease, the split points of two such edges landed on each
+// other's ends round after round and `mesh` gave up after 40 rounds with a triangle at 0.027 Å.
+TEST(MeshCli, GroelKnifeEdgeRidgesMeshWithinAHundredthOfAnAngstrom) {
+  const surftrace::build::Molecule full = surftrace::build::readMolecule(data("paper/1aon.pdb.gz"));
+  const glm::dvec3 piece(38.93, -32.65, -9.19), ridge(35.08, -33.15, -8.15);
+  std::vector<surftrace::oracle::Sphere> atoms;
+  for (std::size_t i = 0; i < full.size(); ++i)
+    if (glm::length(full.centers[i] - piece) < 9.0 && glm::length(full.centers[i] - ridge) < 5.0)
+      atoms.push_back({full.centers[i], full.radii[i]});
+  ASSERT_EQ(atoms.size(), 29u);
+  expectMeshedWithinAHundredth(surftrace::test::freshTempDir("mesh_cli_1aon_ridge"), atoms);
+}
+
+// The 33 atoms of 1AON's chain A (residues 2-78) within 6 Å of (55.02, −57.84, −13.26), where
+// three concave sheets meet: a triangle with a corner on each (normals 72°, 144° and 72° apart)
+// has its longest edge between two neighbours 72° apart, not across a crease, and its split
+// landed next to an end round after round; `mesh` gave up after 40 rounds at 0.024 Å until a
+// failing triangle's edge across a crease was split on the crease as well.
+TEST(MeshCli, GroelMeetingOfThreeConcaveSheetsMeshesWithinAHundredthOfAnAngstrom) {
+  surftrace::build::ReadOptions options;
+  options.chains = {"A"};
+  options.selection = "resid 2-78";
+  const surftrace::build::Molecule cut = surftrace::build::readMolecule(data("paper/1aon.pdb.gz"), options);
+  const glm::dvec3 meeting(55.02, -57.84, -13.26);
+  std::vector<surftrace::oracle::Sphere> atoms;
+  for (std::size_t i = 0; i < cut.size(); ++i)
+    if (glm::length(cut.centers[i] - meeting) < 6.0) atoms.push_back({cut.centers[i], cut.radii[i]});
+  ASSERT_EQ(atoms.size(), 33u);
+  expectMeshedWithinAHundredth(surftrace::test::freshTempDir("mesh_cli_1aon_three_sheets"), atoms);
 }
 
 // The mesh's topology is the exact surface's, component by component, where the grid resolves

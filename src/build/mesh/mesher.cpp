@@ -751,6 +751,21 @@ std::uint64_t longestEdgeOf(const TriangleMesh& mesh, const glm::uvec3& tri) {
   return edgeKey(tri[longest], tri[(longest + 1) % 3]);
 }
 
+// No edge (creaseEdgeOf): a key no triangle's edge has, two equal indices.
+constexpr std::uint64_t kNoEdge = ~std::uint64_t{0};
+
+// The edge of a triangle whose corner normals are furthest apart, when they are further apart
+// than kCreaseCosine allows (an edge across a crease); kNoEdge when none is.
+std::uint64_t creaseEdgeOf(const TriangleMesh& mesh, const glm::uvec3& tri) {
+  int opposed = -1;
+  double least = kCreaseCosine;
+  for (int e = 0; e < 3; ++e) {
+    const double cosine = glm::dot(mesh.normals[tri[e]], mesh.normals[tri[(e + 1) % 3]]);
+    if (cosine < least) least = cosine, opposed = e;
+  }
+  return opposed < 0 ? kNoEdge : edgeKey(tri[opposed], tri[(opposed + 1) % 3]);
+}
+
 // A triangle that faces against the surface's normals at its corners, or has no area: made
 // by marching tetrahedra where a crossing lies very near a grid vertex (a sliver), once its
 // corners are projected onto the surface.
@@ -1075,7 +1090,14 @@ MeshResult meshSurface(const SurfaceDistance& field, std::span<const glm::dvec3>
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       if (bound[t] > worst) worst = bound[t], worstTriangle = t;
       if (bound[t] <= eps) continue;
-      marked.push_back(longestEdgeOf(mesh, mesh.triangles[t]));
+      const glm::uvec3 tri = mesh.triangles[t];
+      marked.push_back(longestEdgeOf(mesh, tri));
+      // An edge across a crease is split too, on the crease (creasePoint), when it is not the
+      // longest: where three concave sheets meet (on 1AON's SES) a triangle's corners can sit
+      // on three of them, its longest edge joining two neighbours 72° apart, whose split lands
+      // next to an end round after round while the edge 144° across is never split.
+      if (const std::uint64_t crease = creaseEdgeOf(mesh, tri); crease != marked.back() && crease != kNoEdge)
+        marked.push_back(crease);
     }
     result.certifiedError = worst;
     result.rounds = round;
